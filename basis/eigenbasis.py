@@ -1,0 +1,203 @@
+"""The Fresnel eigen-basis as data: curves on a θ grid, fit angles, provenance; read, write, evaluate.
+
+Public objects: ``Basis``, ``default_basis``, ``BasisFileError``, ``FORMAT``.
+
+``luts/basis.json`` holds the θ grid (radians), the K curves b_k(θ_j), the K fit angles of the
+coefficient solver, the training-set description, build statistics and a SHA-256 content hash of the
+numbers. Between grid samples b_k is a cubic spline in θ with zero slope at θ = 0 (every Fresnel curve
+is a smooth function of cos θ, hence even in θ) and not-a-knot at π/2.
+
+References
+----------
+:cite:`Belcour2020` SIGGRAPH 2020 Talks, eq. 4.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import json
+import os
+import tempfile
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from .validation import ParameterError, check_range
+
+__all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis"]
+
+#: Identifies the file format; bumped when the layout changes.
+FORMAT = "fresnel-basis/basis@1"
+
+
+class BasisFileError(ParameterError):
+    """A basis file is missing, truncated, corrupt, foreign or fails its hash."""
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Basis:
+    """K Fresnel eigen-curves b_k(θ) sampled on ``theta`` (M,), with the coefficient fit angles.
+
+    Attributes
+    ----------
+    theta : numpy.ndarray
+        (M,) increasing, from 0 to π/2 (radians).
+    curves : numpy.ndarray
+        (K, M); curves[0] = 1.
+    fit_angles : numpy.ndarray
+        (K,) angles (radians) at which the four-point solver samples a target: 0, π/2, θ2, θ3.
+    training : dict
+        Description of the training set (domain, count, seed, grid kind) and build statistics.
+    """
+
+    theta: np.ndarray
+    curves: np.ndarray
+    fit_angles: np.ndarray
+    training: dict = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self):
+        theta = np.asarray(self.theta, dtype=np.float64)
+        curves = np.asarray(self.curves, dtype=np.float64)
+        fit_angles = np.asarray(self.fit_angles, dtype=np.float64)
+        if theta.ndim != 1 or theta.size < 16:
+            raise BasisFileError(f"theta must be a 1-D grid of at least 16 angles, got shape {theta.shape}")
+        if not (np.all(np.isfinite(theta)) and np.all(np.diff(theta) > 0)):
+            raise BasisFileError("theta must be finite and strictly increasing")
+        if abs(theta[0]) > 1e-12 or abs(theta[-1] - 0.5 * np.pi) > 1e-12:
+            raise BasisFileError(f"theta must span [0, pi/2], got [{theta[0]}, {theta[-1]}]")
+        if curves.ndim != 2 or curves.shape[1] != theta.size or not 2 <= curves.shape[0] <= 16:
+            raise BasisFileError(f"curves must have shape (K, {theta.size}) with 2 <= K <= 16, got {curves.shape}")
+        if not np.all(np.isfinite(curves)):
+            raise BasisFileError("curves contain NaN or inf")
+        if fit_angles.shape != (curves.shape[0],):
+            raise BasisFileError(f"fit_angles must have shape ({curves.shape[0]},), got {fit_angles.shape}")
+        check_range("fit_angles", fit_angles, 0.0, 0.5 * np.pi)
+        object.__setattr__(self, "theta", theta)
+        object.__setattr__(self, "curves", curves)
+        object.__setattr__(self, "fit_angles", fit_angles)
+
+    @property
+    def n_terms(self) -> int:
+        """K, the number of basis elements (texture channels)."""
+        return self.curves.shape[0]
+
+    @functools.cached_property
+    def spline(self) -> CubicSpline:
+        """Cubic spline in θ of all curves at once, zero slope at θ = 0."""
+        return CubicSpline(self.theta, self.curves.T, bc_type=((1, np.zeros(self.n_terms)), "not-a-knot"))
+
+    @functools.cached_property
+    def content_hash(self) -> str:
+        """SHA-256 of the float64 bytes of theta, curves and fit angles (hex, first 16 digits)."""
+        digest = hashlib.sha256()
+        for array in (self.theta, self.curves, self.fit_angles):
+            digest.update(np.ascontiguousarray(array, dtype="<f8").tobytes())
+        return digest.hexdigest()[:16]
+
+    def evaluate(self, theta) -> np.ndarray:
+        """b_k(θ) for θ in [0, π/2]: shape (..., K)."""
+        theta = check_range("theta", theta, 0.0, 0.5 * np.pi)
+        return self.spline(theta)
+
+    def evaluate_mu(self, mu) -> np.ndarray:
+        """b_k(arccos μ) for μ in [0, 1]: shape (..., K)."""
+        mu = check_range("mu", mu, 0.0, 1.0)
+        return self.spline(np.arccos(mu))
+
+    def _evaluate_mu_unchecked(self, mu: np.ndarray) -> np.ndarray:
+        """:meth:`evaluate_mu` for the integrator's own nodes, already in [0, 1]."""
+        return self.spline(np.arccos(np.clip(mu, 0.0, 1.0)))
+
+    # ---------------------------------------------------------------- file I/O
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (floats written with full precision by ``json``)."""
+        return {
+            "format": FORMAT,
+            "description": (
+                "Fresnel eigen-basis after Belcour, Bati, Barla 2020: F(theta) ~ sum_k c_k b_k(theta). "
+                "theta in radians; curves[k][j] = b_k(theta[j]); cubic spline in theta between samples "
+                "(zero slope at 0); fit_angles: where the four-point solver samples a target, in order "
+                "c0 <- F(0), c1 <- F(pi/2) - F(0), then c2, c3."
+            ),
+            "content_hash": self.content_hash,
+            "n_terms": self.n_terms,
+            "theta": self.theta.tolist(),
+            "fit_angles": self.fit_angles.tolist(),
+            "curves": self.curves.tolist(),
+            "training": self.training,
+        }
+
+    def write(self, path) -> Path:
+        """Write the basis as JSON atomically (temporary file in the same folder, then rename)."""
+        path = Path(path)
+        text = json.dumps(self.to_dict(), indent=1) + "\n"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        try:
+            with os.fdopen(handle, "w", encoding="utf-8") as stream:
+                stream.write(text)
+            os.replace(temporary, path)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+        return path
+
+    @classmethod
+    def from_dict(cls, data) -> "Basis":
+        """Inverse of :meth:`to_dict`; checks the format tag and the content hash."""
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            found = data.get("format") if isinstance(data, dict) else type(data).__name__
+            raise BasisFileError(f"not a fresnel-basis basis file (format {found!r}, expected {FORMAT!r})")
+        try:
+            basis = cls(
+                theta=np.asarray(data["theta"], dtype=np.float64),
+                curves=np.asarray(data["curves"], dtype=np.float64),
+                fit_angles=np.asarray(data["fit_angles"], dtype=np.float64),
+                training=dict(data.get("training", {})),
+            )
+        except KeyError as error:
+            raise BasisFileError(f"basis file lacks the field {error}") from None
+        except (TypeError, ValueError) as error:
+            if isinstance(error, BasisFileError):
+                raise
+            raise BasisFileError(f"basis file has malformed numbers: {error}") from None
+        if data.get("content_hash") != basis.content_hash:
+            raise BasisFileError(
+                f"basis file content hash {data.get('content_hash')!r} does not match its numbers "
+                f"({basis.content_hash}): the file is corrupt or was edited"
+            )
+        return basis
+
+    @classmethod
+    def read(cls, path) -> "Basis":
+        """Read and verify a basis file written by :meth:`write`."""
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise BasisFileError(f"basis file {path} does not exist") from None
+        except (OSError, UnicodeDecodeError) as error:
+            raise BasisFileError(f"cannot read basis file {path}: {error}") from None
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as error:
+            raise BasisFileError(f"basis file {path} is not valid JSON (truncated?): {error}") from None
+        try:
+            return cls.from_dict(data)
+        except BasisFileError as error:
+            raise BasisFileError(f"{path}: {error}") from None
+
+
+def shipped_basis_path() -> Path:
+    """Path of the basis shipped with the package (``luts/basis.json``)."""
+    return Path(str(resources.files("luts").joinpath("basis.json")))
+
+
+@functools.lru_cache(maxsize=1)
+def default_basis() -> Basis:
+    """The shipped basis, read once and cached."""
+    return Basis.read(shipped_basis_path())

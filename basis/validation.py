@@ -1,0 +1,105 @@
+"""Input validation at the public boundary.
+
+Every public function converts its array arguments with :func:`as_float_array`
+and checks their domain with :func:`check_range`; inside the library the values
+are then trusted. Errors are :class:`ParameterError` (a ``ValueError``) whose
+message names the parameter, the offending value and the accepted range.
+
+Public objects: ``ParameterError``, ``as_float_array``, ``check_range``,
+``check_shape_last``, ``check_positive_int``.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = ["ParameterError", "as_float_array", "check_positive_int", "check_range", "check_shape_last"]
+
+
+class ParameterError(ValueError):
+    """A public input is out of its documented domain, malformed or not finite."""
+
+
+def _describe(value: np.ndarray) -> str:
+    """Short text for the first offending element (the whole array would be unreadable)."""
+    return repr(float(value)) if np.ndim(value) == 0 else repr(value.tolist())[:60]
+
+
+def as_float_array(name: str, value) -> np.ndarray:
+    """Convert ``value`` to a float64 array, rejecting non-numeric input and NaN/inf.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : array_like
+        Scalar or array of real numbers (bool is refused: it is never a physical quantity).
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise ParameterError(f"{name} must be a real number or array of them, got {value!r}")
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError) as error:
+        raise ParameterError(f"{name} must be a real number or array of them: {error}") from None
+    if array.dtype == bool or isinstance(value, bool):
+        raise ParameterError(f"{name} must be a real number, got a boolean")
+    if array.dtype.kind not in "iuf":
+        if array.dtype.kind == "c":
+            raise ParameterError(f"{name} must be real; pass eta and kappa separately")
+        raise ParameterError(f"{name} must be a real number or array of them, got dtype {array.dtype}")
+    array = array.astype(np.float64, copy=False)
+    if array.size and not np.all(np.isfinite(array)):
+        bad = array[~np.isfinite(array)].flat[0]
+        raise ParameterError(f"{name} must be finite, got {bad!r}")
+    return array
+
+
+def check_range(
+    name: str,
+    value,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> np.ndarray:
+    """Return ``value`` as a finite float64 array lying in the stated interval.
+
+    ``low``/``high`` of ``None`` mean unbounded; ``low_open``/``high_open`` exclude
+    the end point. The error message spells the interval in standard notation,
+    e.g. ``roughness must be in [0, 1], got 1.5``.
+    """
+    array = as_float_array(name, value)
+    bad = np.zeros(array.shape, dtype=bool)
+    if low is not None:
+        bad |= (array <= low) if low_open else (array < low)
+    if high is not None:
+        bad |= (array >= high) if high_open else (array > high)
+    if np.any(bad):
+        left = "(" if low_open or low is None else "["
+        right = ")" if high_open or high is None else "]"
+        low_text = "-inf" if low is None else f"{low:g}"
+        high_text = "inf" if high is None else f"{high:g}"
+        raise ParameterError(
+            f"{name} must be in {left}{low_text}, {high_text}{right}, got {_describe(array[bad].flat[0])}"
+        )
+    return array
+
+
+def check_shape_last(name: str, array: np.ndarray, size: int) -> np.ndarray:
+    """Require a trailing axis of length ``size`` (e.g. 3 for an RGB triple)."""
+    if array.ndim == 0 or array.shape[-1] != size:
+        raise ParameterError(f"{name} must have a trailing axis of length {size}, got shape {array.shape}")
+    return array
+
+
+def check_positive_int(name: str, value, low: int = 1, high: int | None = None) -> int:
+    """Return ``value`` as an int in ``[low, high]``; floats with a fraction and bools are refused."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ParameterError(f"{name} must be an integer, got {value!r}")
+    if value < low or (high is not None and value > high):
+        upper = "inf" if high is None else str(high)
+        raise ParameterError(f"{name} must be an integer in [{low}, {upper}], got {value}")
+    return int(value)
