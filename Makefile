@@ -1,0 +1,26 @@
+# Two entry points that set up their own environment (a .venv made here) on a fresh machine:
+#   make luts   build the default LUTs into luts/
+#   make test   run the test suite
+PYTHON ?= python3
+VENV := .venv
+STAMP := $(VENV)/.installed-stamp
+
+.PHONY: luts test basis clean-venv
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(VENV)/bin/python -m pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+luts: $(STAMP)
+	$(VENV)/bin/fresnel-lut build --out luts
+
+basis: $(STAMP)
+	$(VENV)/bin/fresnel-lut basis --out luts/basis.json
+
+test: $(STAMP)
+	$(VENV)/bin/python -m pytest
+
+clean-venv:
+	rm -rf $(VENV)

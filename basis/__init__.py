@@ -1,0 +1,42 @@
+"""Fresnel curves and their eigen-basis (Belcour, Bati, Barla 2020).
+
+The coefficient API engines call::
+
+    from basis import coefficients_from_nk, coefficients_from_gulbrandsen, default_basis
+
+Modules: ``fresnel`` (exact Fresnel), ``gulbrandsen`` (artist parameters), ``training`` and ``svd``
+(the iterative SVD), ``builder`` (build a basis), ``eigenbasis`` (the ``Basis`` data and
+``basis.json``), ``coefficients`` (the solver), ``holdout`` (held-out materials), ``validation``.
+"""
+
+from .coefficients import (
+    coefficients_from_curve,
+    coefficients_from_gulbrandsen,
+    coefficients_from_nk,
+    coefficients_from_samples,
+    coefficients_from_table,
+    fit_condition_number,
+    reconstruct,
+)
+from .eigenbasis import Basis, BasisFileError, default_basis
+from .fresnel import fresnel_conductor, fresnel_dielectric
+from .gulbrandsen import gulbrandsen_to_nk, nk_to_gulbrandsen
+from .validation import ParameterError
+
+__all__ = [
+    "Basis",
+    "BasisFileError",
+    "ParameterError",
+    "coefficients_from_curve",
+    "coefficients_from_gulbrandsen",
+    "coefficients_from_nk",
+    "coefficients_from_samples",
+    "coefficients_from_table",
+    "default_basis",
+    "fit_condition_number",
+    "fresnel_conductor",
+    "fresnel_dielectric",
+    "gulbrandsen_to_nk",
+    "nk_to_gulbrandsen",
+    "reconstruct",
+]

@@ -1,0 +1,83 @@
+"""Channel sets: the functions of cos θ_d = ω_o·h whose split-sum integrals make a LUT.
+
+Public objects: ``ChannelSet``, ``CHANNEL_SETS``, ``basis_channels``, ``schlick_channels``,
+``channel_set``.
+
+A channel set names its functions f_k, says how an engine combines the channels into F̄, and is
+integrated by the one generic integrator :func:`preintegrate.quadrature.directional_albedo`.
+
+References
+----------
+:cite:`Belcour2020` eq. 5: F̄ = Σ c_i b̄_i.
+:cite:`Karis2013` "Real Shading in Unreal Engine 4": Schlick split sum F̄ = F0 · scale + bias with
+    scale = ∫ (1 − (1 − x)^5) ρ μ_i, bias = ∫ (1 − x)^5 ρ μ_i; the talk's eq. 3.
+:cite:`Schlick1994` F = F0 + (1 − F0)(1 − x)^5.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+
+import numpy as np
+
+from basis.eigenbasis import Basis, default_basis
+from basis.validation import ParameterError
+
+__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "schlick_channels"]
+
+
+@dataclasses.dataclass(frozen=True)
+class ChannelSet:
+    """Functions f_k(x) of x = ω_o·h, their EXR channel names and the engine's combination rule."""
+
+    name: str
+    functions: Callable[[np.ndarray], np.ndarray]
+    channel_names: tuple[str, ...]
+    combination: str
+    provenance: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def n_channels(self) -> int:
+        return len(self.channel_names)
+
+
+def _schlick_terms(x: np.ndarray) -> np.ndarray:
+    weight = (1.0 - x) ** 5
+    return np.stack([1.0 - weight, weight], axis=-1)
+
+
+def schlick_channels() -> ChannelSet:
+    """Karis's two channels: R = scale (f = 1 − (1 − x)^5), G = bias (f = (1 − x)^5)."""
+    return ChannelSet(
+        name="schlick",
+        functions=_schlick_terms,
+        channel_names=("R", "G"),
+        combination="Fbar = F0 * R + G (Karis 2013; R = scale, G = bias)",
+    )
+
+
+def basis_channels(basis: Basis | None = None) -> ChannelSet:
+    """One channel per basis element b_k(arccos x): R, G, B, A = b0 … b3 for K = 4."""
+    basis = default_basis() if basis is None else basis
+    names = ("R", "G", "B", "A")[: basis.n_terms] if basis.n_terms <= 4 else tuple(f"b{k}" for k in range(basis.n_terms))
+    return ChannelSet(
+        name="basis",
+        functions=basis._evaluate_mu_unchecked,
+        channel_names=names,
+        combination="Fbar = sum_k c_k * channel_k (Belcour et al. 2020, eq. 5)",
+        provenance={"basis_hash": basis.content_hash},
+    )
+
+
+#: Registry: name → factory. ``fresnel-lut build --model NAME`` is one lookup here.
+CHANNEL_SETS: dict[str, Callable[..., ChannelSet]] = {"basis": basis_channels, "schlick": schlick_channels}
+
+
+def channel_set(name: str, **kwargs) -> ChannelSet:
+    """Look up a channel set by name; the error lists the valid names."""
+    try:
+        factory = CHANNEL_SETS[name]
+    except KeyError:
+        raise ParameterError(f"channel set must be one of {sorted(CHANNEL_SETS)}, got {name!r}") from None
+    return factory(**kwargs)

@@ -1,0 +1,213 @@
+"""``fresnel-lut``: build the eigen-basis, the split-sum LUTs, and material coefficients.
+
+Usage::
+
+    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE]
+    fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
+    fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B) [--json] [--basis FILE]
+
+Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
+leaves every previously written file untouched. This module is the only one that knows about both
+:mod:`basis` and :mod:`preintegrate` and about files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from basis.builder import build_basis
+from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_nk
+from basis.eigenbasis import Basis, default_basis
+from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.validation import ParameterError, check_positive_int
+
+from .channels import basis_channels, schlick_channels
+from .exr import write_luts
+from .progress import Progress
+from .quadrature import DEFAULT_ORDER, QuadratureOrder
+from .table import PIXEL_CONVENTION, build_table
+
+BASIS_LUT = "ggx_basis_rgba.exr"
+SCHLICK_LUT = "ggx_schlick_rg.exr"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (no usage dump, no traceback)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _load_basis(path) -> Basis:
+    return default_basis() if path is None else Basis.read(path)
+
+
+def _size_text(path: Path) -> str:
+    size = path.stat().st_size
+    return f"{size / 1024:.1f} KiB" if size < 1024**2 else f"{size / 1024**2:.2f} MiB"
+
+
+def _combined(*channel_sets):
+    """One function returning every set's channels side by side: one integration pass for all."""
+    def functions(x):
+        return np.concatenate([channels.functions(x) for channels in channel_sets], axis=-1)
+    return functions
+
+
+def command_build(arguments) -> int:
+    size = check_positive_int("--size", arguments.size, low=2, high=8192)
+    order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
+        check_positive_int("--order", arguments.order, low=2, high=512)
+    )
+    basis = _load_basis(arguments.basis)
+    started = time.perf_counter()
+    basis_set, schlick_set = basis_channels(basis), schlick_channels()
+    combined = basis_set.__class__(
+        name="all", functions=_combined(basis_set, schlick_set),
+        channel_names=basis_set.channel_names + schlick_set.channel_names, combination="",
+    )
+    progress = Progress(f"integrating {size}x{size} texels", "texels")
+    table = build_table(combined, size, order=order, progress=progress)
+    progress.close()
+    common = {
+        "convention": PIXEL_CONVENTION,
+        "quadrature": f"{order.describe()}; {order.nodes_per_texel} nodes per texel",
+        "width": str(size),
+        "height": str(size),
+        "generator": "fresnel-basis 0.1.0 (fresnel-lut build)",
+    }
+    out = Path(arguments.out)
+    k = basis_set.n_channels
+    items = [
+        (out / BASIS_LUT, table[:, :, :k], basis_set.channel_names, {
+            **common, "channel_set": "basis", "channels": ",".join(basis_set.channel_names),
+            "combination": basis_set.combination, "basis_hash": basis.content_hash,
+            "basis_fit_angles": ",".join(f"{angle:.6f}" for angle in basis.fit_angles),
+        }),
+        (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names, {
+            **common, "channel_set": "schlick", "channels": ",".join(schlick_set.channel_names),
+            "combination": schlick_set.combination,
+        }),
+    ]
+    paths = write_luts(items, half=arguments.half)
+    elapsed = time.perf_counter() - started
+    print(f"built {size}x{size} LUTs ({'half' if arguments.half else 'float32'}) in {elapsed:.2f} s, basis {basis.content_hash}:")
+    for path in paths:
+        print(f"  {path}  {_size_text(path)}")
+    return 0
+
+
+def command_basis(arguments) -> int:
+    count = check_positive_int("--count", arguments.count, low=100, high=100_000_000)
+    started = time.perf_counter()
+    progress = Progress("training curves", "curves")
+    fit_angles = arguments.fit_angles
+    if fit_angles not in ("auto", "talk", "notebook"):
+        raise ParameterError(f"--fit-angles must be auto, talk or notebook, got {fit_angles!r}")
+    basis = build_basis(
+        count=count, seed=arguments.seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=65536),
+        n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
+        fit_angles=fit_angles, progress=lambda done: progress(done, count),
+    )
+    progress.close()
+    path = basis.write(arguments.out)
+    elapsed = time.perf_counter() - started
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
+          f"(peak RSS {peak:.0f} MiB)")
+    print(f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad")
+    print("held-out max |dF| over theta of the four-point fit:")
+    errors = basis.training["holdout_max_abs_error"]
+    groups = [key for key in next(iter(errors.values())) if key != "angles"]
+    print(f"  {'angles':28s}" + "".join(f"{group:>13s}" for group in groups))
+    for name, row in errors.items():
+        label = f"{name} ({row['angles'][0]:.4f}, {row['angles'][1]:.4f})"
+        print(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
+    print(f"  {path}  {_size_text(path)}")
+    return 0
+
+
+def command_coeffs(arguments) -> int:
+    basis = _load_basis(arguments.basis)
+    nk_given = arguments.eta is not None or arguments.kappa is not None
+    artist_given = arguments.reflectivity is not None or arguments.edge_tint is not None
+    if nk_given == artist_given:
+        raise ParameterError("give either --eta and --kappa, or --reflectivity and --edge-tint")
+    if nk_given:
+        if arguments.eta is None or arguments.kappa is None:
+            raise ParameterError("--eta and --kappa go together")
+        eta, kappa = np.array(arguments.eta), np.array(arguments.kappa)
+        coefficients = coefficients_from_nk(eta, kappa, basis)
+        material = {"eta": eta.tolist(), "kappa": kappa.tolist()}
+    else:
+        if arguments.reflectivity is None or arguments.edge_tint is None:
+            raise ParameterError("--reflectivity and --edge-tint go together")
+        reflectivity, edge_tint = np.array(arguments.reflectivity), np.array(arguments.edge_tint)
+        coefficients = coefficients_from_gulbrandsen(reflectivity, edge_tint, basis)
+        eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
+        material = {"reflectivity": reflectivity.tolist(), "edge_tint": edge_tint.tolist(),
+                    "eta": eta.tolist(), "kappa": kappa.tolist()}
+    if arguments.json:
+        print(json.dumps({"basis_hash": basis.content_hash, "material": material,
+                          "coefficients": coefficients.tolist(), "layout": "[channel R,G,B][term c0..c3]"}))
+    else:
+        print(f"basis {basis.content_hash}; Fbar = c0*LUT.r + c1*LUT.g + c2*LUT.b + c3*LUT.a per colour channel")
+        for name, row in zip("RGB", coefficients):
+            print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
+    return 0
+
+
+def make_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="fresnel-lut", description="Preintegrable Fresnel eigen-basis and GGX split-sum LUTs.")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    build = commands.add_parser("build", help="write the basis and Schlick split-sum LUTs as EXR")
+    build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
+    build.add_argument("--out", default="luts", help="output folder (default: luts)")
+    build.add_argument("--half", action="store_true", help="store half floats instead of float32")
+    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis (default: 24)")
+    build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
+    build.set_defaults(run=command_build)
+
+    basis = commands.add_parser("basis", help="rebuild the eigen-basis (luts/basis.json)")
+    basis.add_argument("--count", type=int, default=200_000, help="training curves (default 200000)")
+    basis.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
+    basis.add_argument("--terms", type=int, default=4, help="basis elements K (default 4)")
+    basis.add_argument("--fit-angles", default="auto", help="auto (search on held-out set), talk or notebook")
+    basis.add_argument("--out", default="luts/basis.json", help="output file (default luts/basis.json)")
+    basis.set_defaults(run=command_basis)
+
+    coeffs = commands.add_parser("coeffs", help="basis coefficients of an RGB material")
+    coeffs.add_argument("--eta", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--kappa", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--reflectivity", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--json", action="store_true", help="machine-readable output")
+    coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
+    coeffs.set_defaults(run=command_coeffs)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = make_parser()
+    arguments = parser.parse_args(argv)
+    try:
+        return arguments.run(arguments)
+    except KeyboardInterrupt:
+        print("\nfresnel-lut: interrupted; no file was written or replaced", file=sys.stderr)
+        return 130
+    except (ValueError, OSError) as error:
+        print(f"fresnel-lut: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

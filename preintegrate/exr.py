@@ -1,0 +1,115 @@
+"""EXR I/O of LUT tables: atomic writes, self-describing headers, verified reads.
+
+Public objects: ``write_lut``, ``write_luts``, ``read_lut``, ``LutFileError``.
+
+Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines, float32 by default
+or half. Every file is first written to a temporary name in the destination folder and renamed into
+place only when complete, so a crash or Ctrl-C never leaves a half-written LUT and an existing file is
+only ever replaced by a complete one. :func:`write_luts` renames a whole set only after every file of
+it is written. Header attributes carry no time stamp, so the same build gives bit-identical files.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import OpenEXR
+
+from basis.validation import ParameterError
+
+__all__ = ["LutFileError", "read_lut", "write_lut", "write_luts"]
+
+#: Prefix of this project's header attributes.
+ATTRIBUTE_PREFIX = "fresnel:"
+HALF_MAX = float(np.finfo(np.float16).max)
+
+
+class LutFileError(ParameterError):
+    """An EXR LUT is missing, unreadable, truncated or lacks this project's header."""
+
+
+def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarray]:
+    table = np.asarray(table, dtype=np.float64)
+    if table.ndim != 3 or table.shape[2] != len(channel_names):
+        raise ParameterError(f"table must have shape (H, W, {len(channel_names)}), got {table.shape}")
+    if not np.all(np.isfinite(table)):
+        raise ParameterError("table contains NaN or inf; refusing to write it")
+    if half and np.max(np.abs(table)) > HALF_MAX:
+        raise ParameterError(f"table exceeds the half-float range ({HALF_MAX}); write float32 instead")
+    dtype = np.float16 if half else np.float32
+    return {name: np.ascontiguousarray(table[:, :, k].astype(dtype)) for k, name in enumerate(channel_names)}
+
+
+def _temporary_path(path: Path) -> Path:
+    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(handle)
+    return Path(name)
+
+
+def write_luts(items, half: bool = False) -> list[Path]:
+    """Write several LUTs as one transaction: all temporaries first, then all renames.
+
+    ``items`` is a sequence of (path, table (H, W, K), channel names, attributes mapping str → str).
+    """
+    prepared = []
+    for path, table, channel_names, attributes in items:
+        path = Path(path)
+        channels = _prepare(table, channel_names, half)
+        header = {
+            "compression": OpenEXR.ZIP_COMPRESSION,
+            "type": OpenEXR.scanlineimage,
+            **{f"{ATTRIBUTE_PREFIX}{key}": str(value) for key, value in attributes.items()},
+            f"{ATTRIBUTE_PREFIX}pixel_type": "half" if half else "float32",
+        }
+        prepared.append((path, header, channels))
+    temporaries = []
+    try:
+        for path, header, channels in prepared:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            temporary = _temporary_path(path)
+            temporaries.append(temporary)
+            OpenEXR.File(header, channels).write(str(temporary))
+        for (path, _, _), temporary in zip(prepared, temporaries):
+            os.replace(temporary, path)
+    finally:
+        for temporary in temporaries:
+            temporary.unlink(missing_ok=True)
+    return [path for path, _, _ in prepared]
+
+
+def write_lut(path, table, channel_names, attributes: Mapping[str, str], half: bool = False) -> Path:
+    """Write one LUT (H, W, K) atomically; see :func:`write_luts`."""
+    return write_luts([(path, table, tuple(channel_names), attributes)], half=half)[0]
+
+
+def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
+    """Read a LUT written by :func:`write_lut`: (table (H, W, K) float64, this project's attributes).
+
+    ``channel_names`` defaults to the order stored in the header (``fresnel:channels``).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise LutFileError(f"LUT file {path} does not exist")
+    try:
+        image = OpenEXR.File(str(path))
+        header = image.header()
+        channels = image.channels()
+    except Exception as error:  # the bindings raise bare RuntimeError/OSError on bad files
+        raise LutFileError(f"cannot read EXR {path} (truncated or not an EXR?): {error}") from None
+    attributes = {
+        key[len(ATTRIBUTE_PREFIX) :]: str(value) for key, value in header.items() if key.startswith(ATTRIBUTE_PREFIX)
+    }
+    if "channels" not in attributes:
+        raise LutFileError(f"{path} is not a fresnel-basis LUT (no {ATTRIBUTE_PREFIX}channels attribute)")
+    names = attributes["channels"].split(",") if channel_names is None else list(channel_names)
+    missing = [name for name in names if name not in channels]
+    if missing:
+        raise LutFileError(f"{path} lacks channels {missing}; it has {sorted(channels)}")
+    table = np.stack([np.asarray(channels[name].pixels, dtype=np.float64) for name in names], axis=-1)
+    if not np.all(np.isfinite(table)):
+        raise LutFileError(f"{path} contains NaN or inf texels")
+    return table, attributes

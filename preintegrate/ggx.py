@@ -1,0 +1,121 @@
+"""The GGX (Trowbridge–Reitz) microfacet distribution with height-correlated Smith masking-shadowing.
+
+Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_height_correlated``, ``sample_vndf``,
+``roughness_to_alpha``.
+
+Directions are unit vectors in the local frame (normal = +z), arrays with a trailing axis of 3; μ is
+the cosine to the normal. α is the distribution's width; LUTs index perceptual roughness r with
+α = r² (Burley 2012, Karis 2013).
+
+References
+----------
+:cite:`Walter2007` B. Walter et al., "Microfacet Models for Refraction through Rough Surfaces",
+    EGSR 2007, eq. 33 (D) and 34 (G1 via Λ).
+:cite:`Heitz2014` E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+    JCGT 3(2), 2014, eq. 72 (Λ of GGX) and eq. 99 (height-correlated G2 = 1 / (1 + Λ(ωo) + Λ(ωi))).
+:cite:`Heitz2018` E. Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018, listing 1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["g1", "g2_height_correlated", "ndf", "roughness_to_alpha", "sample_vndf", "smith_lambda"]
+
+
+def roughness_to_alpha(roughness):
+    """α = r²: perceptual roughness (the LUT's row axis) to the GGX width."""
+    return np.asarray(roughness, dtype=np.float64) ** 2
+
+
+def ndf(mu_h, alpha):
+    """D(h) = α² / (π (μ_h² (α² − 1) + 1)²) (Walter 2007, eq. 33); 0 below the horizon."""
+    mu_h = np.asarray(mu_h, dtype=np.float64)
+    alpha2 = np.asarray(alpha, dtype=np.float64) ** 2
+    denominator = mu_h * mu_h * (alpha2 - 1.0) + 1.0
+    return np.where(mu_h > 0.0, alpha2 / (np.pi * denominator * denominator), 0.0)
+
+
+def _slope_root(mu, alpha):
+    """√(μ² + α²(1 − μ²)), the quantity through which Λ stays finite at the horizon."""
+    return np.sqrt(mu * mu + alpha * alpha * (1.0 - mu * mu))
+
+
+def smith_lambda(mu, alpha):
+    """Λ(μ) = (−1 + √(1 + α² tan²θ)) / 2 (Heitz 2014, eq. 72), written as (√(μ² + α²(1 − μ²)) − μ) / (2μ)."""
+    mu = np.asarray(mu, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        return (_slope_root(mu, alpha) - mu) / (2.0 * mu)
+
+
+def g1(mu, alpha):
+    """Smith masking G1 = 1 / (1 + Λ) = 2μ / (μ + √(μ² + α²(1 − μ²))); 0 at and below the horizon."""
+    mu = np.asarray(mu, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    mu_pos = np.maximum(mu, 0.0)
+    denominator = mu_pos + _slope_root(mu_pos, alpha)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(mu > 0.0, 2.0 * mu_pos / np.where(denominator > 0, denominator, 1.0), 0.0)
+
+
+def g2_height_correlated(mu_o, mu_i, alpha):
+    """Height-correlated G2 = 1 / (1 + Λ(μo) + Λ(μi)) (Heitz 2014, eq. 99).
+
+    Written as 2 μo μi / (μi √(μo² + α²(1 − μo²)) + μo √(μi² + α²(1 − μi²))), finite at grazing;
+    0 when either direction is at or below the horizon.
+    """
+    mu_o = np.asarray(mu_o, dtype=np.float64)
+    mu_i = np.asarray(mu_i, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    o = np.maximum(mu_o, 0.0)
+    i = np.maximum(mu_i, 0.0)
+    denominator = i * _slope_root(o, alpha) + o * _slope_root(i, alpha)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        value = 2.0 * o * i / np.where(denominator > 0.0, denominator, 1.0)
+    return np.where((mu_o > 0.0) & (mu_i > 0.0), value, 0.0)
+
+
+def sample_vndf(omega_o, alpha, u1, u2):
+    """Sample a microfacet normal from the distribution of visible normals D_ωo(h) (Heitz 2018, listing 1).
+
+    Parameters
+    ----------
+    omega_o : numpy.ndarray
+        (..., 3) view directions with ω_o,z > 0.
+    alpha : array_like
+        Isotropic GGX width, broadcast against the sample shape.
+    u1, u2 : numpy.ndarray
+        Uniform numbers in [0, 1), broadcast against each other and ``omega_o[..., 0]``.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) unit half vectors h with h·ω_o ≥ 0 and h_z ≥ 0.
+    """
+    omega_o = np.asarray(omega_o, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    # Section 1: stretch the view direction to the hemisphere configuration.
+    vh = np.stack(np.broadcast_arrays(alpha * omega_o[..., 0], alpha * omega_o[..., 1], omega_o[..., 2]), axis=-1)
+    vh /= np.linalg.norm(vh, axis=-1, keepdims=True)
+    # Section 2: orthonormal basis (T1 horizontal, T2 = vh × T1).
+    length2 = vh[..., 0] ** 2 + vh[..., 1] ** 2
+    safe = np.where(length2 > 0.0, length2, 1.0)
+    t1 = np.where(
+        (length2 > 0.0)[..., None],
+        np.stack([-vh[..., 1], vh[..., 0], np.zeros_like(length2)], axis=-1) / np.sqrt(safe)[..., None],
+        np.array([1.0, 0.0, 0.0]),
+    )
+    t2 = np.cross(vh, t1)
+    # Section 3: uniform point on the disk, warped to the projected visible half-disk.
+    radius = np.sqrt(u1)
+    phi = 2.0 * np.pi * u2
+    p1 = radius * np.cos(phi)
+    p2 = radius * np.sin(phi)
+    s = 0.5 * (1.0 + vh[..., 2])
+    p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
+    # Section 4: reproject onto the hemisphere, then unstretch (section 5).
+    lift = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
+    nh = p1[..., None] * t1 + p2[..., None] * t2 + lift[..., None] * vh
+    h = np.stack(np.broadcast_arrays(alpha * nh[..., 0], alpha * nh[..., 1], np.maximum(nh[..., 2], 0.0)), axis=-1)
+    return h / np.linalg.norm(h, axis=-1, keepdims=True)

@@ -1,0 +1,44 @@
+"""Progress on standard error for work that takes more than a second.
+
+Public objects: ``Progress``.
+
+On a terminal the line is redrawn in place; elsewhere (CI logs, pipes) a line is printed at most every
+few seconds. Nothing is printed for work that finishes within ``delay`` seconds.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+__all__ = ["Progress"]
+
+
+class Progress:
+    """Callable ``progress(done, total)`` that reports ``label: 42% (done/total unit)``."""
+
+    def __init__(self, label: str, unit: str = "", delay: float = 1.0, interval: float = 5.0, stream=None):
+        self.label, self.unit, self.delay, self.interval = label, unit, delay, interval
+        self.stream = sys.stderr if stream is None else stream
+        self.start = time.perf_counter()
+        self.last = -float("inf")
+        self.shown = False
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+
+    def __call__(self, done: int, total: int | None = None) -> None:
+        now = time.perf_counter()
+        if now - self.start < self.delay or (not self.tty and now - self.last < self.interval and done != total):
+            return
+        self.last = now
+        share = f"{100.0 * done / total:5.1f}% " if total else ""
+        counts = f"({done}/{total} {self.unit})" if total else f"({done} {self.unit})"
+        text = f"{self.label}: {share}{counts} {now - self.start:.1f}s"
+        self.stream.write(("\r" + text) if self.tty else (text + "\n"))
+        self.stream.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        """End the in-place line on a terminal."""
+        if self.shown and self.tty:
+            self.stream.write("\n")
+            self.stream.flush()
