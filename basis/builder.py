@@ -71,7 +71,7 @@ def choose_fit_angles(basis: Basis, theta2=(1.30, 1.56, 27), theta3=(1.0, 1.5, 2
 
 
 def build_basis(
-    count: int = 100_000,
+    count: int = 200_000,
     seed: int = 1,
     domain: TrainingDomain = DEFAULT_DOMAIN,
     grid_size: int = 512,

@@ -172,7 +172,7 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
-    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis (default: 24)")
+    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis (default: 32)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     build.set_defaults(run=command_build)
 

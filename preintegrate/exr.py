@@ -95,7 +95,7 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     if not path.is_file():
         raise LutFileError(f"LUT file {path} does not exist")
     try:
-        image = OpenEXR.File(str(path))
+        image = OpenEXR.File(str(path), separate_channels=True)  # else R,G,B,A come back merged as "RGBA"
         header = image.header()
         channels = image.channels()
     except Exception as error:  # the bindings raise bare RuntimeError/OSError on bad files

@@ -18,11 +18,14 @@ fixed θ_h the cut is cos φ > c*(θ_h) = −μo cos 2θ_h / (sin θo sin 2θ_h)
 exactly at θ_h = (π/2 − θo)/2 (below: the whole circle is visible) and θ_h = (π/2 + θo)/2 (above:
 nothing is):
 
-* piece A, θ' ∈ [0, θ'_A], φ ∈ [0, π]: a smooth periodic integrand — Gauss–Legendre in θ' and the
-  midpoint rule in φ (spectral for periodic functions);
-* piece B, θ' ∈ [θ'_A, θ'_B], φ ∈ [0, arccos c*]: the inner integral has (t − t0)^{3/2} end-point
-  behaviour in θ', removed by the smoothstep map θ' = θ'_A + (θ'_B − θ'_A)(3s² − 2s³); then
-  Gauss–Legendre in s and in φ / φ_max.
+* piece A, θ' ∈ [0, θ'_A], φ ∈ [0, π]: a smooth periodic integrand — Gauss–Legendre in
+  v = asinh(tan θ') and the midpoint rule in φ (spectral for periodic functions);
+* piece B, θ' ∈ [θ'_A, θ'_B], φ ∈ [0, arccos c*]: the inner integral has (v − v0)^{3/2} end-point
+  behaviour, removed by the smoothstep map v = v_A + (v_B − v_A)(3s² − 2s³); then Gauss–Legendre in
+  s and in φ / φ_max.
+
+The variable v is θ' near the normal and log(2 tan θ') far from it: tan θ_h = α tan θ' squeezes all
+θ_h ≫ α into a sliver of width ~α below θ' = π/2, which v opens up to width ~log(1/α).
 
 No Monte Carlo, no noise; the error falls exponentially with the order (see the report).
 α = 0 is the mirror limit F̄_k = f_k(μo).
@@ -48,12 +51,15 @@ __all__ = ["DEFAULT_ORDER", "QuadratureOrder", "directional_albedo"]
 
 @dataclasses.dataclass(frozen=True)
 class QuadratureOrder:
-    """Node counts: θ' and φ in piece A (full circle), θ' and φ in piece B (cut by the horizon)."""
+    """Node counts: v and φ in piece A (full circle), v and φ in piece B (cut by the horizon).
 
-    theta_a: int = 24
-    phi_a: int = 24
-    theta_b: int = 24
-    phi_b: int = 24
+    v = asinh(tan θ') is θ' near the normal and log(2 tan θ') far from it (see the module notes).
+    """
+
+    theta_a: int = 32
+    phi_a: int = 32
+    theta_b: int = 32
+    phi_b: int = 32
 
     def __post_init__(self):
         for field in dataclasses.fields(self):
@@ -70,12 +76,15 @@ class QuadratureOrder:
 
     def describe(self) -> str:
         return (
-            f"piece A {self.theta_a}x{self.phi_a} (Gauss-Legendre theta' x midpoint phi), "
-            f"piece B {self.theta_b}x{self.phi_b} (smoothstep Gauss-Legendre theta' x Gauss-Legendre phi)"
+            f"piece A {self.theta_a}x{self.phi_a} (Gauss-Legendre in v = asinh(tan theta') x midpoint in phi), "
+            f"piece B {self.theta_b}x{self.phi_b} (smoothstep Gauss-Legendre in v x Gauss-Legendre in phi)"
         )
 
 
 DEFAULT_ORDER = QuadratureOrder()
+
+#: Upper bound of v = asinh(tan θ'): beyond it the measure sech²v is below 1e-30.
+V_MAX = 35.0
 
 
 def _gauss_legendre_unit(count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -84,64 +93,62 @@ def _gauss_legendre_unit(count: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (nodes + 1.0), 0.5 * weights
 
 
+def _stretched_segment(low: np.ndarray, high: np.ndarray, count: int, smoothstep: bool):
+    """Gauss–Legendre nodes in v = asinh(tan θ') on [low, high] → (sin θ', cos θ', weight in dθ'), each (T, n).
+
+    tan θ_h = α tan θ' packs the whole range θ_h ≫ α into a sliver of width ~α below θ' = π/2; in v
+    that sliver has width ~log(1/α), while near the normal v ≈ θ', so Gauss–Legendre converges at every
+    α. θ' = gd(v): sin θ' = tanh v, cos θ' = sech v, dθ' = sech v dv.
+    """
+    nodes, weights = _gauss_legendre_unit(count)
+    if smoothstep:  # v = low + (high − low)(3s² − 2s³): removes (v − v0)^{3/2} end-point behaviour
+        position, slope = nodes * nodes * (3.0 - 2.0 * nodes), 6.0 * nodes * (1.0 - nodes)
+    else:
+        position, slope = nodes, np.ones_like(nodes)
+    width = (high - low)[:, None]
+    v = low[:, None] + width * position[None, :]
+    cos_s = 1.0 / np.cosh(v)
+    return np.tanh(v), cos_s, cos_s * width * (slope * weights)[None, :]
+
+
 def _texel_nodes(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
-    """Quadrature nodes for a flat batch of texels: x = ω_o·h, μ_h, μ_i and weights, shape (T, nodes)."""
+    """Quadrature nodes for a flat batch of texels: x = ω_o·h, μ_i and weights, each (T, nodes)."""
+    texels = mu_o.size
     theta_o = np.arccos(mu_o)
     sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
-    theta_h_a = 0.5 * (0.5 * np.pi - theta_o)
-    theta_h_b = 0.5 * (0.5 * np.pi + theta_o)
-    # θ' = atan(tan θ_h / α), the polar angle in the stretched (α = 1) configuration.
-    stretched_a = np.arctan2(np.sin(theta_h_a), alpha * np.cos(theta_h_a))
-    stretched_b = np.arctan2(np.sin(theta_h_b), alpha * np.cos(theta_h_b))
+    # Piece A ends at θ_h = (π/2 − θo)/2, piece B at (π/2 + θo)/2; tan θ' = tan θ_h / α.
+    with np.errstate(divide="ignore", over="ignore"):
+        v_a = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi - theta_o)) / alpha), V_MAX)
+        v_b = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi + theta_o)) / alpha), V_MAX)
+    v_b = np.maximum(v_b, v_a)
+    sin_sa, cos_sa, weight_sa = _stretched_segment(np.zeros(texels), v_a, order.theta_a, False)
+    sin_sb, cos_sb, weight_sb = _stretched_segment(v_a, v_b, order.theta_b, True)
 
-    s_a, w_a = _gauss_legendre_unit(order.theta_a)
-    phi_a = (np.arange(order.phi_a) + 0.5) * np.pi / order.phi_a
-    s_b, w_b = _gauss_legendre_unit(order.theta_b)
-    s_phi, w_phi = _gauss_legendre_unit(order.phi_b)
-
-    # Piece A: θ' = θ'_A s, φ midpoint on [0, π].
-    stretched_nodes_a = stretched_a[:, None] * s_a[None, :]
-    weight_a = stretched_a[:, None] * w_a[None, :] * (np.pi / order.phi_a)
-    # Piece B: θ' = θ'_A + (θ'_B − θ'_A)(3s² − 2s³).
-    width = stretched_b - stretched_a
-    stretched_nodes_b = stretched_a[:, None] + width[:, None] * (s_b * s_b * (3.0 - 2.0 * s_b))[None, :]
-    weight_b = width[:, None] * (w_b * 6.0 * s_b * (1.0 - s_b))[None, :]
-
-    def half_vector(stretched):
-        sin_s, cos_s = np.sin(stretched), np.cos(stretched)
+    def half_vector(sin_s, cos_s):
         norm = np.sqrt((alpha[:, None] * sin_s) ** 2 + cos_s**2)
-        # measure factor 2 sin θ' √(α² sin²θ' + cos²θ') of the change of variables (see module doc)
+        # measure factor 2 sin θ' √(α² sin²θ' + cos²θ') of the change of variables (module notes)
         return alpha[:, None] * sin_s / norm, cos_s / norm, 2.0 * sin_s * norm
 
-    sin_h_a, mu_h_a, jac_a = half_vector(stretched_nodes_a)
-    sin_h_b, mu_h_b, jac_b = half_vector(stretched_nodes_b)
+    sin_a, mu_h_a, jacobian_a = half_vector(sin_sa, cos_sa)
+    weight_a = weight_sa * jacobian_a * (np.pi / order.phi_a)
+    sin_b, mu_h_b, jacobian_b = half_vector(sin_sb, cos_sb)
     # φ range of piece B: cos φ > c* = −μo cos 2θ_h / (sin θo sin 2θ_h).
     with np.errstate(divide="ignore", invalid="ignore"):
-        cos_2h = mu_h_b * mu_h_b - sin_h_b * sin_h_b
-        sin_2h = 2.0 * sin_h_b * mu_h_b
-        c_star = -mu_o[:, None] * cos_2h / (sin_o[:, None] * sin_2h)
+        c_star = -mu_o[:, None] * (mu_h_b * mu_h_b - sin_b * sin_b) / (sin_o[:, None] * 2.0 * sin_b * mu_h_b)
     phi_max = np.arccos(np.clip(np.nan_to_num(c_star, nan=1.0, posinf=1.0, neginf=-1.0), -1.0, 1.0))
+    s_phi, w_phi = _gauss_legendre_unit(order.phi_b)
+    weight_b = weight_sb * jacobian_b * phi_max
 
-    def expand(values_a, values_b, phi_count_b):
-        return np.concatenate(
-            [
-                np.repeat(values_a[:, :, None], order.phi_a, axis=2).reshape(len(mu_o), -1),
-                np.repeat(values_b[:, :, None], phi_count_b, axis=2).reshape(len(mu_o), -1),
-            ],
-            axis=1,
-        )
+    cos_phi_a = np.cos((np.arange(order.phi_a) + 0.5) * np.pi / order.phi_a)
+    cos_phi_b = np.cos(phi_max[:, :, None] * s_phi[None, None, :])
 
-    cos_phi = np.concatenate(
-        [
-            np.broadcast_to(np.cos(phi_a)[None, None, :], stretched_nodes_a.shape + (order.phi_a,)).reshape(len(mu_o), -1),
-            np.cos(phi_max[:, :, None] * s_phi[None, None, :]).reshape(len(mu_o), -1),
-        ],
-        axis=1,
-    )
-    weight = expand(weight_a * jac_a, weight_b * jac_b * phi_max, order.phi_b)
-    weight[:, order.theta_a * order.phi_a :] *= np.tile(w_phi, order.theta_b)[None, :]
-    sin_h = expand(sin_h_a, sin_h_b, order.phi_b)
-    mu_h = expand(mu_h_a, mu_h_b, order.phi_b)
+    def flat(values):
+        return values.reshape(texels, -1)
+
+    sin_h = np.concatenate([flat(np.repeat(sin_a[:, :, None], order.phi_a, 2)), flat(np.repeat(sin_b[:, :, None], order.phi_b, 2))], 1)
+    mu_h = np.concatenate([flat(np.repeat(mu_h_a[:, :, None], order.phi_a, 2)), flat(np.repeat(mu_h_b[:, :, None], order.phi_b, 2))], 1)
+    cos_phi = np.concatenate([flat(np.broadcast_to(cos_phi_a, sin_a.shape + (order.phi_a,))), flat(cos_phi_b)], 1)
+    weight = np.concatenate([flat(np.repeat(weight_a[:, :, None], order.phi_a, 2)), flat(weight_b[:, :, None] * w_phi)], 1)
     x = sin_o[:, None] * sin_h * cos_phi + mu_o[:, None] * mu_h
     mu_i = 2.0 * x * mu_h - mu_o[:, None]
     return np.clip(x, 0.0, 1.0), mu_i, weight / np.pi
