@@ -124,7 +124,7 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
     Parameters
     ----------
     eta : array_like
-        In (0, 1e6]. η < 1 with κ = 0 (internal reflection) is accepted, but its curve has a kink at the
+        In [1e-8, 1e6]. η < 1 with κ = 0 (internal reflection) is accepted, but its curve has a kink at the
         critical angle that four smooth terms can only approximate.
     kappa : array_like
         In [0, 1e6].
@@ -136,7 +136,7 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
     (3, 4)
     """
     basis = _basis(basis)
-    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1], low_open=True)
+    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     mu = np.cos(basis.fit_angles)
     mu[basis.fit_angles == 0.5 * np.pi] = 0.0

@@ -20,8 +20,9 @@ from .validation import check_range
 
 __all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric"]
 
-#: Accepted η: open at 0 (no material has η ≤ 0); 1e6 keeps every square finite in float64.
-ETA_RANGE = (0.0, 1e6)
+#: Accepted η: [1e-8, 1e6] keeps every square and product of squares normal in float64 (below
+#: ~1e-81 they underflow and the formula degenerates); no material has η ≤ 0.
+ETA_RANGE = (1e-8, 1e6)
 #: Accepted κ.
 KAPPA_RANGE = (0.0, 1e6)
 
@@ -30,7 +31,13 @@ def _fresnel(mu: np.ndarray, eta: np.ndarray, kappa: np.ndarray) -> np.ndarray:
     """Unchecked kernel of :func:`fresnel_conductor` (inputs already validated and broadcastable)."""
     mu2 = mu * mu
     sin2 = 1.0 - mu2
-    t = eta * eta - kappa * kappa - sin2
+    # η² − κ² − sin²θ without avoidable cancellation: near η = 1 as (η − 1)(η + 1) + μ² − κ² (else
+    # grazing angles lose digits), elsewhere as η² − κ² − (1 − μ)(1 + μ) (else small η at μ ≈ 1 does).
+    t = np.where(
+        np.abs(eta - 1.0) < 0.5,
+        (eta - 1.0) * (eta + 1.0) + mu2 - kappa * kappa,
+        eta * eta - kappa * kappa - (1.0 - mu) * (1.0 + mu),
+    )
     four_eta2_kappa2 = 4.0 * (eta * kappa) ** 2
     s = np.sqrt(t * t + four_eta2_kappa2)  # a² + b²
     # 2a² = s + t loses every digit when t ≪ 0 (large κ); use (s + t)(s − t) = 4η²κ² there.
@@ -59,7 +66,7 @@ def fresnel_conductor(mu, eta, kappa) -> np.ndarray:
     mu : array_like
         Cosine of the angle of incidence, in [0, 1].
     eta : array_like
-        Real part of the relative IOR, in (0, 1e6].
+        Real part of the relative IOR, in [1e-8, 1e6].
     kappa : array_like
         Extinction coefficient, in [0, 1e6].
 
@@ -83,7 +90,7 @@ def fresnel_conductor(mu, eta, kappa) -> np.ndarray:
     0.04000...
     """
     mu = check_range("mu", mu, 0.0, 1.0)
-    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1], low_open=True)
+    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     return _fresnel(mu, eta, kappa)
 
@@ -96,7 +103,7 @@ def fresnel_dielectric(mu, eta) -> np.ndarray:
     mu : array_like
         Cosine of the angle of incidence, in [0, 1].
     eta : array_like
-        Relative IOR (transmitted over incident medium), in (0, 1e6].
+        Relative IOR (transmitted over incident medium), in [1e-8, 1e6].
 
     Examples
     --------

@@ -66,7 +66,7 @@ def nk_to_gulbrandsen(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     eta : array_like
-        In (0, 1e6].
+        In [1e-8, 1e6].
     kappa : array_like
         In [0, 1e6].
 
@@ -78,7 +78,7 @@ def nk_to_gulbrandsen(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
         (e.g. η < n_min) g > 1 is returned as is. For r = 0 (η = 1, κ = 0) every g is the same
         material and 0 is returned.
     """
-    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1], low_open=True)
+    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     reflectivity = ((eta - 1.0) ** 2 + kappa**2) / ((eta + 1.0) ** 2 + kappa**2)
     reflectivity = np.minimum(reflectivity, np.nextafter(1.0, 0.0))

@@ -126,6 +126,7 @@ def build_curves(
     first, _ = _leading_eigenvector(gram)
     b1 = first / root_w
     b1 /= b1[-1]
+    b1[0], b1[-1] = 0.0, 1.0  # exact in theory (every F̂ row is 0 at θ = 0); remove rounding
     curves.append(b1)
     # Gram of the rows σ(F̂ − b1)√w: G − s b̂1ᵀ − b̂1 sᵀ + (Σσ²) b̂1 b̂1ᵀ with s = Σ σ² F̂ √w.
     b1_weighted = b1 * root_w
@@ -138,7 +139,10 @@ def build_curves(
         residual = projector @ residual @ projector
         residual_rms.append(rms(residual))
         element = vector / root_w
-        peak = element[np.argmax(np.abs(element))]
-        curves.append(element / peak)
+        element = element / element[np.argmax(np.abs(element))]
+        # Zero at both ends in theory (every residual row is); the closed-form Gram leaves ~1e-11,
+        # which would make c0 = F(0) and c1 = F(π/2) − F(0) only approximately true.
+        element[0] = element[-1] = 0.0
+        curves.append(element)
     stats = {"count": accumulator.count, "skipped": accumulator.skipped, "residual_rms": residual_rms}
     return np.array(curves), stats

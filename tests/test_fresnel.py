@@ -167,13 +167,6 @@ def test_huge_kappa_is_a_perfect_mirror(eta):
     assert np.all(value >= 0.9999)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=(
-        "library bug (accuracy): sin^2 = 1 - mu^2 is rounded before eta^2 - kappa^2 - sin^2 is formed, which "
-        "cancels for eta ~ 1 at grazing incidence; F(mu=1e-6, eta=1, kappa=1e-12) is off by 9e-7"
-    ),
-)
 def test_near_index_matched_grazing_corner_matches_high_precision():
     """eta ~ 1, kappa <= 1e-6, mu <= 1e-3 against a 60-digit Decimal evaluation of the complex form (atol 1e-12)."""
     cases = [(1e-6, 1.0, 1e-12), (1e-4, 1.0 + 1e-6, 0.0), (1e-3, 1.0 - 1e-6, 1e-6), (1e-4, 1.0, 1e-6)]
@@ -188,18 +181,17 @@ def test_decimal_reference_agrees_with_complex_form_where_well_conditioned():
         np.testing.assert_allclose(fresnel_decimal(mu, eta, kappa), fresnel_complex(mu, eta, kappa), rtol=0, atol=1e-13)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason=(
-        "library bug: for eta, kappa < ~1e-81 (inside the documented domain eta in (0, 1e6]) the squares "
-        "underflow, s = a^2 + b^2 becomes 0, the eta = 1/kappa = 0/mu = 0 'degenerate' branch fires at mu = 1 "
-        "and F(normal) is 0 instead of ((eta-1)^2 + kappa^2)/((eta+1)^2 + kappa^2) = 1"
-    ),
-)
-@pytest.mark.parametrize("eta, kappa", [(1e-81, 0.0), (1e-100, 1e-100), (5e-324, 0.0)])
-def test_tiny_eta_at_normal_incidence(eta, kappa):
-    """F(mu = 1) for tiny eta (and kappa) equals the closed form ~ 1 (atol 1e-12)."""
+@pytest.mark.parametrize("eta, kappa", [(1e-8, 0.0), (1e-8, 1e-8), (1e-8, 1e6)])
+def test_smallest_eta_at_normal_incidence(eta, kappa):
+    """F(mu = 1) at the domain's smallest eta equals the closed form ((eta-1)^2+kappa^2)/((eta+1)^2+kappa^2) (atol 1e-12)."""
     np.testing.assert_allclose(fresnel_conductor(1.0, eta, kappa), normal_incidence(eta, kappa), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("eta", [1e-81, 5e-324, 9.9e-9])
+def test_eta_below_domain_is_refused(eta):
+    """eta below 1e-8, where float64 squares underflow, is refused with the accepted range in the message."""
+    with pytest.raises(ParameterError, match=r"eta must be in \[1e-08"):
+        fresnel_conductor(1.0, eta, 0.0)
 
 
 # ----------------------------------------------------------------------------- broadcasting
@@ -280,7 +272,7 @@ def test_dielectric_bad_input(mu, eta, name):
 
 
 # ----------------------------------------------------------------------------- properties
-ETA_DOMAIN = st.floats(min_value=0.0, max_value=1e3, exclude_min=True, allow_nan=False, allow_infinity=False)
+ETA_DOMAIN = st.floats(min_value=1e-8, max_value=1e3, allow_nan=False, allow_infinity=False)
 KAPPA_DOMAIN = st.floats(min_value=0.0, max_value=1e3, allow_nan=False, allow_infinity=False)
 MU_DOMAIN = st.floats(min_value=0.0, max_value=1.0, allow_nan=False, allow_infinity=False)
 
