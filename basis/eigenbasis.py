@@ -18,14 +18,13 @@ import dataclasses
 import functools
 import hashlib
 import json
-import os
-import tempfile
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from .files import replace_together, temporary_sibling
 from .validation import ParameterError, check_range
 
 __all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis"]
@@ -135,15 +134,13 @@ class Basis:
         """Write the basis as JSON atomically (temporary file in the same folder, then rename)."""
         path = Path(path)
         text = json.dumps(self.to_dict(), indent=1) + "\n"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        temporary = temporary_sibling(path)
         try:
-            with os.fdopen(handle, "w", encoding="utf-8") as stream:
-                stream.write(text)
-            os.replace(temporary, path)
+            temporary.write_text(text, encoding="utf-8")
         except BaseException:
-            Path(temporary).unlink(missing_ok=True)
+            temporary.unlink(missing_ok=True)
             raise
+        replace_together([(temporary, path)])
         return path
 
     @classmethod

@@ -6,19 +6,18 @@ Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines,
 or half. Every file is first written to a temporary name in the destination folder and renamed into
 place only when complete, so a crash or Ctrl-C never leaves a half-written LUT and an existing file is
 only ever replaced by a complete one. :func:`write_luts` renames a whole set only after every file of
-it is written. Header attributes carry no time stamp, so the same build gives bit-identical files.
+it is written, and rolls the set back if the renames are interrupted (:mod:`basis.files`). Header attributes carry no time stamp, so the same build gives bit-identical files.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import OpenEXR
 
+from basis.files import replace_together, temporary_sibling
 from basis.validation import ParameterError
 
 __all__ = ["LutFileError", "read_lut", "write_lut", "write_luts"]
@@ -44,12 +43,6 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
     return {name: np.ascontiguousarray(table[:, :, k].astype(dtype)) for k, name in enumerate(channel_names)}
 
 
-def _temporary_path(path: Path) -> Path:
-    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(handle)
-    return Path(name)
-
-
 def write_luts(items, half: bool = False) -> list[Path]:
     """Write several LUTs as one transaction: all temporaries first, then all renames.
 
@@ -69,15 +62,13 @@ def write_luts(items, half: bool = False) -> list[Path]:
     temporaries = []
     try:
         for path, header, channels in prepared:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            temporary = _temporary_path(path)
-            temporaries.append(temporary)
-            OpenEXR.File(header, channels).write(str(temporary))
-        for (path, _, _), temporary in zip(prepared, temporaries):
-            os.replace(temporary, path)
-    finally:
+            temporaries.append(temporary_sibling(path))
+            OpenEXR.File(header, channels).write(str(temporaries[-1]))
+    except BaseException:
         for temporary in temporaries:
             temporary.unlink(missing_ok=True)
+        raise
+    replace_together(zip(temporaries, [path for path, _, _ in prepared]))
     return [path for path, _, _ in prepared]
 
 

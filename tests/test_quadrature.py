@@ -38,7 +38,7 @@ NONNEGATIVE = [0, 5, 6]  # channels with 0 ≤ f ≤ 1
 MC_MU = [1e-3, 0.05, 0.3, 0.7, 1.0]
 MC_ALPHA = [1e-3, 0.01, 0.1, 0.5, 1.0]
 MC_SAMPLES = 400_000
-#: For α ≤ 1e-3 the contributions have GGX's heavy tail (P(θh > t) ≈ α²/t²): with 400k samples the tail
+#: For α ≤ 1e-3 the estimate is dominated by rare samples (GGX tail P(θh > t) ≈ α²/t², reflections under the horizon): with 400k samples the tail
 #: beyond ≈ α√n is never sampled, so the sample σ underestimates the error of channels that vanish at
 #: θ_d = 0 (b2, b3 at μo = 1 were 10σ off against a 1-D quad reference). 2M samples push that tail out.
 MC_SAMPLES_TINY_ALPHA = 2_000_000
