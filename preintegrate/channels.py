@@ -1,7 +1,7 @@
 """Channel sets: the functions of cos θ_d = ω_o·h whose split-sum integrals make a LUT.
 
 Public objects: ``ChannelSet``, ``CHANNEL_SETS``, ``basis_channels``, ``schlick_channels``,
-``channel_set``.
+``channel_set``, ``combine``.
 
 A channel set names its functions f_k, says how an engine combines the channels into F̄, and is
 integrated by the one generic integrator :func:`preintegrate.quadrature.directional_albedo`.
@@ -24,7 +24,7 @@ import numpy as np
 from basis.eigenbasis import Basis, default_basis
 from basis.validation import ParameterError
 
-__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "schlick_channels"]
+__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "combine", "schlick_channels"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -67,6 +67,19 @@ def basis_channels(basis: Basis | None = None) -> ChannelSet:
         channel_names=names,
         combination="Fbar = sum_k c_k * channel_k (Belcour et al. 2020, eq. 5)",
         provenance={"basis_hash": basis.content_hash},
+    )
+
+
+def combine(*channel_sets: ChannelSet) -> ChannelSet:
+    """One set whose channels are all the given sets' side by side: one integration pass for all."""
+    def functions(x: np.ndarray) -> np.ndarray:
+        return np.concatenate([channels.functions(x) for channels in channel_sets], axis=-1)
+
+    return ChannelSet(
+        name="+".join(channels.name for channels in channel_sets),
+        functions=functions,
+        channel_names=sum((channels.channel_names for channels in channel_sets), ()),
+        combination="; ".join(channels.combination for channels in channel_sets),
     )
 
 

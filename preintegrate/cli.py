@@ -28,7 +28,7 @@ from basis.eigenbasis import Basis, default_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import basis_channels, schlick_channels
+from .channels import basis_channels, combine, schlick_channels
 from .exr import write_luts
 from .progress import Progress
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
@@ -54,13 +54,6 @@ def _size_text(path: Path) -> str:
     return f"{size / 1024:.1f} KiB" if size < 1024**2 else f"{size / 1024**2:.2f} MiB"
 
 
-def _combined(*channel_sets):
-    """One function returning every set's channels side by side: one integration pass for all."""
-    def functions(x):
-        return np.concatenate([channels.functions(x) for channels in channel_sets], axis=-1)
-    return functions
-
-
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
     order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
@@ -69,10 +62,7 @@ def command_build(arguments) -> int:
     basis = _load_basis(arguments.basis)
     started = time.perf_counter()
     basis_set, schlick_set = basis_channels(basis), schlick_channels()
-    combined = basis_set.__class__(
-        name="all", functions=_combined(basis_set, schlick_set),
-        channel_names=basis_set.channel_names + schlick_set.channel_names, combination="",
-    )
+    combined = combine(basis_set, schlick_set)
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     table = build_table(combined, size, order=order, progress=progress)
     progress.close()
