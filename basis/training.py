@@ -15,7 +15,11 @@ References
 
 from __future__ import annotations
 
+import collections
+import concurrent.futures
 import dataclasses
+import itertools
+import os
 from collections.abc import Iterator
 
 import numpy as np
@@ -93,14 +97,32 @@ class TrainingDomain:
         order = rng.permutation(count)
         return np.concatenate(etas)[order], np.concatenate(kappas)[order]
 
-    def curves(self, theta: np.ndarray, count: int, seed: int, chunk: int = 4096) -> Iterator[np.ndarray]:
-        """Yield the training curves F(θ) in chunks of shape (≤ chunk, len(theta)): bounded memory."""
+    def curves(
+        self, theta: np.ndarray, count: int, seed: int, chunk: int = 4096, workers: int | None = None
+    ) -> Iterator[np.ndarray]:
+        """Yield the training curves F(θ) in order, in chunks of shape (≤ chunk, len(theta)).
+
+        ``workers`` threads (default: the machine's cores) evaluate the next chunks while the caller
+        consumes this one (numpy releases the GIL); at most ``workers + 1`` chunks exist at once, so
+        memory stays bounded, and the order — hence every sum over the chunks — is deterministic.
+        """
         eta, kappa = self.sample_iors(count, seed)
         mu = np.cos(theta)
         mu[-1] = 0.0 if theta[-1] == 0.5 * np.pi else mu[-1]  # cos(π/2) is 6e-17, not 0
-        for start in range(0, count, chunk):
+        workers = max(1, os.cpu_count() or 1) if workers is None else check_positive_int("workers", workers)
+
+        def evaluate(start: int) -> np.ndarray:
             stop = min(start + chunk, count)
-            yield _fresnel(mu[None, :], eta[start:stop, None], kappa[start:stop, None])
+            return _fresnel(mu[None, :], eta[start:stop, None], kappa[start:stop, None])
+
+        starts = iter(range(0, count, chunk))
+        with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+            pending = collections.deque(pool.submit(evaluate, start) for start in itertools.islice(starts, workers + 1))
+            while pending:
+                result = pending.popleft().result()
+                for start in itertools.islice(starts, 1):
+                    pending.append(pool.submit(evaluate, start))
+                yield result
 
     def describe(self) -> list[dict]:
         """JSON-ready description of the mixture."""
