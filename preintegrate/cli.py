@@ -68,7 +68,7 @@ def command_build(arguments) -> int:
     progress.close()
     common = {
         "convention": PIXEL_CONVENTION,
-        "quadrature": f"{order.describe()}; {order.nodes_per_texel} nodes per texel",
+        "quadrature": order.describe(),
         "width": str(size),
         "height": str(size),
         "generator": "fresnel-basis 0.1.0 (fresnel-lut build)",
@@ -162,7 +162,7 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
-    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis (default: 32)")
+    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     build.set_defaults(run=command_build)
 

@@ -1,6 +1,6 @@
 """Deterministic split-sum quadrature of any functions of cos θ_d = ω_o·h against GGX.
 
-Public objects: ``directional_albedo``, ``QuadratureOrder``, ``DEFAULT_ORDER``.
+Public objects: ``directional_albedo``, ``QuadratureOrder``, ``QuadratureSchedule``, ``DEFAULT_ORDER``.
 
 For a set of functions f_k of x = ω_o·h,
 
@@ -39,14 +39,16 @@ References
 
 from __future__ import annotations
 
+import concurrent.futures
 import dataclasses
+import os
 from collections.abc import Callable
 
 import numpy as np
 
 from basis.validation import ParameterError, check_positive_int, check_range
 
-__all__ = ["DEFAULT_ORDER", "QuadratureOrder", "directional_albedo"]
+__all__ = ["DEFAULT_ORDER", "QuadratureOrder", "QuadratureSchedule", "directional_albedo"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,12 +78,38 @@ class QuadratureOrder:
 
     def describe(self) -> str:
         return (
-            f"piece A {self.theta_a}x{self.phi_a} (Gauss-Legendre in v = asinh(tan theta') x midpoint in phi), "
+            f"{self.nodes_per_texel} nodes per texel: piece A {self.theta_a}x{self.phi_a} (Gauss-Legendre in v = asinh(tan theta') x midpoint in phi), "
             f"piece B {self.theta_b}x{self.phi_b} (smoothstep Gauss-Legendre in v x Gauss-Legendre in phi)"
         )
 
 
-DEFAULT_ORDER = QuadratureOrder()
+@dataclasses.dataclass(frozen=True)
+class QuadratureSchedule:
+    """Node counts by texel: the stiff ones (μo < ``grazing_below`` or α < ``smooth_below``) get ``stiff``.
+
+    Near grazing, and for nearly smooth surfaces, the pieces span a long range of v (≈ log(1/α) and
+    more) and need more θ' nodes; elsewhere fewer nodes reach the same error. Measured against order
+    96 on the 128 × 128 LUT grid, the default schedule stays within 4e-7 on all six channels with
+    about 40 % of the nodes of a uniform order 32.
+    """
+
+    regular: QuadratureOrder = QuadratureOrder(20, 12, 20, 16)
+    stiff: QuadratureOrder = QuadratureOrder(32, 16, 32, 24)
+    grazing_below: float = 0.1
+    smooth_below: float = 1e-4
+
+    def order_for(self, mu_o: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+        """Boolean mask of the texels that use the stiff order."""
+        return (mu_o < self.grazing_below) | (alpha < self.smooth_below)
+
+    def describe(self) -> str:
+        return (
+            f"mu_o < {self.grazing_below:g} or alpha < {self.smooth_below:g}: {self.stiff.describe()}; "
+            f"elsewhere: {self.regular.describe()}"
+        )
+
+
+DEFAULT_ORDER = QuadratureSchedule()
 
 #: Upper bound of v = asinh(tan θ'): beyond it the measure sech²v is below 1e-30.
 V_MAX = 35.0
@@ -111,67 +139,73 @@ def _stretched_segment(low: np.ndarray, high: np.ndarray, count: int, smoothstep
     return np.tanh(v), cos_s, cos_s * width * (slope * weights)[None, :]
 
 
-def _texel_nodes(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
-    """Quadrature nodes for a flat batch of texels: x = ω_o·h, μ_i and weights, each (T, nodes)."""
-    texels = mu_o.size
+def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
+    """Nodes of pieces A and B for a flat batch of T texels.
+
+    Returns two tuples (x = ω_o·h, μ_i, weight), each array broadcastable to (T, n_θ, n_φ).
+    """
     theta_o = np.arccos(mu_o)
-    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
+    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))[:, None, None]
+    cos_o = mu_o[:, None, None]
+    alpha_column = alpha[:, None]
     # Piece A ends at θ_h = (π/2 − θo)/2, piece B at (π/2 + θo)/2; tan θ' = tan θ_h / α.
     with np.errstate(divide="ignore", over="ignore"):
         v_a = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi - theta_o)) / alpha), V_MAX)
         v_b = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi + theta_o)) / alpha), V_MAX)
     v_b = np.maximum(v_b, v_a)
-    sin_sa, cos_sa, weight_sa = _stretched_segment(np.zeros(texels), v_a, order.theta_a, False)
-    sin_sb, cos_sb, weight_sb = _stretched_segment(v_a, v_b, order.theta_b, True)
 
-    def half_vector(sin_s, cos_s):
-        norm = np.sqrt((alpha[:, None] * sin_s) ** 2 + cos_s**2)
-        # measure factor 2 sin θ' √(α² sin²θ' + cos²θ') of the change of variables (module notes)
-        return alpha[:, None] * sin_s / norm, cos_s / norm, 2.0 * sin_s * norm
+    def half_vector(sin_s, cos_s, weight):
+        """sin θ_h, cos θ_h and the weight times the measure 2 sin θ' √(α² sin²θ' + cos²θ') (module notes)."""
+        norm = np.sqrt((alpha_column * sin_s) ** 2 + cos_s**2)
+        return (alpha_column * sin_s / norm)[:, :, None], (cos_s / norm)[:, :, None], (weight * 2.0 * sin_s * norm)[:, :, None]
 
-    sin_a, mu_h_a, jacobian_a = half_vector(sin_sa, cos_sa)
-    weight_a = weight_sa * jacobian_a * (np.pi / order.phi_a)
-    sin_b, mu_h_b, jacobian_b = half_vector(sin_sb, cos_sb)
-    # φ range of piece B: cos φ > c* = −μo cos 2θ_h / (sin θo sin 2θ_h).
+    def piece(sin_h, mu_h, cos_phi, weight):
+        x = sin_o * sin_h * cos_phi + cos_o * mu_h
+        return np.clip(x, 0.0, 1.0), 2.0 * x * mu_h - cos_o, weight / np.pi
+
+    # Piece A: the whole circle is above the horizon; midpoint rule in φ ∈ [0, π].
+    sin_h, mu_h, weight = half_vector(*_stretched_segment(np.zeros_like(mu_o), v_a, order.theta_a, False))
+    cos_phi = np.cos((np.arange(order.phi_a) + 0.5) * np.pi / order.phi_a)[None, None, :]
+    piece_a = piece(sin_h, mu_h, cos_phi, weight * (np.pi / order.phi_a))
+    # Piece B: cos φ > c* = −μo cos 2θ_h / (sin θo sin 2θ_h); Gauss–Legendre in φ / φ_max.
+    sin_h, mu_h, weight = half_vector(*_stretched_segment(v_a, v_b, order.theta_b, True))
     with np.errstate(divide="ignore", invalid="ignore"):
-        c_star = -mu_o[:, None] * (mu_h_b * mu_h_b - sin_b * sin_b) / (sin_o[:, None] * 2.0 * sin_b * mu_h_b)
+        c_star = -cos_o * (mu_h * mu_h - sin_h * sin_h) / (sin_o * 2.0 * sin_h * mu_h)
     phi_max = np.arccos(np.clip(np.nan_to_num(c_star, nan=1.0, posinf=1.0, neginf=-1.0), -1.0, 1.0))
     s_phi, w_phi = _gauss_legendre_unit(order.phi_b)
-    weight_b = weight_sb * jacobian_b * phi_max
-
-    cos_phi_a = np.cos((np.arange(order.phi_a) + 0.5) * np.pi / order.phi_a)
-    cos_phi_b = np.cos(phi_max[:, :, None] * s_phi[None, None, :])
-
-    def flat(values):
-        return values.reshape(texels, -1)
-
-    sin_h = np.concatenate([flat(np.repeat(sin_a[:, :, None], order.phi_a, 2)), flat(np.repeat(sin_b[:, :, None], order.phi_b, 2))], 1)
-    mu_h = np.concatenate([flat(np.repeat(mu_h_a[:, :, None], order.phi_a, 2)), flat(np.repeat(mu_h_b[:, :, None], order.phi_b, 2))], 1)
-    cos_phi = np.concatenate([flat(np.broadcast_to(cos_phi_a, sin_a.shape + (order.phi_a,))), flat(cos_phi_b)], 1)
-    weight = np.concatenate([flat(np.repeat(weight_a[:, :, None], order.phi_a, 2)), flat(weight_b[:, :, None] * w_phi)], 1)
-    x = sin_o[:, None] * sin_h * cos_phi + mu_o[:, None] * mu_h
-    mu_i = 2.0 * x * mu_h - mu_o[:, None]
-    return np.clip(x, 0.0, 1.0), mu_i, weight / np.pi
+    piece_b = piece(sin_h, mu_h, np.cos(phi_max * s_phi), weight * phi_max * w_phi)
+    return piece_a, piece_b
 
 
 def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray) -> np.ndarray:
-    """2 μ_i x / (μ_i Ro + μo Ri): the BRDF part of the integrand, 0 where μ_i ≤ 0."""
-    def slope_root(mu):
-        return np.sqrt(mu * mu + alpha[:, None] ** 2 * (1.0 - mu * mu))
-
+    """2 μ_i x / (μ_i Ro + μo Ri): the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …))."""
+    alpha2 = (alpha * alpha).reshape((-1,) + (1,) * (x.ndim - 1))
+    mu_o = mu_o.reshape(alpha2.shape)
     mu_i = np.maximum(mu_i, 0.0)
-    denominator = mu_i * slope_root(mu_o[:, None]) + mu_o[:, None] * slope_root(mu_i)
+    denominator = mu_i * np.sqrt(mu_o * mu_o + alpha2 * (1.0 - mu_o * mu_o))
+    denominator = denominator + mu_o * np.sqrt(mu_i * mu_i + alpha2 * (1.0 - mu_i * mu_i))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
+
+
+def _integrate_batch(functions, mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder) -> np.ndarray:
+    """(T, K) directional albedos of one batch of rough texels."""
+    total = 0.0
+    for x, mu_i, weight in _texel_pieces(mu_o, alpha, order):
+        weighted = (weight * _kernel(mu_o, alpha, x, mu_i)).reshape(len(mu_o), 1, -1)
+        values = functions(x)
+        total = total + np.matmul(weighted, values.reshape(len(mu_o), weighted.shape[2], -1))[:, 0, :]
+    return total
 
 
 def directional_albedo(
     functions: Callable[[np.ndarray], np.ndarray],
     mu_o,
     alpha,
-    order: QuadratureOrder = DEFAULT_ORDER,
-    max_nodes: int = 4_000_000,
+    order: QuadratureOrder | QuadratureSchedule = DEFAULT_ORDER,
+    max_nodes: int = 2_000_000,
     progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
 ) -> np.ndarray:
     """F̄_k(μo, α) for every function f_k of cos θ_d = ω_o·h.
 
@@ -183,12 +217,15 @@ def directional_albedo(
         Cosine of the view angle, in [0, 1].
     alpha : array_like
         GGX width, in [0, 1]; broadcast against ``mu_o``.
-    order : QuadratureOrder
-        Node counts.
+    order : QuadratureOrder or QuadratureSchedule
+        Node counts: one order for every texel, or a schedule by view angle (the default).
     max_nodes : int
         Bound on nodes evaluated at once (memory ≈ max_nodes × (8 + K) × 8 bytes).
     progress : callable, optional
         Called with (texels done, texels total).
+    workers : int, optional
+        Threads integrating batches of texels in parallel (default: the machine's cores). Each texel
+        is computed the same way whatever the count, so results do not depend on it.
 
     Returns
     -------
@@ -199,8 +236,10 @@ def directional_albedo(
         raise ParameterError(f"functions must be callable, got {type(functions).__name__}")
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     alpha = check_range("alpha", alpha, 0.0, 1.0)
-    if not isinstance(order, QuadratureOrder):
-        raise ParameterError(f"order must be a QuadratureOrder, got {type(order).__name__}")
+    if isinstance(order, QuadratureOrder):
+        order = QuadratureSchedule(order, order)
+    if not isinstance(order, QuadratureSchedule):
+        raise ParameterError(f"order must be a QuadratureOrder or QuadratureSchedule, got {type(order).__name__}")
     mu_o, alpha = np.broadcast_arrays(mu_o, alpha)
     shape = mu_o.shape
     mu_o, alpha = mu_o.ravel(), alpha.ravel()
@@ -209,13 +248,20 @@ def directional_albedo(
     mirror = alpha == 0.0
     if np.any(mirror):
         result[mirror] = functions(mu_o[mirror])
-    rough = np.flatnonzero(~mirror)
-    batch = max(1, max_nodes // order.nodes_per_texel)
-    for start in range(0, rough.size, batch):
-        index = rough[start : start + batch]
-        x, mu_i, weight = _texel_nodes(mu_o[index], alpha[index], order)
-        weighted = weight * _kernel(mu_o[index], alpha[index], x, mu_i)
-        result[index] = np.einsum("tn,tnk->tk", weighted, functions(x))
-        if progress is not None:
-            progress(min(start + batch, rough.size), rough.size)
+    stiff = order.order_for(mu_o, alpha)
+    batches = []
+    for group, group_order in ((~mirror & ~stiff, order.regular), (~mirror & stiff, order.stiff)):
+        texels = np.flatnonzero(group)
+        batch = max(1, max_nodes // group_order.nodes_per_texel)
+        batches += [(texels[start : start + batch], group_order) for start in range(0, texels.size, batch)]
+    rough_count = int(np.count_nonzero(~mirror))
+    workers = (os.cpu_count() or 1) if workers is None else check_positive_int("workers", workers)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order) for index, batch_order in batches]
+        done = 0
+        for (index, _), future in zip(batches, futures):
+            result[index] = future.result()
+            done += index.size
+            if progress is not None:
+                progress(done, rough_count)
     return result.reshape(shape + (n_channels,))

@@ -16,7 +16,7 @@ from basis.validation import check_positive_int
 
 from .channels import ChannelSet
 from .ggx import roughness_to_alpha
-from .quadrature import DEFAULT_ORDER, QuadratureOrder, directional_albedo
+from .quadrature import DEFAULT_ORDER, QuadratureOrder, QuadratureSchedule, directional_albedo
 
 __all__ = ["PIXEL_CONVENTION", "build_table", "lut_axes"]
 
@@ -39,7 +39,7 @@ def build_table(
     channels: ChannelSet,
     width: int,
     height: int | None = None,
-    order: QuadratureOrder = DEFAULT_ORDER,
+    order: QuadratureOrder | QuadratureSchedule = DEFAULT_ORDER,
     progress: Callable[[int, int], None] | None = None,
 ) -> np.ndarray:
     """(H, W, K) float64 table of the channel set on the texel grid."""

@@ -15,7 +15,7 @@ from basis import coefficients_from_nk, fresnel_conductor, gulbrandsen_to_nk, re
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels, schlick_channels
 from preintegrate.montecarlo import monte_carlo_albedo
-from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder, directional_albedo
+from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder, QuadratureSchedule, directional_albedo
 from reference_integration import g2_reference, ggx_d, reference_albedo
 
 _BASIS = basis_channels().functions
@@ -266,9 +266,12 @@ def test_broadcasting_and_progress():
     np.testing.assert_allclose(small_batches, table, rtol=1e-14, atol=1e-15)
 
 
-def test_default_order_is_a_quadrature_order():
-    """DEFAULT_ORDER is a QuadratureOrder with positive node counts; uniform(n) sets all four (exact)."""
-    assert isinstance(DEFAULT_ORDER, QuadratureOrder) and DEFAULT_ORDER.nodes_per_texel > 0
+def test_default_order_is_a_schedule_of_quadrature_orders():
+    """DEFAULT_ORDER schedules two QuadratureOrders (stiff: grazing or nearly smooth texels); uniform(n) sets all four (exact)."""
+    assert isinstance(DEFAULT_ORDER, QuadratureSchedule)
+    assert DEFAULT_ORDER.regular.nodes_per_texel > 0 and DEFAULT_ORDER.stiff.nodes_per_texel > 0
+    mask = DEFAULT_ORDER.order_for(np.array([0.01, 0.5, 0.5]), np.array([0.5, 0.5, 1e-6]))
+    np.testing.assert_array_equal(mask, [True, False, True])
     order = QuadratureOrder.uniform(7)
     assert (order.theta_a, order.phi_a, order.theta_b, order.phi_b) == (7, 7, 7, 7)
     assert order.nodes_per_texel == 98
