@@ -85,7 +85,11 @@ class QuadratureOrder:
 
 @dataclasses.dataclass(frozen=True)
 class QuadratureSchedule:
-    """Node counts by texel: the stiff ones (μo < ``grazing_below`` or α < ``smooth_below``) get ``stiff``.
+    """Node counts by texel, in three tiers.
+
+    * ``extreme`` for μo < ``extreme_below`` (beyond any LUT texel centre of a table up to 500 wide);
+    * ``stiff`` for μo < ``grazing_below`` or α < ``smooth_below``;
+    * ``regular`` elsewhere.
 
     Near grazing, and for nearly smooth surfaces, the pieces span a long range of v (≈ log(1/α) and
     more) and need more θ' nodes; elsewhere fewer nodes reach the same error. Measured against order
@@ -95,15 +99,25 @@ class QuadratureSchedule:
 
     regular: QuadratureOrder = QuadratureOrder(20, 12, 20, 16)
     stiff: QuadratureOrder = QuadratureOrder(32, 16, 32, 24)
+    extreme: QuadratureOrder = QuadratureOrder(64, 24, 64, 32)
     grazing_below: float = 0.1
     smooth_below: float = 1e-4
+    extreme_below: float = 1e-3
 
-    def order_for(self, mu_o: np.ndarray, alpha: np.ndarray) -> np.ndarray:
-        """Boolean mask of the texels that use the stiff order."""
-        return (mu_o < self.grazing_below) | (alpha < self.smooth_below)
+    @classmethod
+    def uniform(cls, order: QuadratureOrder) -> "QuadratureSchedule":
+        """The same order for every texel."""
+        return cls(order, order, order)
+
+    def tiers(self, mu_o: np.ndarray, alpha: np.ndarray) -> list[tuple[np.ndarray, QuadratureOrder]]:
+        """(mask, order) for each tier; the masks partition the texels."""
+        extreme = mu_o < self.extreme_below
+        stiff = ~extreme & ((mu_o < self.grazing_below) | (alpha < self.smooth_below))
+        return [(~extreme & ~stiff, self.regular), (stiff, self.stiff), (extreme, self.extreme)]
 
     def describe(self) -> str:
         return (
+            f"mu_o < {self.extreme_below:g}: {self.extreme.describe()}; "
             f"mu_o < {self.grazing_below:g} or alpha < {self.smooth_below:g}: {self.stiff.describe()}; "
             f"elsewhere: {self.regular.describe()}"
         )
@@ -237,7 +251,7 @@ def directional_albedo(
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     alpha = check_range("alpha", alpha, 0.0, 1.0)
     if isinstance(order, QuadratureOrder):
-        order = QuadratureSchedule(order, order)
+        order = QuadratureSchedule.uniform(order)
     if not isinstance(order, QuadratureSchedule):
         raise ParameterError(f"order must be a QuadratureOrder or QuadratureSchedule, got {type(order).__name__}")
     mu_o, alpha = np.broadcast_arrays(mu_o, alpha)
@@ -248,10 +262,9 @@ def directional_albedo(
     mirror = alpha == 0.0
     if np.any(mirror):
         result[mirror] = functions(mu_o[mirror])
-    stiff = order.order_for(mu_o, alpha)
     batches = []
-    for group, group_order in ((~mirror & ~stiff, order.regular), (~mirror & stiff, order.stiff)):
-        texels = np.flatnonzero(group)
+    for group, group_order in order.tiers(mu_o, alpha):
+        texels = np.flatnonzero(group & ~mirror)
         batch = max(1, max_nodes // group_order.nodes_per_texel)
         batches += [(texels[start : start + batch], group_order) for start in range(0, texels.size, batch)]
     rough_count = int(np.count_nonzero(~mirror))
