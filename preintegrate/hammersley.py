@@ -1,0 +1,176 @@
+"""The engines' split-sum LUT estimator: importance-sampled Monte Carlo over a Hammersley point set.
+
+Public objects: ``hammersley_table``, ``hammersley_points``, ``radical_inverse_base2``, ``SAMPLINGS``.
+
+This is the "engine practice" that :mod:`preintegrate.quadrature` is measured against (the report's
+LUT error against generation time). It reproduces ``IntegrateBRDF`` of Karis 2013 (and the same loop in
+Filament's ``DFG`` and the glTF-Sample-Viewer / IBL Sampler): every texel uses the same N points of the
+Hammersley set x_i = (i/N, Φ₂(i)), Φ₂ the base-2 radical inverse, and
+
+* ``sampling="ndf"`` (Karis 2013): h from GGX's distribution of normals D(h) μ_h,
+  θ_h = atan(α √(ξ/(1 − ξ))) with ξ = Φ₂(i) (Karis's cos θ_h = √((1 − ξ)/(1 + (α² − 1) ξ)), the same
+  thing) and φ_h = 2π i/N — the engines feed the radical inverse to θ_h and i/N to φ_h; ω_i = reflect(ω_o, h);
+  samples with μ_i = N·L > 0 contribute f_k(V·H) G2 (V·H) / ((N·H)(N·V));
+* ``sampling="vndf"`` (Heitz 2018): h from the distribution of visible normals D_ωo(h)
+  (:func:`preintegrate.ggx.sample_vndf` with u1 = Φ₂(i) for the disk radius, u2 = i/N for its angle);
+  samples with μ_i > 0 contribute f_k(V·H) G2 / G1(ω_o).
+
+The sum is divided by N (rejected samples count as zero), as the engines do. G2 is the height-correlated
+Smith term (:func:`preintegrate.ggx.g2_height_correlated`), matching the quadrature's integrand, so the
+only difference from :func:`preintegrate.table.build_table` is the estimator's error. Unlike the
+shaders, which compute Φ₂ in float32, everything here is float64 (Φ₂(i) for i < 2³² is exact in float64).
+
+References
+----------
+:cite:`Karis2013` B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes
+    (``Hammersley``, ``ImportanceSampleGGX``, ``IntegrateBRDF``).
+:cite:`Heitz2018` E. Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018
+    (listing 1; estimator eq. 19 with pdf D_ωo(h) / (4 ω_o·h), weight G2 / G1).
+:cite:`Heitz2014` JCGT 3(2), 2014, eq. 99 (height-correlated G2).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from basis.validation import ParameterError, as_float_array, check_positive_int
+
+from .channels import ChannelSet
+from .ggx import g1, g2_height_correlated, roughness_to_alpha, sample_vndf
+from .table import lut_axes
+
+__all__ = ["SAMPLINGS", "hammersley_points", "hammersley_table", "radical_inverse_base2"]
+
+#: Importance-sampling strategies of :func:`hammersley_table`.
+SAMPLINGS = ("ndf", "vndf")
+
+#: Largest sample count: Φ₂ is computed on 32-bit indices, as in the shaders.
+MAX_SAMPLES = 1 << 24
+
+
+def radical_inverse_base2(indices) -> np.ndarray:
+    """Φ₂(i): the bits of i mirrored about the binary point (Van der Corput), float64 in [0, 1).
+
+    Same bit reversal as Karis 2013's ``ReverseBits32`` / the shaders' ``radicalInverse_VdC``, on
+    unsigned 32-bit integers: Φ₂(1) = 0.5, Φ₂(2) = 0.25, Φ₂(3) = 0.75, Φ₂(4) = 0.125, …
+    """
+    array = as_float_array("indices", indices)
+    if np.any((array < 0) | (array >= 2.0**32) | (array != np.floor(array))):
+        bad = array[(array < 0) | (array >= 2.0**32) | (array != np.floor(array))].flat[0]
+        raise ParameterError(f"indices must be integers in [0, 2^32 - 1], got {bad!r}")
+    bits = array.astype(np.uint64).astype(np.uint32)
+    bits = ((bits << np.uint32(16)) | (bits >> np.uint32(16))).astype(np.uint32)
+    bits = (((bits & np.uint32(0x55555555)) << np.uint32(1)) | ((bits & np.uint32(0xAAAAAAAA)) >> np.uint32(1)))
+    bits = (((bits & np.uint32(0x33333333)) << np.uint32(2)) | ((bits & np.uint32(0xCCCCCCCC)) >> np.uint32(2)))
+    bits = (((bits & np.uint32(0x0F0F0F0F)) << np.uint32(4)) | ((bits & np.uint32(0xF0F0F0F0)) >> np.uint32(4)))
+    bits = (((bits & np.uint32(0x00FF00FF)) << np.uint32(8)) | ((bits & np.uint32(0xFF00FF00)) >> np.uint32(8)))
+    return bits.astype(np.float64) * 2.0**-32
+
+
+def hammersley_points(samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """The N-point Hammersley set as two arrays (i/N, Φ₂(i)), i = 0 … N − 1 (Karis 2013's ``Hammersley``)."""
+    samples = check_positive_int("samples", samples, low=1, high=MAX_SAMPLES)
+    index = np.arange(samples)
+    return index / samples, radical_inverse_base2(index)
+
+
+def _ndf_contributions(mu_o, alpha, fraction, radical):
+    """(V·H, weight) of Karis's IntegrateBRDF for texels (T, 1) and points (1, S), weight 0 where N·L ≤ 0."""
+    # θ_h = atan(α √(ξ/(1 − ξ))): tan²θ_h = α² ξ / (1 − ξ), ξ = Φ₂(i) < 1.
+    tan2 = alpha * alpha * (radical / (1.0 - radical))
+    mu_h = 1.0 / np.sqrt(1.0 + tan2)
+    sin_h = np.sqrt(tan2) * mu_h
+    cos_phi = np.cos(2.0 * np.pi * fraction)
+    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
+    v_dot_h = sin_o * sin_h * cos_phi + mu_o * mu_h  # V = (sin θo, 0, μo)
+    mu_i = 2.0 * v_dot_h * mu_h - mu_o  # N·L of L = 2 (V·H) H − V
+    v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
+    weight = g2_height_correlated(mu_o, mu_i, alpha) * v_dot_h / (mu_h * mu_o)
+    return v_dot_h, np.where(mu_i > 0.0, weight, 0.0)
+
+
+def _vndf_contributions(mu_o, alpha, fraction, radical):
+    """(V·H, weight) of Heitz 2018's VNDF estimator: G2 / G1(V) where N·L > 0."""
+    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
+    omega_o = np.stack([sin_o, np.zeros_like(mu_o), mu_o], axis=-1)  # (T, 1, 3)
+    h = sample_vndf(omega_o, alpha, radical, fraction)  # (T, S, 3)
+    v_dot_h = sin_o * h[..., 0] + mu_o * h[..., 2]
+    mu_i = 2.0 * v_dot_h * h[..., 2] - mu_o
+    v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
+    weight = g2_height_correlated(mu_o, mu_i, alpha) / g1(mu_o, alpha)
+    return v_dot_h, np.where(mu_i > 0.0, weight, 0.0)
+
+
+def hammersley_table(
+    channels: ChannelSet,
+    width: int,
+    height: int | None = None,
+    samples: int = 1024,
+    progress: Callable[[int, int], None] | None = None,
+    *,
+    sampling: str = "ndf",
+    max_samples: int = 131_072,
+) -> np.ndarray:
+    """(H, W, K) float64 split-sum table estimated as the engines do, on the grid of ``lut_axes``.
+
+    Parameters
+    ----------
+    channels : ChannelSet
+        The functions f_k(V·H) to integrate (e.g. ``combine(basis_channels(), schlick_channels())``).
+    width, height : int
+        Table size (height defaults to width), each in [2, 8192]. Column i ↔ μo = (i + 0.5)/W,
+        row j ↔ r = (j + 0.5)/H, α = r².
+    samples : int
+        Hammersley points per texel N, in [1, 2^24]; the engines use 1024 (UE4, Filament).
+    progress : callable, optional
+        Called with (texels done, texels total) after each chunk.
+    sampling : {"ndf", "vndf"}
+        GGX distribution-of-normals sampling (Karis 2013, the engines' choice) or visible normals
+        (Heitz 2018).
+    max_samples : int
+        Bound on texel × sample pairs evaluated at once (memory ≈ max_samples × (12 + 2K) × 8 bytes for
+        NDF, about twice that for VNDF). The default 2¹⁷ keeps the working set in cache: on 128 × 128,
+        1024 spp it ran 25–35 % faster than 2 × 10⁶ and needs ~100 MiB instead of ~380 MiB.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (H, W, K): row j, column i holds the estimate of F̄_k(μo_i, α_j).
+    """
+    if not isinstance(channels, ChannelSet):
+        raise ParameterError(f"channels must be a ChannelSet, got {type(channels).__name__}")
+    width = check_positive_int("width", width, low=2, high=8192)
+    height = width if height is None else check_positive_int("height", height, low=2, high=8192)
+    samples = check_positive_int("samples", samples, low=1, high=MAX_SAMPLES)
+    max_samples = check_positive_int("max_samples", max_samples, low=1)
+    if sampling not in SAMPLINGS:
+        raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
+    contributions = _ndf_contributions if sampling == "ndf" else _vndf_contributions
+
+    mu_axis, roughness = lut_axes(width, height)
+    alpha_axis = roughness_to_alpha(roughness)
+    mu_o = np.broadcast_to(mu_axis[None, :], (height, width)).ravel()
+    alpha = np.broadcast_to(alpha_axis[:, None], (height, width)).ravel()
+    fraction, radical = hammersley_points(samples)
+    n_channels = np.shape(channels.functions(np.array([0.5])))[-1]
+    result = np.empty((mu_o.size, n_channels))
+
+    # Chunk over texels, and over samples too when one texel's N points exceed the bound.
+    sample_chunk = min(samples, max_samples)
+    texel_chunk = max(1, max_samples // sample_chunk)
+    for start in range(0, mu_o.size, texel_chunk):
+        stop = min(start + texel_chunk, mu_o.size)
+        mu_chunk, alpha_chunk = mu_o[start:stop, None], alpha[start:stop, None]
+        total = np.zeros((stop - start, n_channels))
+        for first in range(0, samples, sample_chunk):
+            points = slice(first, first + sample_chunk)
+            v_dot_h, weight = contributions(mu_chunk, alpha_chunk, fraction[None, points], radical[None, points])
+            total += np.einsum("ts,tsk->tk", weight, channels.functions(v_dot_h))
+        result[start:stop] = total / samples
+        if progress is not None:
+            progress(stop, mu_o.size)
+    return result.reshape(height, width, n_channels)
