@@ -20,7 +20,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .eigenbasis import Basis
-from .fresnel import _fresnel
+from .fresnel import _fresnel, cos_theta
 from .holdout import holdout_materials
 from .svd import build_curves
 from .training import DEFAULT_DOMAIN, TrainingDomain, angle_grid
@@ -36,12 +36,6 @@ NOTEBOOK_ANGLES = (float(np.arccos(0.128)), float(np.arccos(0.432)))
 SELECTION_GROUPS = ("dielectrics", "metals")
 
 
-def _cosines(theta: np.ndarray) -> np.ndarray:
-    mu = np.cos(theta)
-    mu[theta == 0.5 * np.pi] = 0.0
-    return mu
-
-
 def holdout_fit_errors(basis: Basis, angles=None, samples: int = 1001) -> dict[str, float]:
     """Worst max |ΔF| over θ of the four-point fit, per held-out group, at ``angles`` = (θ2, θ3, …)."""
     fit_angles = basis.fit_angles if angles is None else np.array([0.0, 0.5 * np.pi, *angles])
@@ -50,8 +44,8 @@ def holdout_fit_errors(basis: Basis, angles=None, samples: int = 1001) -> dict[s
     curves = basis.evaluate(theta)
     errors = {}
     for name, (eta, kappa) in holdout_materials().items():
-        coefficients = _fresnel(_cosines(fit_angles), eta[:, None], kappa[:, None]) @ inverse
-        exact = _fresnel(_cosines(theta), eta[:, None], kappa[:, None])
+        coefficients = _fresnel(cos_theta(fit_angles), eta[:, None], kappa[:, None]) @ inverse
+        exact = _fresnel(cos_theta(theta), eta[:, None], kappa[:, None])
         errors[name] = float(np.max(np.abs(coefficients @ curves.T - exact)))
     return errors
 

@@ -1,6 +1,6 @@
 """Exact Fresnel reflectance of a planar interface, unpolarised, for a complex IOR η + iκ.
 
-Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``ETA_RANGE``, ``KAPPA_RANGE``.
+Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``cos_theta``, ``ETA_RANGE``, ``KAPPA_RANGE``.
 
 The incident medium has index 1 (divide η and κ by an external medium's index to change it).
 Dielectrics are κ = 0; η < 1 is internal reflection and gives F = 1 past the critical angle.
@@ -18,13 +18,19 @@ import numpy as np
 
 from .validation import check_range
 
-__all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric"]
+__all__ = ["ETA_RANGE", "KAPPA_RANGE", "cos_theta", "fresnel_conductor", "fresnel_dielectric"]
 
 #: Accepted η: [1e-8, 1e6] keeps every square and product of squares normal in float64 (below
 #: ~1e-81 they underflow and the formula degenerates); no material has η ≤ 0.
 ETA_RANGE = (1e-8, 1e6)
 #: Accepted κ.
 KAPPA_RANGE = (0.0, 1e6)
+
+
+def cos_theta(theta) -> np.ndarray:
+    """μ = cos θ with cos(π/2) exactly 0 (floating point gives 6e-17, which is not grazing)."""
+    mu = np.cos(np.asarray(theta, dtype=np.float64))
+    return np.where(np.asarray(theta) == 0.5 * np.pi, 0.0, mu)
 
 
 def _fresnel(mu: np.ndarray, eta: np.ndarray, kappa: np.ndarray) -> np.ndarray:

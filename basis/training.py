@@ -24,7 +24,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .fresnel import _fresnel
+from .fresnel import _fresnel, cos_theta
 from .gulbrandsen import gulbrandsen_to_nk
 from .validation import ParameterError, check_positive_int
 
@@ -107,8 +107,7 @@ class TrainingDomain:
         memory stays bounded, and the order — hence every sum over the chunks — is deterministic.
         """
         eta, kappa = self.sample_iors(count, seed)
-        mu = np.cos(theta)
-        mu[-1] = 0.0 if theta[-1] == 0.5 * np.pi else mu[-1]  # cos(π/2) is 6e-17, not 0
+        mu = cos_theta(theta)
         workers = max(1, os.cpu_count() or 1) if workers is None else check_positive_int("workers", workers)
 
         def evaluate(start: int) -> np.ndarray:

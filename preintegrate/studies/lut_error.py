@@ -35,13 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.files import replace_together, temporary_sibling
 from basis.validation import ParameterError, check_positive_int
 
 from ..channels import basis_channels, combine, schlick_channels
 from ..hammersley import hammersley_table
 from ..quadrature import QuadratureOrder
 from ..table import build_table
+from .figures import pyplot, save_figure
 
 __all__ = ["QUICK", "lut_error_table_markdown", "lut_error_vs_time", "plot_lut_error"]
 
@@ -212,29 +212,13 @@ def _title(result: dict) -> str:
     )
 
 
-def save_figure(figure, path: Path) -> Path:
-    """Save a matplotlib figure as PNG atomically (temporary sibling, then rename)."""
-    temporary = temporary_sibling(path)
-    try:
-        figure.savefig(temporary, format="png")
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    replace_together([(temporary, path)])
-    return path
-
-
 def plot_lut_error(result: dict, path) -> Path:
     """Write a log-log PNG of max (solid) and RMS (dashed) absolute error against seconds, per method.
 
     The file is written to a temporary name in the same folder and renamed into place. Needs matplotlib
     (the ``plot`` extra).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ParameterError(f"path must end in .png, got {str(path)!r}")
@@ -286,11 +270,7 @@ def plot_lut_error(result: dict, path) -> Path:
     axes.grid(True, which="minor", alpha=0.15)
     axes.legend(fontsize=7, loc="lower left", framealpha=0.9)
     figure.tight_layout()
-    try:
-        save_figure(figure, path)
-    finally:
-        plt.close(figure)
-    return path
+    return save_figure(figure, path)
 
 
 def lut_error_table_markdown(result: dict) -> str:
