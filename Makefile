@@ -1,11 +1,12 @@
 # Two entry points that set up their own environment (a .venv made here) on a fresh machine:
 #   make luts   build the default LUTs into luts/
 #   make test   run the test suite
+#   make report error against run time (report/README.md and plots; installs the plot extra)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: luts test basis clean-venv
+.PHONY: luts test basis report clean-venv
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -18,6 +19,10 @@ luts: $(STAMP)
 
 basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json
+
+report: $(STAMP)
+	$(VENV)/bin/python -m pip install --quiet -e '.[test,plot]'
+	$(VENV)/bin/fresnel-lut report --out report
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest

@@ -98,7 +98,7 @@ class TrainingDomain:
         return np.concatenate(etas)[order], np.concatenate(kappas)[order]
 
     def curves(
-        self, theta: np.ndarray, count: int, seed: int, chunk: int = 4096, workers: int | None = None
+        self, theta: np.ndarray, count: int, seed: int, chunk: int = 2048, workers: int | None = None
     ) -> Iterator[np.ndarray]:
         """Yield the training curves F(θ) in order, in chunks of shape (≤ chunk, len(theta)).
 

@@ -5,6 +5,7 @@ Usage::
     fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B) [--json] [--basis FILE]
+    fresnel-lut report [--out DIR] [--quick]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
 leaves every previously written file untouched. This module is the only one that knows about both
@@ -154,6 +155,18 @@ def command_coeffs(arguments) -> int:
     return 0
 
 
+def command_report(arguments) -> int:
+    from .report import write_report  # imports the studies only when asked
+
+    result = write_report(arguments.out, quick=arguments.quick)
+    print(f"report written in {result['seconds']:.1f} s:")
+    for path in [result["readme"], *result["pngs"]]:
+        print(f"  {path}  {_size_text(path)}")
+    for target, measured, reached in result["targets"]:
+        print(f"  target: {target}: {measured} -> {reached}")
+    return 0
+
+
 def make_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="fresnel-lut", description="Preintegrable Fresnel eigen-basis and GGX split-sum LUTs.")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -183,6 +196,11 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.add_argument("--json", action="store_true", help="machine-readable output")
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     coeffs.set_defaults(run=command_coeffs)
+
+    report = commands.add_parser("report", help="error against run time: studies, tables and plots")
+    report.add_argument("--out", default="report", help="output folder (default: report)")
+    report.add_argument("--quick", action="store_true", help="small tables and sets (well under 3 minutes)")
+    report.set_defaults(run=command_report)
     return parser
 
 

@@ -109,6 +109,14 @@ class QuadratureSchedule:
         """The same order for every texel."""
         return cls(order, order, order)
 
+    def scaled(self, factor: float) -> "QuadratureSchedule":
+        """Every node count multiplied by ``factor`` (rounded, at least 2): a cheaper or dearer schedule."""
+        def scale(order: QuadratureOrder) -> QuadratureOrder:
+            return QuadratureOrder(*(max(2, int(round(getattr(order, field.name) * factor)))
+                                     for field in dataclasses.fields(order)))
+
+        return dataclasses.replace(self, regular=scale(self.regular), stiff=scale(self.stiff), extreme=scale(self.extreme))
+
     def tiers(self, mu_o: np.ndarray, alpha: np.ndarray) -> list[tuple[np.ndarray, QuadratureOrder]]:
         """(mask, order) for each tier; the masks partition the texels."""
         extreme = mu_o < self.extreme_below

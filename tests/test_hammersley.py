@@ -183,25 +183,25 @@ def quick_study():
 
 
 def test_quick_study_rows(quick_study):
-    """Quick mode, best of 2: all methods and the default schedule present, seconds and errors finite and > 0, equal-time ratios use the bracketing orders."""
+    """Quick mode, best of 2: all methods and the default schedule present, seconds and errors finite and > 0, equal-time ratios use the bracketing settings of one quadrature family."""
     rows = quick_study["rows"]
     assert quick_study["size"] == 32 and len(quick_study["channels"]) == 6 and quick_study["repeats"] == 2
-    assert {row["method"] for row in rows} == {"quadrature", "hammersley-ndf", "hammersley-vndf"}
+    assert {row["method"] for row in rows} == {"quadrature-schedule", "quadrature", "hammersley-ndf", "hammersley-vndf"}
     for row in rows:
         for key in ("seconds", "max_abs_error", "rms_abs_error"):
             assert np.isfinite(row[key]) and row[key] > 0.0, row
         assert row["rms_abs_error"] <= row["max_abs_error"]
     assert np.isfinite(quick_study["reference_seconds"]) and quick_study["reference_seconds"] > 0.0
-    quadrature = [row for row in rows if row["method"] == "quadrature"]
-    assert any(row["setting"] == "default" for row in quadrature)
-    uniform = sorted((q for q in quadrature if q["setting"] != "default"), key=lambda q: q["seconds"])
+    quadrature = [row for row in rows if row["method"] in ("quadrature", "quadrature-schedule")]
+    assert any(row["method"] == "quadrature-schedule" and row["setting"] == 1.0 for row in quadrature)
     assert len(quick_study["equal_time"]) == len(rows) - len(quadrature)
     for entry in quick_study["equal_time"]:
-        slower = [q for q in uniform if q["seconds"] >= entry["seconds"]]
-        faster = [q for q in uniform if q["seconds"] <= entry["seconds"]]
-        if not slower or not faster:
-            assert entry["ratio"] is None
+        if entry["ratio"] is None:
             continue
+        family = sorted((q for q in quadrature if q["method"] == entry["quadrature_method"]), key=lambda q: q["seconds"])
+        slower = [q for q in family if q["seconds"] >= entry["seconds"]]
+        faster = [q for q in family if q["seconds"] <= entry["seconds"]]
+        assert slower and faster
         # the interpolated quadrature error lies between those of the bracketing orders (log-log interpolation)
         low, high = slower[0]["max_abs_error"], faster[-1]["max_abs_error"]
         assert min(low, high) * (1 - 1e-12) <= entry["quadrature_max_abs_error"] <= max(low, high) * (1 + 1e-12)

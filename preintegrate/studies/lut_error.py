@@ -5,9 +5,10 @@ Public objects: ``lut_error_vs_time``, ``plot_lut_error``, ``lut_error_table_mar
 For one table of the six channels an engine ships (4 basis + 2 Schlick,
 ``combine(basis_channels(), schlick_channels())``) on the texel grid of :func:`preintegrate.table.lut_axes`:
 
-* our deterministic quadrature (:func:`preintegrate.table.build_table`) with the shipped default
-  schedule (``setting="default"``) and at several uniform orders n (``QuadratureOrder.uniform(n)``,
-  2n² nodes per texel);
+* our deterministic quadrature (:func:`preintegrate.table.build_table`): the shipped schedule scaled by
+  several factors (``method="quadrature-schedule"``, setting = factor, 1 = what ``fresnel-lut build``
+  uses) and several uniform orders n (``method="quadrature"``, ``QuadratureOrder.uniform(n)``, 2n² nodes
+  per texel);
 * the engine practice (:func:`preintegrate.hammersley.hammersley_table`): N Hammersley points per texel
   with GGX NDF importance sampling (Karis 2013; UE4, Filament, glTF IBL Sampler), and the same points with
   VNDF sampling (Heitz 2018);
@@ -15,8 +16,8 @@ For one table of the six channels an engine ships (4 basis + 2 Schlick,
 each timed with ``time.perf_counter`` in this one run and compared, texel by texel and channel by
 channel, against one converged reference (the quadrature at ``reference_order``, computed once). The
 "equal-time ratio" divides each Hammersley table's max error by the quadrature's max error at the same
-time, interpolated in log-log between the uniform orders (the issue's target: ≥ 1000× lower max error
-at equal wall time).
+time, interpolated in log-log within each quadrature family, the better family at that time (the issue's
+target: ≥ 1000× lower max error at equal wall time).
 
 Run: ``python -m preintegrate.studies.lut_error [--quick] [--size N] [--png FILE]``.
 
@@ -35,20 +36,21 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.validation import ParameterError, check_positive_int
+from basis.validation import ParameterError, check_positive_int, check_range
 
 from ..channels import basis_channels, combine, schlick_channels
 from ..hammersley import hammersley_table
-from ..quadrature import QuadratureOrder
+from ..quadrature import DEFAULT_ORDER, QuadratureOrder
 from ..table import build_table
 from .figures import pyplot, save_figure
 
 __all__ = ["QUICK", "lut_error_table_markdown", "lut_error_vs_time", "plot_lut_error"]
 
 #: Settings of ``quick=True`` (replacing the arguments): a 32 × 32 table in a few seconds.
-QUICK = {"size": 32, "orders": (8, 16, 32), "samples": (64, 1024), "reference_order": 64}
+QUICK = {"size": 32, "orders": (8, 16, 32), "scales": (0.5, 1.0), "samples": (64, 1024), "reference_order": 64}
 
-METHODS = ("quadrature", "hammersley-ndf", "hammersley-vndf")
+METHODS = ("quadrature-schedule", "quadrature", "hammersley-ndf", "hammersley-vndf")
+QUADRATURE_METHODS = ("quadrature-schedule", "quadrature")
 _SAMPLING = {"hammersley-ndf": "ndf", "hammersley-vndf": "vndf"}
 
 
@@ -63,31 +65,42 @@ def _errors(table: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
     return float(difference.max()), float(np.sqrt(np.mean(difference * difference)))
 
 
+def _interpolated_error(rows: list[dict], seconds: float) -> float | None:
+    """Max error of one quadrature family at ``seconds``, linear in log-log between its bracketing rows."""
+    rows = sorted(rows, key=lambda row: row["seconds"])
+    log_seconds = np.log([row["seconds"] for row in rows])
+    if not rows or not log_seconds[0] <= np.log(seconds) <= log_seconds[-1]:
+        return None
+    log_errors = np.log([max(row["max_abs_error"], 1e-300) for row in rows])
+    return float(np.exp(np.interp(np.log(seconds), log_seconds, log_errors)))
+
+
 def _equal_time(rows: list[dict]) -> list[dict]:
     """Each Hammersley row against the quadrature's error at the same time.
 
-    The quadrature's max error is interpolated linearly in log(error) against log(seconds) between the
-    uniform orders that bracket the Hammersley time (a single timing of a fast step is noisy on shared
-    cores; the interpolated curve is not). Outside the measured range the ratio is ``None``.
+    Within each quadrature family the max error is interpolated linearly in log(error) against
+    log(seconds) between the settings that bracket the Hammersley time (a single timing of a fast step is
+    noisy on shared cores; the interpolated curve is not); the better family at that time is used.
+    Outside every family's measured times the ratio is ``None``.
     """
-    quadrature = sorted(
-        (row for row in rows if row["method"] == "quadrature" and isinstance(row["setting"], int)),
-        key=lambda row: row["seconds"],
-    )
-    log_seconds = np.log([row["seconds"] for row in quadrature])
-    log_errors = np.log([max(row["max_abs_error"], 1e-300) for row in quadrature])
     ratios = []
     for row in rows:
-        if row["method"] == "quadrature":
+        if row["method"] in QUADRATURE_METHODS:
             continue
-        inside = quadrature and log_seconds[0] <= np.log(row["seconds"]) <= log_seconds[-1]
-        error = float(np.exp(np.interp(np.log(row["seconds"]), log_seconds, log_errors))) if inside else None
+        candidates = {
+            method: _interpolated_error([q for q in rows if q["method"] == method], row["seconds"])
+            for method in QUADRATURE_METHODS
+        }
+        candidates = {method: error for method, error in candidates.items() if error is not None}
+        best = min(candidates, key=candidates.get) if candidates else None
+        error = None if best is None else candidates[best]
         ratios.append(
             {
                 "method": row["method"],
                 "setting": row["setting"],
                 "seconds": row["seconds"],
                 "max_abs_error": row["max_abs_error"],
+                "quadrature_method": best,
                 "quadrature_max_abs_error": error,
                 "ratio": None if error is None else row["max_abs_error"] / error,
             }
@@ -98,6 +111,7 @@ def _equal_time(rows: list[dict]) -> list[dict]:
 def lut_error_vs_time(
     size: int = 128,
     orders: Sequence[int] = (8, 12, 16, 24, 32, 48),
+    scales: Sequence[float] = (0.3, 0.4, 0.5, 0.65, 0.8, 1.0, 1.5),
     samples: Sequence[int] = (64, 256, 1024, 4096),
     reference_order: int = 96,
     quick: bool = False,
@@ -113,6 +127,8 @@ def lut_error_vs_time(
         Table width = height, in [2, 8192].
     orders : sequence of int
         Quadrature orders n (``QuadratureOrder.uniform(n)``), each below ``reference_order``.
+    scales : sequence of float
+        Factors of the shipped schedule (:meth:`QuadratureSchedule.scaled`); 1 is the shipped one.
     samples : sequence of int
         Hammersley points per texel, each in [1, 2^24]; both NDF and VNDF sampling are run.
     reference_order : int
@@ -134,12 +150,15 @@ def lut_error_vs_time(
         ``total_seconds`` (the whole study, reference included).
     """
     if quick:
-        size, orders, samples = QUICK["size"], QUICK["orders"], QUICK["samples"]
+        size, orders, samples, scales = QUICK["size"], QUICK["orders"], QUICK["samples"], QUICK["scales"]
         reference_order = QUICK["reference_order"]
     size = check_positive_int("size", size, low=2, high=8192)
     reference_order = check_positive_int("reference_order", reference_order, low=2, high=4096)
     orders = _settings("orders", orders, reference_order - 1)
     samples = _settings("samples", samples, 1 << 24)
+    if isinstance(scales, (str, bytes)) or not isinstance(scales, Sequence) or len(scales) == 0:
+        raise ParameterError(f"scales must be a non-empty sequence of numbers, got {scales!r}")
+    scales = tuple(float(check_range(f"scales[{k}]", value, 0.05, 4.0)) for k, value in enumerate(scales))
     if progress is not None and not callable(progress):
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
     repeats = check_positive_int("repeats", repeats, low=1, high=100)
@@ -150,7 +169,7 @@ def lut_error_vs_time(
     for sampling in _SAMPLING.values():
         hammersley_table(channels, 2, samples=4, sampling=sampling)
 
-    total_tables = 2 + len(orders) + len(_SAMPLING) * len(samples)
+    total_tables = 1 + len(scales) + len(orders) + len(_SAMPLING) * len(samples)
     done = 0
 
     def step():
@@ -174,9 +193,10 @@ def lut_error_vs_time(
         return table, best
 
     rows = []
-    table, seconds = timed(build_table, channels, size)
-    rows.append({"method": "quadrature", "setting": "default", "seconds": seconds, **_row_errors(table, reference)})
-    step()
+    for scale in scales:
+        table, seconds = timed(build_table, channels, size, order=DEFAULT_ORDER.scaled(scale))
+        rows.append({"method": "quadrature-schedule", "setting": scale, "seconds": seconds, **_row_errors(table, reference)})
+        step()
     for order in orders:
         table, seconds = timed(build_table, channels, size, order=QuadratureOrder.uniform(order))
         rows.append({"method": "quadrature", "setting": order, "seconds": seconds, **_row_errors(table, reference)})
@@ -225,14 +245,15 @@ def plot_lut_error(result: dict, path) -> Path:
     if not path.parent.is_dir():
         raise ParameterError(f"path's folder must exist, got {str(path.parent)!r}")
     styles = {
-        "quadrature": ("C0", "o", "quadrature (order n)"),
+        "quadrature-schedule": ("C1", "D", "quadrature, shipped schedule × factor"),
+        "quadrature": ("C0", "o", "quadrature, uniform order n"),
         "hammersley-ndf": ("C3", "s", "Hammersley + GGX NDF sampling (engines)"),
         "hammersley-vndf": ("C2", "^", "Hammersley + VNDF sampling"),
     }
     figure, axes = plt.subplots(figsize=(9.0, 6.0), dpi=150)
     for method in METHODS:
         rows = sorted(
-            (row for row in result["rows"] if row["method"] == method and row["setting"] != "default"),
+            (row for row in result["rows"] if row["method"] == method),
             key=lambda row: row["seconds"],
         )
         if not rows:
@@ -246,15 +267,14 @@ def plot_lut_error(result: dict, path) -> Path:
                       fillstyle="full" if kind == "max" else "none", label=f"{label}, {kind}")
         for row in rows:
             if row["max_abs_error"] > 0.0:
-                text = f"n={row['setting']}" if method == "quadrature" else f"{row['setting']} spp"
+                text = {"quadrature": f"n={row['setting']}", "quadrature-schedule": f"×{row['setting']:g}"}.get(
+                    method, f"{row['setting']} spp")
                 axes.annotate(text, (row["seconds"], row["max_abs_error"]), textcoords="offset points",
                               xytext=(4, 4), fontsize=7, color=colour)
     for row in result["rows"]:
-        if row["setting"] == "default":
-            axes.plot([row["seconds"]], [row["max_abs_error"]], "*", color="C0", markersize=13,
-                      label="quadrature, shipped default schedule, max")
-            axes.annotate("shipped default", (row["seconds"], row["max_abs_error"]), textcoords="offset points",
-                          xytext=(6, -10), fontsize=7, color="C0")
+        if row["method"] == "quadrature-schedule" and row["setting"] == 1.0:
+            axes.plot([row["seconds"]], [row["max_abs_error"]], "*", color="C1", markersize=14,
+                      label="shipped default (fresnel-lut build)")
     for value, text in ((1.0 / 255.0, "8-bit step 1/255"), (2.0**-11, "half-float step near 1 (2⁻¹¹)")):
         axes.axhline(value, color="0.6", linestyle=":", linewidth=1.0)
         axes.annotate(text, (0.01, value), xycoords=("axes fraction", "data"), xytext=(0, 2),
@@ -288,7 +308,9 @@ def lut_error_table_markdown(result: dict) -> str:
     ]
     for row in result["rows"]:
         if row["method"] == "quadrature":
-            setting = "default schedule (shipped)" if row["setting"] == "default" else f"order {row['setting']}"
+            setting = f"order {row['setting']}"
+        elif row["method"] == "quadrature-schedule":
+            setting = f"shipped schedule × {row['setting']:g}" + (" (the default)" if row["setting"] == 1.0 else "")
         else:
             setting = f"{row['setting']} spp"
         ratio = ""
