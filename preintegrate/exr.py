@@ -3,7 +3,7 @@
 Public objects: ``write_lut``, ``write_luts``, ``read_lut``, ``LutFileError``.
 
 Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines, float32 by default
-or half. Every file is first written to a temporary name in the destination folder and renamed into
+or half; in half, magnitudes below 2^-14 are written as 0 rather than as subnormals. Every file is first written to a temporary name in the destination folder and renamed into
 place only when complete, so a crash or Ctrl-C never leaves a half-written LUT and an existing file is
 only ever replaced by a complete one. :func:`write_luts` renames a whole set only after every file of
 it is written, and rolls the set back if the renames are interrupted (:mod:`basis.files`). Header attributes carry no time stamp, so the same build gives bit-identical files.
@@ -25,6 +25,9 @@ __all__ = ["LutFileError", "read_lut", "write_lut", "write_luts"]
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
 HALF_MAX = float(np.finfo(np.float16).max)
+#: Smallest normal half float, 2^-14 ≈ 6.1e-5. Smaller magnitudes would be stored as subnormals (slow on
+#: some GPUs, flushed to zero by others); they are written as 0, a change below half's step near 1.
+HALF_MIN_NORMAL = float(np.finfo(np.float16).tiny)
 
 
 class LutFileError(ParameterError):
@@ -39,6 +42,8 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
         raise ParameterError("table contains NaN or inf; refusing to write it")
     if half and np.max(np.abs(table)) > HALF_MAX:
         raise ParameterError(f"table exceeds the half-float range ({HALF_MAX}); write float32 instead")
+    if half:
+        table = np.where(np.abs(table) < HALF_MIN_NORMAL, 0.0, table)
     dtype = np.float16 if half else np.float32
     return {name: np.ascontiguousarray(table[:, :, k].astype(dtype)) for k, name in enumerate(channel_names)}
 
