@@ -15,6 +15,8 @@ from .coefficients import (
     coefficients_from_nk,
     coefficients_from_samples,
     coefficients_from_table,
+    coefficients_least_squares,
+    coefficients_least_squares_from_table,
     fit_condition_number,
     reconstruct,
 )
@@ -32,6 +34,8 @@ __all__ = [
     "coefficients_from_nk",
     "coefficients_from_samples",
     "coefficients_from_table",
+    "coefficients_least_squares",
+    "coefficients_least_squares_from_table",
     "default_basis",
     "fit_condition_number",
     "fresnel_conductor",

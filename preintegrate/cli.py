@@ -50,6 +50,21 @@ def _load_basis(path) -> Basis:
     return default_basis() if path is None else Basis.read(path)
 
 
+def _peak_rss_mib() -> float:
+    """Peak resident memory of this process in MiB.
+
+    Linux's VmHWM belongs to the current program image; ``ru_maxrss`` would also count the memory of a
+    parent that forked this process (e.g. the report measuring a basis build in a child).
+    """
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def _size_text(path: Path) -> str:
     size = path.stat().st_size
     return f"{size / 1024:.1f} KiB" if size < 1024**2 else f"{size / 1024**2:.2f} MiB"
@@ -110,7 +125,7 @@ def command_basis(arguments) -> int:
     progress.close()
     path = basis.write(arguments.out)
     elapsed = time.perf_counter() - started
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    peak = _peak_rss_mib()
     print(f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
           f"(peak RSS {peak:.0f} MiB)")
     print(f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad")
