@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from .files import replace_together, temporary_sibling
+from .files import write_text
 from .validation import ParameterError, check_range
 
 __all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis"]
@@ -132,16 +132,7 @@ class Basis:
 
     def write(self, path) -> Path:
         """Write the basis as JSON atomically (temporary file in the same folder, then rename)."""
-        path = Path(path)
-        text = json.dumps(self.to_dict(), indent=1) + "\n"
-        temporary = temporary_sibling(path)
-        try:
-            temporary.write_text(text, encoding="utf-8")
-        except BaseException:
-            temporary.unlink(missing_ok=True)
-            raise
-        replace_together([(temporary, path)])
-        return path
+        return write_text(path, json.dumps(self.to_dict(), indent=1) + "\n")
 
     @classmethod
     def from_dict(cls, data) -> "Basis":

@@ -1,6 +1,6 @@
 """Atomic file output: write to a temporary sibling, then rename into place, as one transaction.
 
-Public objects: ``temporary_sibling``, ``replace_together``.
+Public objects: ``temporary_sibling``, ``replace_together``, ``write_text``.
 
 A reader (or a crash, Ctrl-C or kill) never sees a half-written file: the data go to a temporary
 file in the destination folder, which is renamed over the target only when complete. Several files
@@ -14,7 +14,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["replace_together", "temporary_sibling"]
+__all__ = ["replace_together", "temporary_sibling", "write_text"]
 
 
 def _default_mode() -> int:
@@ -77,3 +77,16 @@ def replace_together(pairs) -> None:
         for backup in backups.values():
             if backup is not None:
                 backup.unlink(missing_ok=True)
+
+
+def write_text(path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically."""
+    path = Path(path)
+    temporary = temporary_sibling(path)
+    try:
+        temporary.write_text(text, encoding="utf-8")
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    replace_together([(temporary, path)])
+    return path

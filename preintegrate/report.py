@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 from basis.eigenbasis import default_basis
-from basis.files import replace_together, temporary_sibling
+from basis.files import write_text
 
 from .progress import Progress
 from .studies.basis_build import basis_build_cost, basis_build_markdown, basis_convergence
@@ -74,16 +74,6 @@ def environment() -> dict:
         "fresnel-basis commit": commit,
         "basis hash": default_basis().content_hash,
     }
-
-
-def _write_text(path: Path, text: str) -> None:
-    temporary = temporary_sibling(path)
-    try:
-        temporary.write_text(text, encoding="utf-8")
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    replace_together([(temporary, path)])
 
 
 def _targets(lut: dict, models: dict, cost: list[dict], quick: bool) -> list[tuple[str, str, str]]:
@@ -194,5 +184,5 @@ def write_report(out="report", quick: bool = False) -> dict:
         "",
     ]
     readme = out / "README.md"
-    _write_text(readme, "\n".join(lines))
+    write_text(readme, "\n".join(lines))
     return {"readme": readme, "pngs": pngs, "seconds": time.perf_counter() - started, "targets": targets}
