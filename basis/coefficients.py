@@ -2,8 +2,8 @@
 
 Public objects: ``coefficients_from_samples``, ``coefficients_from_curve``, ``coefficients_from_table``,
 ``coefficients_from_nk``, ``coefficients_from_gulbrandsen``, ``coefficients_least_squares``,
-``coefficients_least_squares_from_table``, ``LEAST_SQUARES_WEIGHTS``, ``reconstruct``, ``fit_matrix``,
-``fit_condition_number``.
+``coefficients_least_squares_from_table``, ``LEAST_SQUARES_WEIGHTS``, ``reconstruct``,
+``reconstruction_error``, ``fit_matrix``, ``fit_condition_number``.
 
 The four-point scheme of Belcour et al. 2020 ("Coefficients"): the target is sampled at the basis'
 fit angles θ0 = 0, θ1 = π/2, θ2, θ3 and the K × K system Σ_k c_k b_k(θ_i) = F(θ_i) is solved. Because
@@ -49,6 +49,7 @@ __all__ = [
     "fit_condition_number",
     "fit_matrix",
     "reconstruct",
+    "reconstruction_error",
 ]
 
 
@@ -311,3 +312,57 @@ def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
             f"coefficients must have a trailing axis of length {basis.n_terms}, got shape {coefficients.shape}"
         )
     return np.sum(coefficients * basis.evaluate_mu(mu), axis=-1)
+
+
+def reconstruction_error(coefficients, theta, values, basis: Basis | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """How far Σ_k c_k b_k(θ) is from a target curve sampled at ``theta``: (max |error|, RMS error).
+
+    Works for any target, Fresnel or not (a constant, a step, measured data, noise): it reports the
+    error, it does not judge it.
+
+    Parameters
+    ----------
+    coefficients : array_like
+        (..., K) coefficients, e.g. from :func:`coefficients_from_table`; finite.
+    theta : array_like
+        (M,) angles in [0, π/2] (radians) at which the target is known, M ≥ 1, in any order.
+    values : array_like
+        (..., M) the target F(θ_j); finite. The leading axes broadcast against those of ``coefficients``.
+    basis : Basis, optional
+        Default: the shipped basis.
+
+    Returns
+    -------
+    (max_abs, rms) : tuple of numpy.ndarray
+        Shape: the broadcast leading axes. ``max_abs`` = max_j |e_j| and ``rms`` = √(mean_j e_j²), with
+        e_j = Σ_k c_k b_k(θ_j) − F(θ_j): every sample weighs the same (pass a uniform θ grid for an
+        RMS over angle).
+
+    Examples
+    --------
+    >>> theta = np.linspace(0.0, 0.5 * np.pi, 5)
+    >>> max_abs, rms = reconstruction_error([0.5, 0.0, 0.0, 0.0], theta, [0.5, 0.5, 0.5, 0.5, 0.9])
+    >>> round(float(max_abs), 12), round(float(rms), 12)
+    (0.4, 0.1788854382)
+    """
+    basis = _basis(basis)
+    coefficients = as_float_array("coefficients", coefficients)
+    if coefficients.ndim == 0 or coefficients.shape[-1] != basis.n_terms:
+        raise ParameterError(
+            f"coefficients must have a trailing axis of length {basis.n_terms}, got shape {coefficients.shape}"
+        )
+    theta = check_range("theta", theta, 0.0, 0.5 * np.pi)
+    if theta.ndim != 1 or theta.size == 0:
+        raise ParameterError(f"theta must be a 1-D array of at least 1 angle, got shape {theta.shape}")
+    values = as_float_array("values", values)
+    if values.ndim == 0 or values.shape[-1] != theta.size:
+        raise ParameterError(f"values must have a trailing axis of length {theta.size}, got shape {values.shape}")
+    try:
+        leading = np.broadcast_shapes(coefficients.shape[:-1], values.shape[:-1])
+    except ValueError:
+        raise ParameterError(
+            f"coefficients {coefficients.shape} and values {values.shape} have leading axes that do not broadcast"
+        ) from None
+    fitted = np.einsum("...k,jk->...j", coefficients, basis.evaluate(theta))
+    error = np.broadcast_to(fitted, leading + (theta.size,)) - values
+    return np.max(np.abs(error), axis=-1), np.sqrt(np.mean(error * error, axis=-1))
