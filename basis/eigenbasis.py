@@ -18,7 +18,6 @@ import dataclasses
 import functools
 import hashlib
 import json
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +34,33 @@ FORMAT = "fresnel-basis/basis@1"
 
 class BasisFileError(ParameterError):
     """A basis file is missing, truncated, corrupt, foreign or fails its hash."""
+
+
+def _spline(theta: np.ndarray, curves: np.ndarray) -> CubicSpline:
+    """Cubic spline in θ of all curves at once, zero slope at θ = 0 (Fresnel curves are even in θ)."""
+    return CubicSpline(theta, curves.T, bc_type=((1, np.zeros(curves.shape[0])), "not-a-knot"))
+
+
+#: Largest accepted condition number of the four-point system: beyond it the coefficients amplify
+#: rounding in the target by more than 1e6 (the shipped basis has 4.8).
+MAX_FIT_CONDITION = 1e6
+
+
+def _check_structure(theta: np.ndarray, curves: np.ndarray, fit_angles: np.ndarray) -> None:
+    """The properties the coefficient scheme relies on (c0 = F(0), c1 = F(π/2) − F(0), a solvable fit)."""
+    if not np.allclose(curves[0], 1.0, rtol=0, atol=1e-12):
+        raise BasisFileError("curves[0] (b0) must be 1 everywhere")
+    if np.any(np.abs(curves[1:, 0]) > 1e-12) or abs(curves[1, -1] - 1.0) > 1e-12 or np.any(np.abs(curves[2:, -1]) > 1e-12):
+        raise BasisFileError("b_k(0) must be 0 for k >= 1, b1(pi/2) = 1 and b_k(pi/2) = 0 for k >= 2")
+    if abs(fit_angles[0]) > 1e-12 or abs(fit_angles[1] - 0.5 * np.pi) > 1e-12:
+        raise BasisFileError(f"fit_angles must start with 0 and pi/2, got {fit_angles[:2].tolist()}")
+    system = _spline(theta, curves)(fit_angles)
+    condition = np.linalg.cond(system)
+    if not np.isfinite(condition) or condition > MAX_FIT_CONDITION:
+        raise BasisFileError(
+            f"the four-point system at fit_angles {fit_angles.tolist()} is singular or ill-conditioned "
+            f"(condition number {condition:.3g} > {MAX_FIT_CONDITION:g})"
+        )
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -75,6 +101,7 @@ class Basis:
         if fit_angles.shape != (curves.shape[0],):
             raise BasisFileError(f"fit_angles must have shape ({curves.shape[0]},), got {fit_angles.shape}")
         check_range("fit_angles", fit_angles, 0.0, 0.5 * np.pi)
+        _check_structure(theta, curves, fit_angles)
         object.__setattr__(self, "theta", theta)
         object.__setattr__(self, "curves", curves)
         object.__setattr__(self, "fit_angles", fit_angles)
@@ -87,7 +114,7 @@ class Basis:
     @functools.cached_property
     def spline(self) -> CubicSpline:
         """Cubic spline in θ of all curves at once, zero slope at θ = 0."""
-        return CubicSpline(self.theta, self.curves.T, bc_type=((1, np.zeros(self.n_terms)), "not-a-knot"))
+        return _spline(self.theta, self.curves)
 
     @functools.cached_property
     def content_hash(self) -> str:
@@ -181,8 +208,12 @@ class Basis:
 
 
 def shipped_basis_path() -> Path:
-    """Path of the basis shipped with the package (``luts/basis.json``)."""
-    return Path(str(resources.files("luts").joinpath("basis.json")))
+    """Path of the basis shipped with the package (``luts/basis.json``).
+
+    Found beside this package (``luts`` is installed next to ``basis``), not by importing ``luts``: a
+    folder named ``luts`` in the working directory must not shadow the shipped data.
+    """
+    return Path(__file__).resolve().parent.parent / "luts" / "basis.json"
 
 
 @functools.lru_cache(maxsize=1)

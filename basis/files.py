@@ -14,6 +14,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from .validation import ParameterError
+
 __all__ = ["replace_together", "temporary_sibling", "write_text"]
 
 
@@ -30,6 +32,8 @@ def temporary_sibling(path) -> Path:
     Its permissions are those an ordinary new file would get (``mkstemp`` alone gives 0600).
     """
     path = Path(path)
+    if path.exists() and not path.is_file():
+        raise ParameterError(f"{path} exists and is not a regular file; refusing to replace it")
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(handle)

@@ -72,9 +72,11 @@ def _fresnel(mu: np.ndarray, eta: np.ndarray, kappa: np.ndarray) -> np.ndarray:
     two_a *= sin2
     ratio_den = r + two_a
     r -= two_a
-    # Both denominators vanish only for η = 1, κ = 0 at μ = 0: no interface, so no reflection.
-    fs = np.divide(q, fs_den, out=np.zeros_like(q), where=fs_den > 0.0)
-    ratio = np.divide(r, ratio_den, out=np.zeros_like(r), where=ratio_den > 0.0)
+    # fs_den vanishes only at μ = 0 when a² + b² is 0 or underflows (η = 1 with κ = 0 or κ < 1e-154):
+    # every real interface reflects fully at grazing, the index-matched η = 1, κ = 0 not at all.
+    grazing_value = np.where((eta == 1.0) & (kappa == 0.0), 0.0, 1.0)
+    fs = np.divide(q, fs_den, out=np.broadcast_to(grazing_value, q.shape).copy(), where=fs_den > 0.0)
+    ratio = np.divide(r, ratio_den, out=np.ones_like(r), where=ratio_den > 0.0)
     ratio += 1.0
     fs *= ratio
     fs *= 0.5

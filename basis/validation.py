@@ -27,8 +27,8 @@ def _describe(value: np.ndarray) -> str:
     return repr(float(value)) if np.ndim(value) == 0 else repr(value.tolist())[:60]
 
 
-def as_float_array(name: str, value) -> np.ndarray:
-    """Convert ``value`` to a float64 array, rejecting non-numeric input and NaN/inf.
+def as_float_array(name: str, value, finite: bool = True) -> np.ndarray:
+    """Convert ``value`` to a float64 array, rejecting non-numeric input and (if ``finite``) NaN/inf.
 
     Parameters
     ----------
@@ -50,9 +50,9 @@ def as_float_array(name: str, value) -> np.ndarray:
             raise ParameterError(f"{name} must be real; pass eta and kappa separately")
         raise ParameterError(f"{name} must be a real number or array of them, got dtype {array.dtype}")
     array = array.astype(np.float64, copy=False)
-    if array.size and not np.all(np.isfinite(array)):
+    if finite and array.size and not np.all(np.isfinite(array)):
         bad = array[~np.isfinite(array)].flat[0]
-        raise ParameterError(f"{name} must be finite, got {bad!r}")
+        raise ParameterError(f"{name} must be finite, got {float(bad)}")
     return array
 
 
@@ -71,8 +71,8 @@ def check_range(
     the end point. The error message spells the interval in standard notation,
     e.g. ``roughness must be in [0, 1], got 1.5``.
     """
-    array = as_float_array(name, value)
-    bad = np.zeros(array.shape, dtype=bool)
+    array = as_float_array(name, value, finite=False)
+    bad = ~np.isfinite(array)  # NaN and inf get the same message: the accepted interval
     if low is not None:
         bad |= (array <= low) if low_open else (array < low)
     if high is not None:

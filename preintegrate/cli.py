@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import sys
 import time
@@ -46,6 +47,24 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+def _output_folder(option: str, folder) -> Path:
+    """Check an output folder before any work (nothing is created until the files are written).
+
+    It must be named, and its nearest existing ancestor must be a writable folder.
+    """
+    if str(folder).strip() == "":
+        raise ParameterError(f"{option} must name a folder, got an empty string")
+    folder = Path(folder)
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise ParameterError(f"{option} {folder}: {existing} exists and is not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ParameterError(f"{option} {folder}: {existing} is not writable")
+    return folder
+
+
 def _load_basis(path) -> Basis:
     return default_basis() if path is None else Basis.read(path)
 
@@ -72,6 +91,7 @@ def _size_text(path: Path) -> str:
 
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
+    out = _output_folder("--out", arguments.out)
     order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
         check_positive_int("--order", arguments.order, low=2, high=512)
     )
@@ -89,7 +109,6 @@ def command_build(arguments) -> int:
         "height": str(size),
         "generator": "fresnel-basis 0.1.0 (fresnel-lut build)",
     }
-    out = Path(arguments.out)
     k = basis_set.n_channels
     items = [
         (out / BASIS_LUT, table[:, :, :k], basis_set.channel_names, {
@@ -112,13 +131,17 @@ def command_build(arguments) -> int:
 
 def command_basis(arguments) -> int:
     count = check_positive_int("--count", arguments.count, low=100, high=100_000_000)
+    seed = check_positive_int("--seed", arguments.seed, low=0, high=2**63 - 1)
+    if str(arguments.out).strip() == "" or Path(arguments.out).is_dir():
+        raise ParameterError(f"--out must name a file, got {arguments.out!r}")
+    _output_folder("--out's folder", Path(arguments.out).parent)
     started = time.perf_counter()
     progress = Progress("training curves", "curves")
     fit_angles = arguments.fit_angles
     if fit_angles not in ("auto", "talk", "notebook"):
         raise ParameterError(f"--fit-angles must be auto, talk or notebook, got {fit_angles!r}")
     basis = build_basis(
-        count=count, seed=arguments.seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=65536),
+        count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=65536),
         n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
         fit_angles=fit_angles, progress=lambda done: progress(done, count),
     )
@@ -173,7 +196,7 @@ def command_coeffs(arguments) -> int:
 def command_report(arguments) -> int:
     from .report import write_report  # imports the studies only when asked
 
-    result = write_report(arguments.out, quick=arguments.quick)
+    result = write_report(_output_folder("--out", arguments.out), quick=arguments.quick)
     print(f"report written in {result['seconds']:.1f} s:")
     for path in [result["readme"], *result["pngs"]]:
         print(f"  {path}  {_size_text(path)}")

@@ -25,6 +25,7 @@ __all__ = ["LutFileError", "read_lut", "write_lut", "write_luts"]
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
 HALF_MAX = float(np.finfo(np.float16).max)
+FLOAT32_MAX = float(np.finfo(np.float32).max)
 #: Smallest normal half float, 2^-14 ≈ 6.1e-5. Smaller magnitudes would be stored as subnormals (slow on
 #: some GPUs, flushed to zero by others); they are written as 0, a change below half's step near 1.
 HALF_MIN_NORMAL = float(np.finfo(np.float16).tiny)
@@ -42,6 +43,8 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
         raise ParameterError("table contains NaN or inf; refusing to write it")
     if half and np.max(np.abs(table)) > HALF_MAX:
         raise ParameterError(f"table exceeds the half-float range ({HALF_MAX}); write float32 instead")
+    if np.max(np.abs(table), initial=0.0) > FLOAT32_MAX:
+        raise ParameterError(f"table exceeds the float32 range ({FLOAT32_MAX:.4g}); refusing to write inf")
     if half:
         table = np.where(np.abs(table) < HALF_MIN_NORMAL, 0.0, table)
     dtype = np.float16 if half else np.float32

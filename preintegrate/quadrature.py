@@ -87,7 +87,8 @@ class QuadratureOrder:
 class QuadratureSchedule:
     """Node counts by texel, in three tiers.
 
-    * ``extreme`` for μo < ``extreme_below`` (beyond any LUT texel centre of a table up to 500 wide);
+    * ``extreme`` for μo < ``extreme_below`` (the first column of a 128-wide LUT, two of a 256-wide) or
+      α < ``mirror_below``;
     * ``stiff`` for μo < ``grazing_below`` or α < ``smooth_below``;
     * ``regular`` elsewhere.
 
@@ -102,7 +103,8 @@ class QuadratureSchedule:
     extreme: QuadratureOrder = QuadratureOrder(64, 24, 64, 32)
     grazing_below: float = 0.1
     smooth_below: float = 1e-4
-    extreme_below: float = 1e-3
+    extreme_below: float = 1e-2
+    mirror_below: float = 1e-6
 
     @classmethod
     def uniform(cls, order: QuadratureOrder) -> "QuadratureSchedule":
@@ -119,19 +121,22 @@ class QuadratureSchedule:
 
     def tiers(self, mu_o: np.ndarray, alpha: np.ndarray) -> list[tuple[np.ndarray, QuadratureOrder]]:
         """(mask, order) for each tier; the masks partition the texels."""
-        extreme = mu_o < self.extreme_below
+        extreme = (mu_o < self.extreme_below) | (alpha < self.mirror_below)
         stiff = ~extreme & ((mu_o < self.grazing_below) | (alpha < self.smooth_below))
         return [(~extreme & ~stiff, self.regular), (stiff, self.stiff), (extreme, self.extreme)]
 
     def describe(self) -> str:
         return (
-            f"mu_o < {self.extreme_below:g}: {self.extreme.describe()}; "
+            f"mu_o < {self.extreme_below:g} or alpha < {self.mirror_below:g}: {self.extreme.describe()}; "
             f"mu_o < {self.grazing_below:g} or alpha < {self.smooth_below:g}: {self.stiff.describe()}; "
             f"elsewhere: {self.regular.describe()}"
         )
 
 
 DEFAULT_ORDER = QuadratureSchedule()
+
+#: Smallest positive α integrated as given (α² stays a normal float64).
+ALPHA_FLOOR = 1e-150
 
 #: Upper bound of v = asinh(tan θ'): beyond it the measure sech²v is below 1e-30.
 V_MAX = 35.0
@@ -166,14 +171,15 @@ def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
 
     Returns two tuples (x = ω_o·h, μ_i, weight), each array broadcastable to (T, n_θ, n_φ).
     """
-    theta_o = np.arccos(mu_o)
     sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))[:, None, None]
     cos_o = mu_o[:, None, None]
     alpha_column = alpha[:, None]
-    # Piece A ends at θ_h = (π/2 − θo)/2, piece B at (π/2 + θo)/2; tan θ' = tan θ_h / α.
+    # Piece A ends at θ_h = (π/2 − θo)/2 = arcsin(μo)/2 (no cancellation at grazing), piece B at its
+    # complement π/2 − arcsin(μo)/2, so tan θ_h,B = 1 / tan θ_h,A; tan θ' = tan θ_h / α.
+    tan_a = np.tan(0.5 * np.arcsin(mu_o))
     with np.errstate(divide="ignore", over="ignore"):
-        v_a = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi - theta_o)) / alpha), V_MAX)
-        v_b = np.minimum(np.arcsinh(np.tan(0.5 * (0.5 * np.pi + theta_o)) / alpha), V_MAX)
+        v_a = np.minimum(np.arcsinh(tan_a / alpha), V_MAX)
+        v_b = np.minimum(np.arcsinh(1.0 / (tan_a * alpha)), V_MAX)
     v_b = np.maximum(v_b, v_a)
 
     def half_vector(sin_s, cos_s, weight):
@@ -265,6 +271,9 @@ def directional_albedo(
     mu_o, alpha = np.broadcast_arrays(mu_o, alpha)
     shape = mu_o.shape
     mu_o, alpha = mu_o.ravel(), alpha.ravel()
+    # Below 1e-150, α² underflows; the result there equals that at 1e-150 to far below float64 precision
+    # unless μo is as small, and both are then outside any physical meaning.
+    alpha = np.where(alpha > 0.0, np.maximum(alpha, ALPHA_FLOOR), 0.0)
     n_channels = np.shape(functions(np.array([0.5])))[-1]
     result = np.empty((mu_o.size, n_channels))
     mirror = alpha == 0.0

@@ -86,13 +86,23 @@ def test_condition_number_is_the_worst_amplification():
 
 def test_condition_number_detects_merging_fit_angles():
     """θ3 → θ2 (d = θ2 − θ3 from 0.3 to 1e-8): κ grows monotonically and κ·d converges to a constant
-    (|Δ(κ d)| < 1e-4 over the last three decades): the diagnostic sees a near-singular choice of angles."""
+    (|Δ(κ d)| < 1e-4 over the last three decades): the diagnostic sees a near-singular choice of angles, and a
+    Basis whose system is worse than MAX_FIT_CONDITION is refused."""
+    from basis.eigenbasis import MAX_FIT_CONDITION, BasisFileError
+
     shipped = default_basis()
     gaps = np.geomspace(0.3, 1e-8, 17)
-    conditions = np.array([
-        fit_condition_number(Basis(shipped.theta, shipped.curves, np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap])))
-        for gap in gaps
-    ])
+    systems = [shipped.evaluate(np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap])) for gap in gaps]
+    conditions = np.array([np.linalg.cond(system) for system in systems])
+    accepted = conditions <= MAX_FIT_CONDITION
+    for gap, ok in zip(gaps[[0, -1]], accepted[[0, -1]]):
+        angles = np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap])
+        if ok:
+            np.testing.assert_allclose(fit_condition_number(Basis(shipped.theta, shipped.curves, angles)),
+                                       conditions[0], rtol=1e-9)
+        else:
+            with pytest.raises(BasisFileError, match="ill-conditioned"):
+                Basis(shipped.theta, shipped.curves, angles)
     assert np.all(np.diff(conditions) > 0.0)
     scaled = conditions * gaps
     assert np.ptp(scaled[-7:]) < 1e-4 and 0.1 < scaled[-1] < 10.0
@@ -108,11 +118,6 @@ def test_talk_and_notebook_angles_are_as_well_conditioned():
         assert fit_condition_number(basis) < CONDITION_BOUND
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: a Basis whose fit angles coincide (singular fit matrix, κ ≈ 7e31) is accepted; the coefficients "
-    "come out of inv() of a singular matrix as silent noise instead of a ParameterError",
-)
 def test_singular_fit_angles_are_refused():
     """fit_angles (0, π/2, 1.3, 1.3): building the Basis or solving with it raises ParameterError."""
     shipped = default_basis()
@@ -220,7 +225,7 @@ def test_reconstruction_error_on_basis_grid_is_the_added_error():
         (np.zeros(4), [0.0, 2.0], [0.0, 0.0], r"^theta must be in \[0, 1.5708\]"),
         (np.zeros(4), [[0.0, 1.0]], [0.0, 0.0], r"^theta must be a 1-D"),
         (np.zeros(4), [], [], r"^theta must be a 1-D"),
-        (np.zeros(4), [0.0, np.nan], [0.0, 0.0], r"^theta must be finite"),
+        (np.zeros(4), [0.0, np.nan], [0.0, 0.0], r"^theta must be in \[0, 1.5708\], got nan"),
         (np.zeros(4), [0.0, 1.0], [0.0, 0.0, 0.0], r"^values must have a trailing axis of length 2"),
         (np.zeros(4), [0.0, 1.0], [0.0, np.inf], r"^values must be finite"),
         (np.zeros(4), [0.0, 1.0], "0 1", r"^values must be a real number"),

@@ -174,11 +174,6 @@ def test_split_sum_albedo_bounded(mu_o, alpha):
     _check_albedo(mu_o, alpha)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG (quadrature, α ≲ 1e-10): E exceeds 1 + 2^-24, e.g. E(μo = 0.5, α = 6.3e-12) = 1 + 8.2e-8 "
-    "(see test_stability_extremes.py::test_tiny_alpha_albedo_at_most_one)",
-)
 @QUADRATURE_PROPERTY
 @given(mu_o=MU, alpha=unit_floats(0.0, 1e-9))
 @example(mu_o=0.5, alpha=6.309573444801943e-12)

@@ -110,11 +110,6 @@ def test_shipped_luts_are_the_float32_rounding_of_a_fresh_build(table64):
 
 
 @pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG (exr.write_lut, float32): a finite float64 texel beyond float32's range (> 3.4e38) is cast to inf and "
-    "written (RuntimeWarning only); read_lut then refuses the file. half mode checks its range, float32 does not",
-)
 def test_float32_refuses_values_beyond_float32_range(tmp_path):
     """A texel of 1e39 (finite in float64, inf in float32): ParameterError naming the range, nothing written."""
     table = np.full((2, 2, 1), 0.5)
