@@ -204,7 +204,7 @@ class Basis:
         try:
             return cls.from_dict(data)
         except BasisFileError as error:
-            raise BasisFileError(f"{path}: {error}") from None
+            raise BasisFileError(f"basis file {path}: {error}") from None
 
 
 def shipped_basis_path() -> Path:

@@ -41,7 +41,7 @@ from basis.coefficients import (  # noqa: E402
     fit_matrix,
     reconstruction_error,
 )
-from basis.eigenbasis import Basis, shipped_basis_path  # noqa: E402
+from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path  # noqa: E402
 from basis.fresnel import cos_theta  # noqa: E402
 from basis.svd import MIN_SPAN, GramAccumulator  # noqa: E402
 from basis.validation import ParameterError  # noqa: E402
@@ -283,8 +283,18 @@ def fuzz_api(rng):
         "0; 1e-12", bool(np.all(finite)) and float(np.max(np.abs(f0_g - r))) <= 1e-12)
     in_range = (eta_g >= 1e-8) & (eta_g <= 1e6)
     refused = int(np.count_nonzero(~in_range))
-    row("coefficients_from_gulbrandsen, whole domain", r.size, f"{refused} refused naming 'eta' (r > 1 − 4e-6)",
-        "finite or refusal naming r", "0", refused == 0)
+    accepted = coefficients_from_gulbrandsen(r[in_range], g[in_range])
+    misnamed = 0
+    for r_out, g_out in zip(r[~in_range][:500], g[~in_range][:500]):
+        try:
+            coefficients_from_gulbrandsen(r_out, g_out)
+            misnamed += 1
+        except ParameterError as error:
+            misnamed += not str(error).startswith("reflectivity")
+    row("coefficients_from_gulbrandsen, whole domain", r.size,
+        f"{int(np.count_nonzero(~np.all(np.isfinite(accepted), axis=-1)))} non-finite; {refused} refused (r > 1 − 4e-6), "
+        f"{misnamed} of the first {min(refused, 500)} refusals not naming reflectivity",
+        "finite or refusal naming r", "0", misnamed == 0 and bool(np.all(np.isfinite(accepted))))
     texels = 3000
     mu_o = np.concatenate([rng.uniform(0.0, 1.0, texels // 2), np.exp(rng.uniform(np.log(1e-300), 0.0, texels // 2))])
     alpha = np.concatenate([np.exp(rng.uniform(np.log(1e-300), 0.0, texels // 2)), rng.uniform(0.0, 1.0, texels // 2)])
@@ -308,8 +318,9 @@ def conditioning():
         lines.append(f"| {name} ({angles[0]:.4f}, {angles[1]:.4f}) | {fit_condition_number(basis):.3f} | "
                      f"{np.max(np.sum(np.abs(lagrange), axis=1)):.3f} |")
     for gap in (1e-2, 1e-4, 1e-8, 1e-13):
-        basis = Basis(BASIS.theta, BASIS.curves, np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap]))
-        lines.append(f"| merging (1.5, 1.5 − {gap:g}) | {fit_condition_number(basis):.3g} | — |")
+        condition = np.linalg.cond(BASIS.evaluate(np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap])))
+        refused = " (a Basis with these angles is refused)" if condition > MAX_FIT_CONDITION else ""
+        lines.append(f"| merging (1.5, 1.5 − {gap:g}) | {condition:.3g}{refused} | — |")
     targets = {
         "constant 0.5": np.full_like(THETA, 0.5),
         "step 0 → 1 at θ = 1": np.where(THETA >= 1.0, 1.0, 0.0),
