@@ -166,14 +166,15 @@ def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None =
     """
     eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
     reflectivity, edge_tint = np.broadcast_arrays(np.asarray(reflectivity, dtype=float), np.asarray(edge_tint, dtype=float))
-    outside = (eta < ETA_RANGE[0]) | (eta > ETA_RANGE[1])
+    outside = (eta < ETA_RANGE[0]) | (eta > ETA_RANGE[1]) | (kappa > KAPPA_RANGE[1])
     if np.any(outside):
         index = np.flatnonzero(np.broadcast_to(outside, eta.shape).ravel())[0]
         r = float(np.broadcast_to(reflectivity, eta.shape).ravel()[index])
         g = float(np.broadcast_to(edge_tint, eta.shape).ravel()[index])
         raise ParameterError(
-            f"reflectivity {r} with edge_tint {g} maps to eta = {float(eta.ravel()[index]):.3g}, outside the "
-            f"supported [{ETA_RANGE[0]:g}, {ETA_RANGE[1]:g}]: reflectivity must stay below about 1 - 4e-6 "
+            f"reflectivity {r} with edge_tint {g} maps to eta = {float(eta.ravel()[index]):.3g}, "
+            f"kappa = {float(kappa.ravel()[index]):.3g}, outside the supported eta in [{ETA_RANGE[0]:g}, {ETA_RANGE[1]:g}], "
+            f"kappa <= {KAPPA_RANGE[1]:g}: reflectivity must stay below about 1 - 4e-6 "
             f"(edge_tint 0) to 1 - 2e-8 (edge_tint 1)"
         )
     return coefficients_from_nk(eta, kappa, basis)

@@ -281,7 +281,7 @@ def fuzz_api(rng):
     row("gulbrandsen_to_nk, whole domain r ∈ [0, 1), g ∈ [0, 1]", r.size,
         f"{int(np.count_nonzero(~finite))} invalid; |F0(η,κ) − r| ≤ {e(float(np.max(np.abs(f0_g - r))))}", "closed-form F0 = r",
         "0; 1e-12", bool(np.all(finite)) and float(np.max(np.abs(f0_g - r))) <= 1e-12)
-    in_range = (eta_g >= 1e-8) & (eta_g <= 1e6)
+    in_range = (eta_g >= 1e-8) & (eta_g <= 1e6) & (kappa_g <= 1e6)
     refused = int(np.count_nonzero(~in_range))
     accepted = coefficients_from_gulbrandsen(r[in_range], g[in_range])
     misnamed = 0
