@@ -201,7 +201,10 @@ def test_quick_study_rows(quick_study):
         family = sorted((q for q in quadrature if q["method"] == entry["quadrature_method"]), key=lambda q: q["seconds"])
         slower = [q for q in family if q["seconds"] >= entry["seconds"]]
         faster = [q for q in family if q["seconds"] <= entry["seconds"]]
-        assert slower and faster
+        assert faster
+        if not slower:  # past the family's slowest setting: its best error, a lower bound of the ratio
+            assert entry["quadrature_max_abs_error"] == min(q["max_abs_error"] for q in family)
+            continue
         # the interpolated quadrature error lies between those of the bracketing orders (log-log interpolation)
         low, high = slower[0]["max_abs_error"], faster[-1]["max_abs_error"]
         assert min(low, high) * (1 - 1e-12) <= entry["quadrature_max_abs_error"] <= max(low, high) * (1 + 1e-12)

@@ -69,8 +69,10 @@ def _interpolated_error(rows: list[dict], seconds: float) -> float | None:
     """Max error of one quadrature family at ``seconds``, linear in log-log between its bracketing rows."""
     rows = sorted(rows, key=lambda row: row["seconds"])
     log_seconds = np.log([row["seconds"] for row in rows])
-    if not rows or not log_seconds[0] <= np.log(seconds) <= log_seconds[-1]:
+    if not rows or np.log(seconds) < log_seconds[0]:
         return None
+    if np.log(seconds) > log_seconds[-1]:  # the family's slowest setting is faster still: a lower bound
+        return float(min(row["max_abs_error"] for row in rows))
     log_errors = np.log([max(row["max_abs_error"], 1e-300) for row in rows])
     return float(np.exp(np.interp(np.log(seconds), log_seconds, log_errors)))
 
@@ -81,7 +83,8 @@ def _equal_time(rows: list[dict]) -> list[dict]:
     Within each quadrature family the max error is interpolated linearly in log(error) against
     log(seconds) between the settings that bracket the Hammersley time (a single timing of a fast step is
     noisy on shared cores; the interpolated curve is not); the better family at that time is used.
-    Outside every family's measured times the ratio is ``None``.
+    Past a family's slowest setting its best error is used (more time could only lower it, so the ratio
+    is then a lower bound); below every family's fastest setting the ratio is ``None``.
     """
     ratios = []
     for row in rows:
@@ -317,7 +320,7 @@ def lut_error_table_markdown(result: dict) -> str:
         entry = ratios.get((row["method"], row["setting"]))
         if entry is not None:
             ratio = (
-                "outside the quadrature's measured times"
+                "no quadrature setting this fast"
                 if entry["ratio"] is None
                 else f"{entry['ratio']:.3g} (quadrature at {entry['seconds']:.2f} s: {entry['quadrature_max_abs_error']:.1e})"
             )
