@@ -549,7 +549,7 @@ def main() -> None:
     for cells in ROWS:
         print("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     print(f"\nTotal inputs: {sum(int(r[1].replace(',', '')) for r in ROWS):,}. "
-          f"Failing rows are reported defects (strict xfail in tests/test_stability_*.py); 'limit' rows are documented limits.")
+          f"A FAIL row is a defect (each has a test in tests/test_stability_*.py); 'limit' rows are documented limits of a four-term basis.")
     if other:
         print("\nCLI cases breaking the contract (other than NaN/inf messages):")
         for name, status, line in other:
