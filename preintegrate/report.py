@@ -179,7 +179,7 @@ def write_report(out="report", quick: bool = False) -> dict:
         basis_build_markdown(cost, convergence),
         plots_note,
         "",
-        f"Run times: " + ", ".join(f"{name} {seconds:.1f} s" for name, seconds in timings.items())
+        "Run times: " + ", ".join(f"{name} {seconds:.1f} s" for name, seconds in timings.items())
         + f"; whole report {time.perf_counter() - started:.1f} s.",
         "",
     ]

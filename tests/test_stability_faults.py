@@ -22,7 +22,7 @@ import numpy as np
 import OpenEXR
 import pytest
 
-from basis.eigenbasis import Basis, shipped_basis_path
+from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
 from test_cli import assert_one_line_error, run, run_subprocess
 

@@ -16,7 +16,6 @@ instead of 1 (κ² underflows); it is pinned in test_stability_extremes.py::test
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 

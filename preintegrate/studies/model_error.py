@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.eigenbasis import Basis, default_basis
+from basis.files import write_text
 from basis.fresnel import ETA_RANGE, KAPPA_RANGE, cos_theta, fresnel_conductor
 from basis.holdout import holdout_materials
 from basis.models import FRESNEL_MODELS, FresnelModel, fresnel_model
@@ -587,9 +588,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     text = model_error_markdown(result)
     print(text)
     if arguments.markdown is not None:
-        temporary = temporary_sibling(arguments.markdown)
-        temporary.write_text(text, encoding="utf-8")
-        replace_together([(temporary, arguments.markdown)])
+        write_text(arguments.markdown, text)
     if arguments.png is not None:
         print(f"plot: {plot_model_error(result, arguments.png)}")
 
