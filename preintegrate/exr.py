@@ -1,6 +1,6 @@
 """EXR I/O of LUT tables: atomic writes, self-describing headers, verified reads.
 
-Public objects: ``write_lut``, ``write_luts``, ``read_lut``, ``LutFileError``.
+Public objects: ``write_lut``, ``write_luts``, ``read_lut``, ``content_hash``, ``LutFileError``.
 
 Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines, float32 by default
 or half; in half, magnitudes below 2^-14 are written as 0 rather than as subnormals. Every file is first written to a temporary name in the destination folder and renamed into
@@ -11,6 +11,7 @@ it is written, and rolls the set back if the renames are interrupted (:mod:`basi
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -20,7 +21,7 @@ import OpenEXR
 from basis.files import replace_together, temporary_sibling
 from basis.validation import ParameterError
 
-__all__ = ["LutFileError", "read_lut", "write_lut", "write_luts"]
+__all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]
 
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
@@ -51,6 +52,23 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
     return {name: np.ascontiguousarray(table[:, :, k].astype(dtype)) for k, name in enumerate(channel_names)}
 
 
+def content_hash(attributes: Mapping[str, str], channels: Mapping[str, np.ndarray]) -> str:
+    """SHA-256 (first 16 hex digits) of this project's attributes and the stored pixels.
+
+    EXR has no checksum of its own (a flipped bit in a header or an uncompressed block goes unseen);
+    this hash, stored as ``fresnel:content_hash``, lets :func:`read_lut` refuse such a file.
+    """
+    digest = hashlib.sha256()
+    for key in sorted(attributes):
+        if key != "content_hash":
+            digest.update(f"{key}={attributes[key]}\n".encode("utf-8"))
+    for name in sorted(channels):
+        pixels = np.asarray(channels[name])
+        digest.update(f"{name}:{pixels.dtype.str}:{pixels.shape}\n".encode("utf-8"))
+        digest.update(np.ascontiguousarray(pixels).tobytes())
+    return digest.hexdigest()[:16]
+
+
 def write_luts(items, half: bool = False) -> list[Path]:
     """Write several LUTs as one transaction: all temporaries first, then all renames.
 
@@ -60,11 +78,12 @@ def write_luts(items, half: bool = False) -> list[Path]:
     for path, table, channel_names, attributes in items:
         path = Path(path)
         channels = _prepare(table, channel_names, half)
+        attributes = {**{key: str(value) for key, value in attributes.items()}, "pixel_type": "half" if half else "float32"}
+        attributes["content_hash"] = content_hash(attributes, channels)
         header = {
             "compression": OpenEXR.ZIP_COMPRESSION,
             "type": OpenEXR.scanlineimage,
-            **{f"{ATTRIBUTE_PREFIX}{key}": str(value) for key, value in attributes.items()},
-            f"{ATTRIBUTE_PREFIX}pixel_type": "half" if half else "float32",
+            **{f"{ATTRIBUTE_PREFIX}{key}": value for key, value in attributes.items()},
         }
         prepared.append((path, header, channels))
     temporaries = []
@@ -104,6 +123,12 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     }
     if "channels" not in attributes:
         raise LutFileError(f"{path} is not a fresnel-basis LUT (no {ATTRIBUTE_PREFIX}channels attribute)")
+    stored = {name: channel.pixels for name, channel in channels.items()}
+    if attributes.get("content_hash") != content_hash(attributes, stored):
+        raise LutFileError(
+            f"{path}: content hash {attributes.get('content_hash')!r} does not match its header and pixels "
+            f"({content_hash(attributes, stored)}): the file is corrupt or was edited"
+        )
     names = attributes["channels"].split(",") if channel_names is None else list(channel_names)
     missing = [name for name in names if name not in channels]
     if missing:

@@ -238,3 +238,23 @@ def test_written_file_mode_follows_umask(tmp_path):
         pytest.skip("with this umask 0600 is the expected mode; the test cannot tell")
     path = write_lut(tmp_path / "lut.exr", _table(), RGBA, _attributes(RGBA))
     assert (os.stat(path).st_mode & 0o777) == (0o666 & ~umask)
+
+
+def test_content_hash_catches_edited_header_and_pixels(tmp_path):
+    """An EXR whose fresnel: attributes or pixels change after writing (re-saved by OpenEXR, so the file itself is
+    valid) is refused by read_lut: the stored content hash no longer matches (EXR has no checksum of its own)."""
+    path = write_lut(tmp_path / "lut.exr", np.full((4, 5, 2), 0.25), ("R", "G"), {"convention": "test", "channels": "R,G"})
+    read_lut(path)  # the untouched file reads
+    for edit in ("header", "pixels"):
+        image = OpenEXR.File(str(path), separate_channels=True)
+        header, channels = image.header(), image.channels()
+        if edit == "header":
+            header["fresnel:convention"] = "tset"
+        else:
+            pixels = channels["G"].pixels.copy()
+            pixels[2, 3] = np.float32(0.2500001)
+            channels["G"] = OpenEXR.Channel("G", pixels)
+        edited = tmp_path / f"{edit}.exr"
+        OpenEXR.File(header, channels).write(str(edited))
+        with pytest.raises(LutFileError, match="content hash"):
+            read_lut(edited)
