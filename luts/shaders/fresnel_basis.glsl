@@ -1,0 +1,32 @@
+// fresnel-basis: split-sum Fresnel from the preintegrated LUTs (GLSL 3.30+ / ES 3.0).
+//
+// Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
+// Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
+//
+// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
+// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
+// row 0 first, so uploading the EXR rows in file order makes v = r. Sample with bilinear filtering and
+// CLAMP_TO_EDGE. ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rg.exr: R = scale, G = bias.
+//
+// Coefficients c (one vec4 per colour channel) come from the Python API
+// (basis.coefficients_from_nk / coefficients_from_gulbrandsen) or `fresnel-lut coeffs --json`; they must
+// belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
+
+vec2 fresnelLutCoordinates(float NdotV, float perceptualRoughness)
+{
+    return vec2(clamp(NdotV, 0.0, 1.0), clamp(perceptualRoughness, 0.0, 1.0));
+}
+
+// Directional albedo of the Fresnel term for each colour channel (cR, cG, cB: coefficients c0..c3).
+vec3 fresnelBasisSplitSum(sampler2D basisLut, float NdotV, float perceptualRoughness, vec4 cR, vec4 cG, vec4 cB)
+{
+    vec4 b = texture(basisLut, fresnelLutCoordinates(NdotV, perceptualRoughness));
+    return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
+}
+
+// Schlick's split sum for comparison: F0 per colour channel.
+vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float perceptualRoughness, vec3 F0)
+{
+    vec2 scaleBias = texture(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness)).rg;
+    return F0 * scaleBias.x + scaleBias.y;
+}

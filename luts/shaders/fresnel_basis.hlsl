@@ -1,0 +1,31 @@
+// fresnel-basis: split-sum Fresnel from the preintegrated LUTs (HLSL, Shader Model 4+).
+//
+// Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
+// Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
+//
+// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
+// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
+// row 0 first (upload the rows in file order: v = r). Use a bilinear, clamp-to-edge sampler.
+// ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rg.exr: R = scale, G = bias.
+//
+// Coefficients c (one float4 per colour channel) come from the Python API or `fresnel-lut coeffs --json`
+// and must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
+
+float2 FresnelLutCoordinates(float NdotV, float perceptualRoughness)
+{
+    return float2(saturate(NdotV), saturate(perceptualRoughness));
+}
+
+float3 FresnelBasisSplitSum(Texture2D<float4> basisLut, SamplerState linearClamp, float NdotV,
+                            float perceptualRoughness, float4 cR, float4 cG, float4 cB)
+{
+    float4 b = basisLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0);
+    return float3(dot(cR, b), dot(cG, b), dot(cB, b));
+}
+
+float3 FresnelSchlickSplitSum(Texture2D<float2> schlickLut, SamplerState linearClamp, float NdotV,
+                              float perceptualRoughness, float3 F0)
+{
+    float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0);
+    return F0 * scaleBias.x + scaleBias.y;
+}
