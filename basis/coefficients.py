@@ -35,7 +35,7 @@ from .eigenbasis import Basis, default_basis
 from .fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel, cos_theta
 from .gulbrandsen import gulbrandsen_to_nk
 from .svd import trapezoid_weights
-from .validation import ParameterError, as_float_array, check_positive_int, check_range
+from .validation import ParameterError, as_float_array, check_positive_int, check_range, check_shape_last
 
 __all__ = [
     "LEAST_SQUARES_WEIGHTS",
@@ -87,11 +87,7 @@ def coefficients_from_samples(samples, basis: Basis | None = None) -> np.ndarray
     """
     basis = _basis(basis)
     samples = as_float_array("samples", samples)
-    if samples.ndim == 0 or samples.shape[-1] != basis.n_terms:
-        raise ParameterError(
-            f"samples must have a trailing axis of length {basis.n_terms} (one value per fit angle), "
-            f"got shape {samples.shape}"
-        )
+    check_shape_last("samples", samples, basis.n_terms)  # one value per fit angle
     return samples @ np.linalg.inv(fit_matrix(basis)).T
 
 
@@ -130,8 +126,7 @@ def _table_spline(theta, values) -> CubicSpline:
         raise ParameterError("theta must be a strictly increasing 1-D array of at least 4 angles")
     if theta[0] > 1e-12 or theta[-1] < 0.5 * np.pi - 1e-12:
         raise ParameterError(f"theta must cover [0, pi/2], got [{theta[0]}, {theta[-1]}]")
-    if values.ndim == 0 or values.shape[-1] != theta.size:
-        raise ParameterError(f"values must have a trailing axis of length {theta.size}, got shape {values.shape}")
+    check_shape_last("values", values, theta.size)
     return CubicSpline(theta, values, axis=-1, bc_type=((1, np.zeros(values.shape[:-1])), "not-a-knot"))
 
 
@@ -274,8 +269,8 @@ def coefficients_least_squares_from_table(
     values = as_float_array("values", values)
     if theta_array.shape != basis.theta.shape or not np.array_equal(theta_array, basis.theta):
         values = _table_spline(theta_array, values)(basis.theta)
-    elif values.ndim == 0 or values.shape[-1] != basis.theta.size:
-        raise ParameterError(f"values must have a trailing axis of length {basis.theta.size}, got shape {values.shape}")
+    else:
+        check_shape_last("values", values, basis.theta.size)
     return _least_squares_on_grid(values, basis, weight, iterations)
 
 
@@ -319,10 +314,7 @@ def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
     """Σ_k c_k b_k(arccos μ): coefficients (..., K) and μ broadcast over the leading axes → (...)."""
     basis = _basis(basis)
     coefficients = as_float_array("coefficients", coefficients)
-    if coefficients.ndim == 0 or coefficients.shape[-1] != basis.n_terms:
-        raise ParameterError(
-            f"coefficients must have a trailing axis of length {basis.n_terms}, got shape {coefficients.shape}"
-        )
+    check_shape_last("coefficients", coefficients, basis.n_terms)
     return np.sum(coefficients * basis.evaluate_mu(mu), axis=-1)
 
 
@@ -359,16 +351,12 @@ def reconstruction_error(coefficients, theta, values, basis: Basis | None = None
     """
     basis = _basis(basis)
     coefficients = as_float_array("coefficients", coefficients)
-    if coefficients.ndim == 0 or coefficients.shape[-1] != basis.n_terms:
-        raise ParameterError(
-            f"coefficients must have a trailing axis of length {basis.n_terms}, got shape {coefficients.shape}"
-        )
+    check_shape_last("coefficients", coefficients, basis.n_terms)
     theta = check_range("theta", theta, 0.0, 0.5 * np.pi)
     if theta.ndim != 1 or theta.size == 0:
         raise ParameterError(f"theta must be a 1-D array of at least 1 angle, got shape {theta.shape}")
     values = as_float_array("values", values)
-    if values.ndim == 0 or values.shape[-1] != theta.size:
-        raise ParameterError(f"values must have a trailing axis of length {theta.size}, got shape {values.shape}")
+    check_shape_last("values", values, theta.size)
     try:
         leading = np.broadcast_shapes(coefficients.shape[:-1], values.shape[:-1])
     except ValueError:

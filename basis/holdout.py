@@ -1,6 +1,6 @@
 """Held-out materials on which the basis, its training domain and its fit angles are judged.
 
-Public objects: ``holdout_materials``, ``curve_errors``.
+Public objects: ``holdout_materials``.
 
 None of these is drawn from the training sampler (different seeds and, for the grids, deterministic
 lattices). Groups follow the design notes: real dielectrics (η 1.2–2.9), metals (η 0.1–4, κ 1–8),
@@ -14,7 +14,7 @@ import numpy as np
 
 from .gulbrandsen import gulbrandsen_to_nk
 
-__all__ = ["curve_errors", "holdout_materials"]
+__all__ = ["holdout_materials"]
 
 
 def holdout_materials(seed: int = 20200817) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -31,9 +31,3 @@ def holdout_materials(seed: int = 20200817) -> dict[str, tuple[np.ndarray, np.nd
             np.concatenate([np.zeros(12), np.geomspace(10.0, 100.0, 6), gulbrandsen_to_nk(stiff_r, stiff_g)[1].ravel()]),
         ),
     }
-
-
-def curve_errors(approximation: np.ndarray, exact: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Max and RMS of |ΔF| over the last (angle) axis."""
-    difference = np.abs(approximation - exact)
-    return difference.max(axis=-1), np.sqrt(np.mean(difference**2, axis=-1))

@@ -45,15 +45,18 @@ def trapezoid_weights(theta: np.ndarray) -> np.ndarray:
 class GramAccumulator:
     """Streaming Σ ŷ ŷᵀ and Σ ŷ over chunks of curves (N, M): the one pass over the data."""
 
-    def __init__(self, theta: np.ndarray, span_weighted: bool = False):
-        self.span_weighted = span_weighted
+    def __init__(self, theta: np.ndarray):
         self.sqrt_weights = np.sqrt(trapezoid_weights(theta))
         size = theta.size
         self.gram = np.zeros((size, size))
         self.total = np.zeros(size)
-        self.weight_sum = 0.0
         self.count = 0
         self.skipped = 0
+
+    @property
+    def weight_sum(self) -> float:
+        """Σ of the curves' weights in the Gram matrix: every kept curve counts once."""
+        return float(self.count)
 
     def add(self, curves: np.ndarray) -> None:
         """Normalise a chunk of curves F(θ) and fold it into the sums."""
@@ -61,12 +64,9 @@ class GramAccumulator:
         keep = span[:, 0] > MIN_SPAN
         self.skipped += int(np.count_nonzero(~keep))
         normalised = (curves[keep] - curves[keep, :1]) / span[keep]
-        # σ = F(π/2) − F(0) weights a curve by how much its shape matters in absolute reflectance.
-        sigma = span[keep] if self.span_weighted else np.ones_like(span[keep])
-        weighted = normalised * self.sqrt_weights * sigma
+        weighted = normalised * self.sqrt_weights
         self.gram += weighted.T @ weighted
-        self.total += (sigma * weighted).sum(axis=0)
-        self.weight_sum += float(np.sum(sigma**2))
+        self.total += weighted.sum(axis=0)
         self.count += int(np.count_nonzero(keep))
 
 
@@ -81,7 +81,6 @@ def build_curves(
     chunks: Iterable[np.ndarray],
     n_terms: int = 4,
     progress: Callable[[int], None] | None = None,
-    span_weighted: bool = False,
 ) -> tuple[np.ndarray, dict]:
     """Run the iterative SVD over streamed training curves.
 
@@ -108,7 +107,7 @@ def build_curves(
     n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
     if theta[0] != 0.0 or theta[-1] != 0.5 * np.pi:
         raise ParameterError("theta grid must start at 0 and end at pi/2")
-    accumulator = GramAccumulator(theta, span_weighted)
+    accumulator = GramAccumulator(theta)
     for chunk in chunks:
         accumulator.add(chunk)
         if progress is not None:
@@ -128,7 +127,7 @@ def build_curves(
     b1 /= b1[-1]
     b1[0], b1[-1] = 0.0, 1.0  # exact in theory (every F̂ row is 0 at θ = 0); remove rounding
     curves.append(b1)
-    # Gram of the rows σ(F̂ − b1)√w: G − s b̂1ᵀ − b̂1 sᵀ + (Σσ²) b̂1 b̂1ᵀ with s = Σ σ² F̂ √w.
+    # Gram of the rows (F̂ − b1)√w: G − s b̂1ᵀ − b̂1 sᵀ + N b̂1 b̂1ᵀ with s = Σ F̂ √w.
     b1_weighted = b1 * root_w
     residual = gram - np.outer(total, b1_weighted) - np.outer(b1_weighted, total)
     residual += accumulator.weight_sum * np.outer(b1_weighted, b1_weighted)
