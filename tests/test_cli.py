@@ -322,16 +322,11 @@ def _assert_untouched(out, before):
 def test_interrupt_during_exr_write(previous, monkeypatch, capsys):
     """KeyboardInterrupt inside the 2nd OpenEXR write of a new build: main returns 130, old LUTs byte-identical, no .tmp left."""
     out, before = previous
-    original, calls = OpenEXR.File.write, []
+    def partial_then_interrupt(image, filename):
+        Path(filename).write_bytes(b"partial")
+        raise KeyboardInterrupt
 
-    def write(self, filename):
-        calls.append(filename)
-        if len(calls) == 2:
-            Path(filename).write_bytes(b"partial")
-            raise KeyboardInterrupt
-        return original(self, filename)
-
-    monkeypatch.setattr(exr.OpenEXR.File, "write", write)
+    fail_on_call(monkeypatch, exr.OpenEXR.File, "write", 2, partial_then_interrupt)
     assert run(["build", "--size", 12, "--out", out]) == 130
     assert "interrupted" in capsys.readouterr().err
     _assert_untouched(out, before)
@@ -348,16 +343,24 @@ def test_interrupt_during_integration(tmp_path, monkeypatch, capsys):
     assert not (tmp_path / "new").exists()
 
 
-def _interrupt_replace_at(monkeypatch, call):
-    original, calls = os.replace, []
+def fail_on_call(monkeypatch, owner, name, call, failure):
+    """Patch ``owner.name`` so that its ``call``-th call runs ``failure(*arguments)`` (which raises) instead."""
+    original, calls = getattr(owner, name), []
 
-    def replace(source, destination):
-        calls.append(destination)
+    def patched(*arguments):
+        calls.append(arguments)
         if len(calls) == call:
-            raise KeyboardInterrupt
-        return original(source, destination)
+            failure(*arguments)
+        return original(*arguments)
 
-    monkeypatch.setattr(os, "replace", replace)
+    monkeypatch.setattr(owner, name, patched)
+
+
+def _interrupt_replace_at(monkeypatch, call):
+    def interrupt(source, destination):
+        raise KeyboardInterrupt
+
+    fail_on_call(monkeypatch, os, "replace", call, interrupt)
 
 
 def test_interrupt_at_first_rename(previous, monkeypatch, capsys):

@@ -19,12 +19,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import OpenEXR
 import pytest
 
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
-from test_cli import assert_one_line_error, run, run_subprocess
+from test_cli import assert_one_line_error, fail_on_call, run, run_subprocess
 
 BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 #: Values of the wrong type or form: argparse refuses them ("invalid int value", "expected one argument").
@@ -362,16 +361,11 @@ def test_disk_full_during_exr_write(previous_build, monkeypatch, capsys):
     """OSError ENOSPC inside the 2nd EXR write (after writing part of it): exit 2, one line, both previous LUTs
     byte-identical, no temporaries."""
     out, before = previous_build
-    original, calls = OpenEXR.File.write, []
+    def partial_then_disk_full(image, filename):
+        Path(filename).write_bytes(b"v/1\x01partial")
+        raise OSError(errno.ENOSPC, "No space left on device", filename)
 
-    def write(self, filename):
-        calls.append(filename)
-        if len(calls) == 2:
-            Path(filename).write_bytes(b"v/1\x01partial")
-            raise OSError(errno.ENOSPC, "No space left on device", filename)
-        return original(self, filename)
-
-    monkeypatch.setattr(exr.OpenEXR.File, "write", write)
+    fail_on_call(monkeypatch, exr.OpenEXR.File, "write", 2, partial_then_disk_full)
     assert run(["build", "--size", "10", "--out", out]) == 2
     assert_one_line_error(capsys.readouterr().err)
     assert _snapshot(out) == before
@@ -381,15 +375,11 @@ def test_permission_denied_at_rename(previous_build, monkeypatch, capsys):
     """PermissionError at the 2nd rename of a build: exit 2, one line, both previous LUTs byte-identical (the first
     rename rolled back), no temporaries."""
     out, before = previous_build
-    original, calls = os.replace, []
+    def permission_denied(source, destination):
+        raise PermissionError(errno.EACCES, "Permission denied", str(destination))
 
-    def replace(source, destination):
-        calls.append(destination)
-        if len(calls) == 2:  # backups are hard links; call 1 renames the first new file, call 2 the second
-            raise PermissionError(errno.EACCES, "Permission denied", str(destination))
-        return original(source, destination)
-
-    monkeypatch.setattr(os, "replace", replace)
+    # backups are hard links; call 1 renames the first new file, call 2 the second
+    fail_on_call(monkeypatch, os, "replace", 2, permission_denied)
     assert run(["build", "--size", "10", "--out", out]) == 2
     assert_one_line_error(capsys.readouterr().err)
     assert _snapshot(out) == before
