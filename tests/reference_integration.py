@@ -60,6 +60,22 @@ def _integrand(points, functions, mu_o, alpha):
     return values * weight[:, None]
 
 
+def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error):
+    """Σ over the polar intervals [cuts[k], cuts[k+1]] × φ ∈ [0, π] of adaptive Gauss–Kronrod cubature.
+
+    Raises AssertionError for an interval that neither converges nor estimates its error below ``accepted_error``.
+    """
+    total = 0.0
+    for low, high in zip(cuts[:-1], cuts[1:]):
+        result = cubature(
+            integrand, [low, 0.0], [high, np.pi], rule="gk21", rtol=rtol, atol=atol,
+            args=(functions, mu_o, alpha), max_subdivisions=20000,
+        )
+        assert result.status == "converged" or np.max(result.error) < accepted_error, (mu_o, alpha, result.error)
+        total = total + result.estimate
+    return np.atleast_1d(total)
+
+
 def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12):
     """(K,) F̄_k(μo, α) by adaptive cubature over (θi, φi); ``functions`` maps x (N,) → (N,) or (N, K).
 
@@ -69,15 +85,7 @@ def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12):
     assert 0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0
     theta_o = float(np.arccos(mu_o))
     cuts = [0.0] + ([theta_o] if 1e-9 < theta_o < 0.5 * np.pi - 1e-9 else []) + [0.5 * np.pi]
-    total = 0.0
-    for low, high in zip(cuts[:-1], cuts[1:]):
-        result = cubature(
-            _integrand, [low, 0.0], [high, np.pi], rule="gk21", rtol=rtol, atol=atol,
-            args=(functions, mu_o, alpha), max_subdivisions=20000,
-        )
-        assert result.status == "converged" or np.max(result.error) < 1e-10, (mu_o, alpha, result.error)
-        total = total + result.estimate
-    return np.atleast_1d(total)
+    return _cubature_over_cuts(_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10)
 
 
 def _half_vector_integrand(points, functions, mu_o, alpha):
@@ -105,12 +113,4 @@ def reference_albedo_half_vector(functions, mu_o, alpha, rtol=1e-9, atol=1e-10):
     mu_o, alpha = float(mu_o), float(alpha)
     assert 0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0
     cuts = sorted({0.0, 0.5 * np.pi, *(float(np.arctan(alpha * 4.0**k)) for k in range(-1, 9))})
-    total = 0.0
-    for low, high in zip(cuts[:-1], cuts[1:]):
-        result = cubature(
-            _half_vector_integrand, [low, 0.0], [high, np.pi], rule="gk21", rtol=rtol, atol=atol,
-            args=(functions, mu_o, alpha), max_subdivisions=20000,
-        )
-        assert result.status == "converged" or np.max(result.error) < 1e-9, (mu_o, alpha, result.error)
-        total = total + result.estimate
-    return np.atleast_1d(total)
+    return _cubature_over_cuts(_half_vector_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-9)
