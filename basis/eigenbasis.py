@@ -46,7 +46,7 @@ def _spline(theta: np.ndarray, curves: np.ndarray) -> CubicSpline:
 MAX_FIT_CONDITION = 1e6
 
 
-def _check_structure(theta: np.ndarray, curves: np.ndarray, fit_angles: np.ndarray) -> None:
+def _check_structure(curves: np.ndarray, fit_angles: np.ndarray, spline: CubicSpline) -> None:
     """The properties the coefficient scheme relies on (c0 = F(0), c1 = F(π/2) − F(0), a solvable fit)."""
     if not np.allclose(curves[0], 1.0, rtol=0, atol=1e-12):
         raise BasisFileError("curves[0] (b0) must be 1 everywhere")
@@ -54,7 +54,7 @@ def _check_structure(theta: np.ndarray, curves: np.ndarray, fit_angles: np.ndarr
         raise BasisFileError("b_k(0) must be 0 for k >= 1, b1(pi/2) = 1 and b_k(pi/2) = 0 for k >= 2")
     if abs(fit_angles[0]) > 1e-12 or abs(fit_angles[1] - 0.5 * np.pi) > 1e-12:
         raise BasisFileError(f"fit_angles must start with 0 and pi/2, got {fit_angles[:2].tolist()}")
-    system = _spline(theta, curves)(fit_angles)
+    system = spline(fit_angles)
     condition = np.linalg.cond(system)
     if not np.isfinite(condition) or condition > MAX_FIT_CONDITION:
         raise BasisFileError(
@@ -101,7 +101,9 @@ class Basis:
         if fit_angles.shape != (curves.shape[0],):
             raise BasisFileError(f"fit_angles must have shape ({curves.shape[0]},), got {fit_angles.shape}")
         check_range("fit_angles", fit_angles, 0.0, 0.5 * np.pi)
-        _check_structure(theta, curves, fit_angles)
+        spline = _spline(theta, curves)
+        _check_structure(curves, fit_angles, spline)
+        self.__dict__["spline"] = spline  # the cached_property below, built once here
         object.__setattr__(self, "theta", theta)
         object.__setattr__(self, "curves", curves)
         object.__setattr__(self, "fit_angles", fit_angles)
