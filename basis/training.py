@@ -140,13 +140,19 @@ class TrainingDomain:
         return cls(components)
 
 
-#: Mostly dielectrics plus a few Gulbrandsen g = 1 conductors, as the authors' notebook does. Measured
-#: on the held-out set (``fresnel-lut basis`` prints the table): adding broad conductor or Gulbrandsen
-#: boxes to the training set makes the basis worse on dielectrics *and* metals, because high-F0 curves
-#: have tiny spans and their normalised shapes dominate the SVD.
+#: Mostly dielectrics, a few Gulbrandsen g = 1 conductors (as the authors' notebook does) and 5 % metals
+#: (η 0.1–4, κ 1–8). Measured (200k curves; ``fresnel-lut materials`` prints the sweep):
+#:
+#: * without the metal box, the four-point fit misses held-out dielectrics by 0.0062 and the measured
+#:   metals of Hoffman's table by up to 0.19 ΔE2000, the ΔE-fitted coefficients by up to 0.135;
+#: * with 5 % metals: dielectrics 0.0033, measured metals 0.11 (four-point) and 0.078 (ΔE fit, every metal
+#:   under Hoffman's 0.08); synthetic held-out metals get slightly worse, 0.0101 → 0.0120;
+#: * 2 % or 10 % metals, log-uniform η, or Gulbrandsen boxes with g < 1 (η up to 80) do worse: a broad
+#:   conductor box lets high-F0 curves, whose spans are tiny, dominate the normalised SVD.
 DEFAULT_DOMAIN = TrainingDomain(
     (
-        Component("dielectrics", "nk", first=(1.01, 3.0), second=(0.0, 0.0), share=0.99),
+        Component("dielectrics", "nk", first=(1.01, 3.0), second=(0.0, 0.0), share=0.94),
         Component("gulbrandsen-g1", "gulbrandsen", first=(0.0, 0.999), second=(1.0, 1.0), share=0.01),
+        Component("metals", "nk", first=(0.1, 4.0), second=(1.0, 8.0), share=0.05),
     )
 )
