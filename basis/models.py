@@ -1,6 +1,7 @@
 """Fresnel models compared in the report: the exact curve, Schlick's, and the eigen-basis.
 
-Public objects: ``FresnelModel``, ``FRESNEL_MODELS``, ``fresnel_model``, ``fresnel_Schlick1994``.
+Public objects: ``FresnelModel``, ``FRESNEL_MODELS``, ``fresnel_model``, ``fresnel_Schlick1994``,
+``fresnel_Hoffman2019``, ``F82_MU``.
 
 Every model splits into what a renderer stores per material, ``parameters(eta, kappa)`` (computed once,
 shape (..., P)), and what it evaluates per shading sample, ``curve(mu, parameters)``. A material is the
@@ -40,7 +41,7 @@ from .eigenbasis import Basis, default_basis
 from .fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel
 from .validation import ParameterError, check_range
 
-__all__ = ["FRESNEL_MODELS", "FresnelModel", "fresnel_Schlick1994", "fresnel_model"]
+__all__ = ["F82_MU", "FRESNEL_MODELS", "FresnelModel", "fresnel_Hoffman2019", "fresnel_Schlick1994", "fresnel_model"]
 
 
 def fresnel_Schlick1994(mu, f0) -> np.ndarray:
@@ -61,6 +62,43 @@ def fresnel_Schlick1994(mu, f0) -> np.ndarray:
     mu = check_range("mu", mu, 0.0, 1.0)
     f0 = check_range("f0", f0, 0.0, 1.0)
     return _schlick(mu, f0)
+
+
+#: θ of Hoffman's F82 parameter: "approximately 82 degrees: to be precise, arccos(1/7)" (Hoffman 2020).
+F82_MU = 1.0 / 7.0
+
+
+def fresnel_Hoffman2019(mu, f0, f82) -> np.ndarray:
+    """Hoffman's reparameterised Lazányi model with F82, clamped to [0, 1] (Hoffman 2020, "2019:
+    Reparameterized Lazányi").
+
+    F = F0 + (1 − F0)(1 − μ)^5 − a μ (1 − μ)^6,  a = 823543/46656 (F0 − F82) + 49/6 (1 − F0),
+
+    so that F(arccos 1/7) = F82. Extreme (F0, F82) pairs leave [0, 1]; the result is clamped there, as
+    Hoffman warns (a C1 kink).
+
+    Parameters
+    ----------
+    mu : array_like
+        Cosine of the angle of incidence, in [0, 1].
+    f0, f82 : array_like
+        Reflectance at normal incidence and at arccos(1/7) ≈ 81.8°, in [0, 1]; broadcast.
+
+    Examples
+    --------
+    >>> round(float(fresnel_Hoffman2019(1.0 / 7.0, 0.9, 0.8)), 12)
+    0.8
+    """
+    mu = check_range("mu", mu, 0.0, 1.0)
+    f0 = check_range("f0", f0, 0.0, 1.0)
+    f82 = check_range("f82", f82, 0.0, 1.0)
+    return np.clip(_hoffman2019(mu, f0, f82), 0.0, 1.0)
+
+
+def _hoffman2019(mu: np.ndarray, f0: np.ndarray, f82: np.ndarray) -> np.ndarray:
+    """Unclamped, unchecked kernel of :func:`fresnel_Hoffman2019` (RGB values out of gamut may pass 1)."""
+    a = 823543.0 / 46656.0 * (f0 - f82) + 49.0 / 6.0 * (1.0 - f0)
+    return _schlick(mu, f0) - a * mu * (1.0 - mu) ** 6
 
 
 def _checked_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:

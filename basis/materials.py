@@ -1,0 +1,341 @@
+"""Measured materials as basis coefficients: fitting RGB Fresnel curves, and the shipped presets.
+
+Public objects: ``ANGLES_DEGREES``, ``rms_delta_E_2000``, ``MATERIAL_FITS``, ``material_fit``,
+``fit_rgb_curve``, ``fit_material``, ``material_curve``, ``build_presets``, ``write_presets``, ``material_presets``,
+``material_preset``, ``material_coefficients``, ``shipped_presets_path``, ``PresetFileError``,
+``minimise_delta_e``.
+
+A material's ground truth is its RGB Fresnel curve by Hoffman's spectral procedure
+(:func:`basis.spectral.rgb_fresnel`). Its error is Hoffman's measure: the RMS over θ = 0°, 1°, …, 90° of
+CIEDE2000 between the approximation and the ground truth (with this sampling his dielectric Schlick
+column is reproduced to 0.01; ``tests/test_materials.py``).
+
+Coefficient fits (``MATERIAL_FITS``); all keep F(90°) = c0 + c1 exact (white):
+
+==================  ==============================================================================
+``four-point``      the talk's scheme: the curve at the basis' fit angles (Belcour 2020, eq. 5)
+``least-squares``   L2 over θ on the basis grid, c0 = F0 exact
+                    (:func:`basis.coefficients_least_squares_from_table`)
+``delta-e-exact-f0`` c2, c3 minimising Σ_θ ΔE2000² on a 0.25° grid, c0 = F0 exact, from the
+                    least-squares start
+``delta-e``         c0, c2, c3 minimising the same, c1 = F90 − c0: F0 may move by an invisible ΔE
+                    (the presets report it as ``delta_e2000_at_0``); what the presets use
+==================  ==============================================================================
+
+The shader cost is the same for all three: four multiply-adds per channel. Presets
+(``luts/materials.json``) store the ``delta-e`` coefficients for ACEScg and sRGB, with F0, F82, the
+data source and the achieved errors; they are tied to the basis by its content hash.
+
+References
+----------
+:cite:`Hoffman2020` SIGGRAPH 2020 course notes, ΔE2000 tables and "Computing RGB Parameter Values From
+    Spectral IOR Data".
+:cite:`Belcour2020` SIGGRAPH 2020 Talks, eq. 4–5.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import scipy.optimize
+
+from .coefficients import (
+    coefficients_from_samples,
+    coefficients_least_squares_from_table,
+)
+from .colorimetry import delta_E_2000, delta_E_2000_Lab, rgb_to_Lab, working_space
+from .eigenbasis import Basis, default_basis
+from .files import write_text
+from .fresnel import cos_theta
+from .models import F82_MU
+from .spectral import rgb_fresnel, spectral_ior, spectral_iors
+from .validation import ParameterError
+
+__all__ = [
+    "ANGLES_DEGREES",
+    "MATERIAL_FITS",
+    "PRESET_SPACES",
+    "PresetFileError",
+    "build_presets",
+    "fit_material",
+    "fit_rgb_curve",
+    "material_coefficients",
+    "material_curve",
+    "material_fit",
+    "material_preset",
+    "material_presets",
+    "minimise_delta_e",
+    "rms_delta_E_2000",
+    "shipped_presets_path",
+    "write_presets",
+]
+
+#: Hoffman's angle sampling of "ΔE2000 averaged over all incidence angles": 0°, 1°, …, 90°.
+ANGLES_DEGREES = np.arange(0.0, 91.0)
+#: The finer grid the ``delta-e`` fit minimises on (0.25°), so that it is not fitted to the scoring samples.
+_FIT_DEGREES = np.linspace(0.0, 90.0, 361)
+#: Working spaces the presets are written for.
+PRESET_SPACES = ("ACEScg", "sRGB")
+
+FORMAT = "fresnel-basis/material-presets"
+VERSION = 1
+
+Curve = Callable[[np.ndarray], np.ndarray]
+
+
+class PresetFileError(ParameterError):
+    """``luts/materials.json`` is missing, malformed or made for another basis."""
+
+
+def rms_delta_E_2000(reference, approximation, space: str) -> float | np.ndarray:
+    """RMS over the angle axis (second to last) of ΔE2000 between two RGB curves (..., A, 3) → (...)."""
+    difference = delta_E_2000(reference, approximation, space)
+    return np.sqrt(np.mean(difference**2, axis=-1))
+
+
+def material_curve(name: str, space: str = "ACEScg") -> Curve:
+    """The ground-truth RGB curve μ (...) → (..., 3) of a measured material in ``space``."""
+    material = spectral_ior(name)
+    working_space(space)
+    return functools.partial(rgb_fresnel, material, space=space)
+
+
+def _four_point(curve: Curve, space: str, basis: Basis) -> np.ndarray:
+    return coefficients_from_samples(curve(cos_theta(basis.fit_angles)).T, basis)
+
+
+def _least_squares(curve: Curve, space: str, basis: Basis) -> np.ndarray:
+    return coefficients_least_squares_from_table(basis.theta, curve(cos_theta(basis.theta)).T, basis)
+
+
+def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], np.ndarray], initial: np.ndarray,
+                     space: str, bounds=(-np.inf, np.inf)) -> np.ndarray:
+    """Parameters p minimising Σ ΔE2000(reference, rgb_of(p))² (scipy's trust-region least squares).
+
+    ``rgb_of`` maps parameters (..., P) to RGB curves (..., A, 3) and must accept a stack of parameter
+    vectors: the forward-difference Jacobian evaluates all P perturbations in one colour-science call.
+    """
+
+    def residuals(parameters: np.ndarray) -> np.ndarray:
+        return delta_E_2000_Lab(reference_Lab, rgb_to_Lab(rgb_of(parameters), space))
+
+    def jacobian(parameters: np.ndarray) -> np.ndarray:
+        step = 1e-7 * np.maximum(1.0, np.abs(parameters))
+        if np.isfinite(bounds[1]).all() if np.ndim(bounds[1]) else np.isfinite(bounds[1]):
+            step = np.where(parameters + step > bounds[1], -step, step)  # stay inside an upper bound
+        return ((residuals(parameters + np.diag(step)) - residuals(parameters)) / step[:, None]).T
+
+    return scipy.optimize.least_squares(residuals, initial, jac=jacobian, bounds=bounds).x
+
+
+def _delta_e_fit(curve: Curve, space: str, basis: Basis, free_f0: bool) -> np.ndarray:
+    """Minimise Σ_θ ΔE2000² over c2 … c_{K−1} (and c0 if ``free_f0``), with c0 + c1 = F90 kept exact."""
+    # the free-F0 fit starts from the exact-F0 optimum, so it can only improve on it
+    start = _delta_e_fit(curve, space, basis, False) if free_f0 else _least_squares(curve, space, basis)
+    theta = np.deg2rad(_FIT_DEGREES)
+    truth = curve(cos_theta(theta))
+    reference = rgb_to_Lab(truth, space)
+    curves = basis.evaluate(theta)  # (A, K)
+    f90 = truth[-1]
+    # F = c0 (b0 − b1) + F90 b1 + Σ_{k≥2} c_k b_k once c1 = F90 − c0
+    fixed = f90[:, None] * curves[:, 1] + (0.0 if free_f0 else start[:, :1] * (curves[:, 0] - curves[:, 1]))
+    shapes = [curves[:, 0] - curves[:, 1]] if free_f0 else []
+    shape = np.stack([*shapes, *curves[:, 2:].T], axis=1)  # (A, free terms)
+    initial = np.concatenate([start[:, :1], start[:, 2:]], axis=1) if free_f0 else start[:, 2:]
+
+    def rgb_of(free: np.ndarray) -> np.ndarray:
+        return fixed.T + np.einsum("...cj,aj->...ac", free.reshape(*free.shape[:-1], 3, -1), shape)
+
+    free = minimise_delta_e(reference, rgb_of, initial.ravel(), space).reshape(3, -1)
+    c0 = free[:, :1] if free_f0 else start[:, :1]
+    return np.concatenate([c0, f90[:, None] - c0, free[:, 1:] if free_f0 else free], axis=1)
+
+
+def _delta_e_exact_f0(curve: Curve, space: str, basis: Basis) -> np.ndarray:
+    return _delta_e_fit(curve, space, basis, free_f0=False)
+
+
+def _delta_e(curve: Curve, space: str, basis: Basis) -> np.ndarray:
+    return _delta_e_fit(curve, space, basis, free_f0=True)
+
+
+#: Registry: fit name → (RGB curve, space, basis) → (3, K) coefficients.
+MATERIAL_FITS: dict[str, Callable[[Curve, str, Basis], np.ndarray]] = {
+    "four-point": _four_point,
+    "least-squares": _least_squares,
+    "delta-e-exact-f0": _delta_e_exact_f0,
+    "delta-e": _delta_e,
+}
+
+
+def material_fit(name: str) -> Callable[[Curve, str, Basis], np.ndarray]:
+    """Look up a coefficient fit; the error lists the valid names."""
+    try:
+        return MATERIAL_FITS[name]
+    except (KeyError, TypeError):
+        raise ParameterError(f"fit must be one of {sorted(MATERIAL_FITS)}, got {name!r}") from None
+
+
+def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
+    """(3, K) coefficients of an RGB curve μ → (..., 3) by one of :data:`MATERIAL_FITS`."""
+    working_space(space)
+    return material_fit(fit)(curve, space, default_basis() if basis is None else basis)
+
+
+_FITS: dict[tuple, np.ndarray] = {}
+
+
+def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
+    """(3, K) coefficients of a measured material by one of :data:`MATERIAL_FITS` (memoised per basis hash).
+
+    Unlike :func:`material_coefficients` this always fits; the presets, the tables and the report share
+    the fits through the memo.
+    """
+    basis = default_basis() if basis is None else basis
+    key = (name, space, fit, basis.content_hash)
+    if key not in _FITS:
+        _FITS[key] = fit_rgb_curve(material_curve(name, space), space, fit, basis)
+    return _FITS[key].copy()
+
+
+def shipped_presets_path() -> Path:
+    """``luts/materials.json`` beside the package."""
+    return Path(__file__).resolve().parent.parent / "luts" / "materials.json"
+
+
+def build_presets(
+    basis: Basis | None = None, fit: str = "delta-e", progress: Callable[[int, int], None] | None = None
+) -> dict:
+    """The JSON document of ``luts/materials.json`` for every measured material and :data:`PRESET_SPACES`.
+
+    ``progress(done, total)`` is called after each material.
+    """
+    basis = default_basis() if basis is None else basis
+    theta = np.deg2rad(ANGLES_DEGREES)
+    materials = {}
+    measured = spectral_iors()
+    for done, (name, material) in enumerate(measured.items(), start=1):
+        spaces = {}
+        for space in PRESET_SPACES:
+            curve = material_curve(name, space)
+            truth = curve(cos_theta(theta))
+            coefficients = fit_material(name, space, fit, basis)
+            f0 = truth[0]
+            schlick = f0 + (1.0 - f0) * (1.0 - cos_theta(theta))[:, None] ** 5
+            spaces[space] = {
+                "f0": [round(float(v), 8) for v in f0],
+                "f82": [round(float(v), 8) for v in curve(np.array(F82_MU))],
+                "coefficients": [[round(float(v), 10) for v in row] for row in coefficients],
+                "rms_delta_e2000": {
+                    "basis": round(float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, space)), 4),
+                    "schlick": round(float(rms_delta_E_2000(truth, schlick, space)), 4),
+                },
+                "delta_e2000_at_0": round(float(delta_E_2000(f0, coefficients[:, 0], space)), 4),
+            }
+        source = material.source
+        materials[name] = {
+            "kind": material.kind,
+            "source": {key: source[key] for key in ("database", "file", "references", "constant_eta", "note") if key in source},
+            **spaces,
+        }
+        if progress is not None:
+            progress(done, len(measured))
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "basis_hash": basis.content_hash,
+        "description": {
+            "f0": "RGB reflectance at normal incidence, Hoffman 2020's spectral procedure (linear, working space)",
+            "f82": "RGB reflectance at arccos(1/7) (about 82.3 degrees), for Hoffman 2019's F82 model",
+            "coefficients": f"3 x {basis.n_terms}: per channel R, G, B the basis coefficients c0..c{basis.n_terms - 1} "
+                            f"({fit} fit; c0 = F0, c0 + c1 = F90 = 1)",
+            "rms_delta_e2000": "RMS over 0, 1, ..., 90 degrees of CIEDE2000 against the spectral ground truth",
+            "delta_e2000_at_0": "CIEDE2000 between f0 and the fitted c0 (the fit trades F0 exactness for the RMS)",
+            "spaces": "ACEScg: D60 illuminant, Bradford to the ACES white; sRGB: linear Rec.709 primaries, D65",
+        },
+        "materials": materials,
+    }
+
+
+def write_presets(document: dict, path=None) -> Path:
+    """Write :func:`build_presets`' document atomically (default: the shipped file)."""
+    target = shipped_presets_path() if path is None else Path(path)
+    written = write_text(target, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
+    _read.cache_clear()
+    return written
+
+
+@functools.cache
+def _read(path: str) -> dict:
+    try:
+        with open(path, encoding="utf-8") as stream:
+            document = json.load(stream)
+    except (OSError, json.JSONDecodeError) as error:
+        raise PresetFileError(f"cannot read material presets {path}: {error}") from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT or document.get("version") != VERSION:
+        raise PresetFileError(f"{path} is not a {FORMAT} v{VERSION} file")
+    return document
+
+
+def material_presets(path=None) -> dict:
+    """The presets document (default: the shipped ``luts/materials.json``)."""
+    return _read(str(shipped_presets_path() if path is None else Path(path)))
+
+
+def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
+    """One material's preset in ``space``: ``f0``, ``f82``, ``coefficients`` (3, K), errors, ``source``.
+
+    Examples
+    --------
+    >>> material_preset("Gold")["coefficients"].shape
+    (3, 4)
+    """
+    document = material_presets(path)
+    if space not in PRESET_SPACES:
+        raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {space!r}")
+    materials = document["materials"]
+    if name not in materials:
+        by_case = {key.lower(): key for key in materials}
+        if not isinstance(name, str) or name.lower() not in by_case:
+            raise ParameterError(f"material must be one of {list(materials)}, got {name!r}")
+        name = by_case[name.lower()]
+    entry = materials[name][space]
+    return {
+        "name": name,
+        "space": space,
+        "kind": materials[name]["kind"],
+        "source": materials[name]["source"],
+        "basis_hash": document["basis_hash"],
+        "f0": np.array(entry["f0"]),
+        "f82": np.array(entry["f82"]),
+        "coefficients": np.array(entry["coefficients"]),
+        "rms_delta_e2000": dict(entry["rms_delta_e2000"]),
+        "delta_e2000_at_0": entry["delta_e2000_at_0"],
+    }
+
+
+def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None = None) -> np.ndarray:
+    """(3, K) basis coefficients of a measured material (``Gold``, ``Chromium``, ``Glass BK7``, …).
+
+    With the shipped basis they come from ``luts/materials.json``; with another ``basis`` they are
+    fitted afresh (``delta-e`` fit), since coefficients only mean something for the basis they fit.
+
+    Examples
+    --------
+    >>> material_coefficients("Gold")[:, 0].round(3)  # F0 in ACEScg
+    array([ 0.903,  0.746,  0.418])
+    """
+    if basis is not None and basis.content_hash != default_basis().content_hash:
+        material_preset(name, space)  # validates name and space with the usual messages
+        return fit_material(material_preset(name, space)["name"], space, "delta-e", basis)
+    preset = material_preset(name, space)
+    if preset["basis_hash"] != default_basis().content_hash:
+        raise PresetFileError(
+            f"{shipped_presets_path()} was made for basis {preset['basis_hash']}, the shipped basis is "
+            f"{default_basis().content_hash}; rebuild it with `fresnel-lut materials`"
+        )
+    return preset["coefficients"]
