@@ -2,11 +2,13 @@
 
 The coefficient API engines call::
 
-    from basis import coefficients_from_nk, coefficients_from_gulbrandsen, default_basis
+    from basis import coefficients_from_nk, coefficients_from_gulbrandsen, default_basis, material_coefficients
 
 Modules: ``fresnel`` (exact Fresnel), ``gulbrandsen`` (artist parameters), ``training`` and ``svd``
 (the iterative SVD), ``builder`` (build a basis), ``eigenbasis`` (the ``Basis`` data and
-``basis.json``), ``coefficients`` (the solver), ``holdout`` (held-out materials), ``validation``.
+``basis.json``), ``coefficients`` (the solver), ``holdout`` (held-out materials), ``validation``,
+``colorimetry`` (working spaces, ΔE2000), ``spectral`` (measured η(λ), κ(λ) → RGB curves), ``materials``
+(presets of measured materials), ``models`` (approximate Fresnel models).
 """
 
 from .coefficients import (
@@ -23,6 +25,7 @@ from .coefficients import (
 from .eigenbasis import Basis, BasisFileError, default_basis
 from .fresnel import fresnel_conductor, fresnel_dielectric
 from .gulbrandsen import gulbrandsen_to_nk, nk_to_gulbrandsen
+from .materials import material_coefficients, material_preset
 from .validation import ParameterError
 
 __all__ = [
@@ -41,6 +44,8 @@ __all__ = [
     "fresnel_conductor",
     "fresnel_dielectric",
     "gulbrandsen_to_nk",
+    "material_coefficients",
+    "material_preset",
     "nk_to_gulbrandsen",
     "reconstruct",
 ]
