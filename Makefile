@@ -2,11 +2,12 @@
 #   make luts   build the default LUTs into luts/
 #   make test   run the test suite
 #   make report error against run time (report/README.md and plots; installs the plot extra)
+#   make materials  measured materials: report/materials.md and luts/materials.json (about 6 minutes)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: luts test basis report clean-venv
+.PHONY: luts test basis report materials clean-venv
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -23,6 +24,9 @@ basis: $(STAMP)
 report: $(STAMP)
 	$(VENV)/bin/python -m pip install --quiet -e '.[test,plot]'
 	$(VENV)/bin/fresnel-lut report --out report
+
+materials: $(STAMP)
+	$(VENV)/bin/fresnel-lut materials --out report
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest

@@ -16,12 +16,12 @@ def test_readme_python_example_runs(monkeypatch, capsys):
     monkeypatch.chdir(README.parent)
     namespace: dict = {}
     exec(compile(block, str(README), "exec"), namespace)
-    from basis import coefficients_from_nk
+    from basis import material_coefficients
     from preintegrate.channels import basis_channels
     from preintegrate.quadrature import directional_albedo
 
     mu_o, roughness = (90 + 0.5) / 128, (40 + 0.5) / 128
     channels = directional_albedo(basis_channels().functions, mu_o, roughness**2)
-    expected = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77]) @ channels
+    expected = material_coefficients("Gold") @ channels
     printed = np.array([float(v) for v in re.findall(r"[-+]?\d*\.\d+(?:e[-+]?\d+)?", capsys.readouterr().out)])
     np.testing.assert_allclose(printed, expected, atol=1e-5)
