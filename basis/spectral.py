@@ -73,8 +73,9 @@ MEASURED_SOURCES: dict[str, Source] = {
     "Copper": Source("metal", "main", "Cu", "Johnson"),
     "Gold": Source("metal", "main", "Au", "Johnson"),
     "Bronze": Source("metal", "other", "Cu-Zn", "Querry-Cu90Zn10",
-                     note="no Cu-Sn data in the database; Cu90Zn10 is 'commercial bronze' (C22000)"),
-    "Brass": Source("metal", "other", "Cu-Zn", "Querry-Cu70Zn30"),
+                     note="Cu90Zn10, 'commercial bronze' (C22000), as Hoffman's external-media table names it; "
+                          "the database has no Cu-Sn data"),
+    "Brass": Source("metal", "other", "Cu-Zn", "Querry-Cu70Zn30", note="Cu70Zn30, 'cartridge brass', as Hoffman names it"),
     "Aluminum": Source("metal", "main", "Al", "Rakic-BB"),
     "Palladium": Source("metal", "main", "Pd", "Johnson"),
     "Nickel": Source("metal", "main", "Ni", "Johnson"),
