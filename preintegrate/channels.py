@@ -1,7 +1,7 @@
 """Channel sets: the functions of cos θ_d = ω_o·h whose split-sum integrals make a LUT.
 
 Public objects: ``ChannelSet``, ``CHANNEL_SETS``, ``basis_channels``, ``schlick_channels``,
-``channel_set``, ``combine``.
+``model_channels``, ``channel_set``, ``combine``.
 
 A channel set names its functions f_k, says how an engine combines the channels into F̄, and is
 integrated by the one generic integrator :func:`preintegrate.quadrature.directional_albedo`.
@@ -17,14 +17,16 @@ References
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 
 import numpy as np
 
+from basis.approximations import APPROXIMATE_MODELS, approximate_model
 from basis.eigenbasis import Basis, default_basis
 from basis.validation import ParameterError
 
-__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "combine", "schlick_channels"]
+__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "combine", "model_channels", "schlick_channels"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -83,8 +85,30 @@ def combine(*channel_sets: ChannelSet) -> ChannelSet:
     )
 
 
+def model_channels(name: str, **shape) -> ChannelSet:
+    """The exact split-sum channels of a model of :data:`basis.approximations.APPROXIMATE_MODELS` that is
+    linear in fixed functions t_n of cos θ (shape parameters such as ``exponent`` fix them)."""
+    model = approximate_model(name)
+    functions = model.channel_functions(**shape)
+    count = functions(np.array([0.5])).shape[-1]
+    names = ("R", "G", "B", "A")[:count]
+    fixed = {key: float(value) for key, value in shape.items() if key in model.shape}
+    return ChannelSet(
+        name=name,
+        functions=functions,
+        channel_names=names,
+        combination="Fbar = " + " + ".join(f"w{n} * {channel}" for n, channel in enumerate(names))
+        + f"; {model.name}: F = sum_n w_n t_n(cos theta), t = {model.terms_description}",
+        provenance={"reference": model.reference, **{key: repr(value) for key, value in fixed.items()}},
+    )
+
+
 #: Registry: name → factory. ``fresnel-lut build --model NAME`` is one lookup here.
-CHANNEL_SETS: dict[str, Callable[..., ChannelSet]] = {"basis": basis_channels, "schlick": schlick_channels}
+CHANNEL_SETS: dict[str, Callable[..., ChannelSet]] = {
+    "basis": basis_channels,
+    "schlick": schlick_channels,
+    **{name: functools.partial(model_channels, name) for name, model in APPROXIMATE_MODELS.items() if model.linear},
+}
 
 
 def channel_set(name: str, **kwargs) -> ChannelSet:

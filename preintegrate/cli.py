@@ -2,10 +2,10 @@
 
 Usage::
 
-    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE]
+    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE | --model NAME [--exponent P] ...]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
-    fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S])
-                       [--json] [--basis FILE]
+    fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
+                        | --model NAME --PARAMETER ... [--fit four-point|least-squares]) [--json] [--basis FILE]
     fresnel-lut materials [--out DIR] [--presets FILE] [--from-database]
     fresnel-lut report [--out DIR] [--quick]
 
@@ -26,10 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
+from basis.approximations import APPROXIMATE_MODELS, approximate_model
 from basis.builder import build_basis
-from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_nk
+from basis.coefficients import (
+    coefficients_from_gulbrandsen,
+    coefficients_from_nk,
+    coefficients_from_samples,
+    coefficients_least_squares_from_table,
+)
 from basis.eigenbasis import Basis, default_basis
 from basis.files import write_text
+from basis.fresnel import cos_theta
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.materials import (
     PRESET_SPACES,
@@ -42,7 +49,7 @@ from basis.materials import (
 from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import basis_channels, combine, schlick_channels
+from .channels import basis_channels, channel_set, combine, schlick_channels
 from .exr import write_luts
 from .progress import Progress
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
@@ -107,6 +114,8 @@ def command_build(arguments) -> int:
     order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
         check_positive_int("--order", arguments.order, low=2, high=512)
     )
+    if arguments.model is not None:
+        return _build_model_table(arguments, size, out, order)
     basis = _load_basis(arguments.basis)
     started = time.perf_counter()
     basis_set, schlick_set = basis_channels(basis), schlick_channels()
@@ -138,6 +147,44 @@ def command_build(arguments) -> int:
     print(f"built {size}x{size} LUTs ({'half' if arguments.half else 'float32'}) in {elapsed:.2f} s, basis {basis.content_hash}:")
     for path in paths:
         print(f"  {path}  {_size_text(path)}")
+    return 0
+
+
+def _shape_arguments(arguments) -> dict:
+    """The shape parameters given on the command line (--exponent, --alpha, --eta-prime, --kappa-prime)."""
+    names = ("exponent", "alpha", "eta_prime", "kappa_prime")
+    return {name: getattr(arguments, name) for name in names if getattr(arguments, name, None) is not None}
+
+
+def _build_model_table(arguments, size: int, out: Path, order) -> int:
+    if arguments.model in ("basis", "schlick"):
+        raise ParameterError(f"--model {arguments.model}: the default build (no --model) writes the basis and Schlick tables")
+    if arguments.basis is not None:
+        raise ParameterError("--basis goes with the basis table, not with --model")
+    shape = _shape_arguments(arguments)
+    model = approximate_model(arguments.model)
+    unused = sorted(set(shape) - set(model.shape))
+    if unused:
+        raise ParameterError(f"--model {model.name} takes {['--' + n.replace('_', '-') for n in model.shape] or 'no shape options'}, "
+                             f"not {['--' + n.replace('_', '-') for n in unused]}")
+    model.channel_functions(**shape)  # a non-linear model is refused here, with the list of linear ones
+    channels = channel_set(model.name, **shape)
+    started = time.perf_counter()
+    progress = Progress(f"integrating {size}x{size} texels", "texels")
+    table = build_table(channels, size, order=order, progress=progress)
+    progress.close()
+    path = out / f"ggx_{model.name}.exr"
+    header = {
+        "convention": PIXEL_CONVENTION, "quadrature": order.describe(), "width": str(size), "height": str(size),
+        "generator": "fresnel-basis 0.1.0 (fresnel-lut build --model)", "channel_set": model.name,
+        "channels": ",".join(channels.channel_names), "combination": channels.combination,
+        **{f"model_{key}": value for key, value in channels.provenance.items()},
+    }
+    (written,) = write_luts([(path, table, channels.channel_names, header)], half=arguments.half)
+    print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
+          f"{'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s:")
+    print(f"  {written}  {_size_text(written)}")
+    print(f"  {channels.combination}")
     return 0
 
 
@@ -180,8 +227,11 @@ def command_coeffs(arguments) -> int:
     nk_given = arguments.eta is not None or arguments.kappa is not None
     artist_given = arguments.reflectivity is not None or arguments.edge_tint is not None
     preset_given = arguments.material is not None
+    if arguments.model is not None:
+        return _coeffs_of_model(arguments, basis)
     if nk_given + artist_given + preset_given != 1:
-        raise ParameterError("give one of: --eta and --kappa, --reflectivity and --edge-tint, or --material NAME")
+        raise ParameterError("give one of: --eta and --kappa, --reflectivity and --edge-tint, --material NAME "
+                             "or --model NAME with its parameters")
     if arguments.space is not None and not preset_given:
         raise ParameterError("--space goes with --material (an (eta, kappa) or (r, g) material has no colour space)")
     if preset_given:
@@ -255,6 +305,51 @@ def command_materials(arguments) -> int:
     return 0
 
 
+#: Model parameters as ``coeffs`` options: RGB triples, and scalars (also the shape options of ``build``).
+_MODEL_COLOUR_OPTIONS = ("f0", "f82", "r0", "r90", "a", "tint", "rs", "eta", "kappa", "reflectivity", "edge_tint")
+_MODEL_SCALAR_OPTIONS = ("exponent", "alpha", "eta_prime", "kappa_prime", "eta_e")
+
+
+def _coeffs_of_model(arguments, basis: Basis) -> int:
+    model = approximate_model(arguments.model)
+    given = {name: getattr(arguments, name) for name in _MODEL_COLOUR_OPTIONS + _MODEL_SCALAR_OPTIONS
+             if getattr(arguments, name, None) is not None}
+    if arguments.material is not None or arguments.space is not None:
+        raise ParameterError("--model takes its own parameters, not --material or --space")
+    parameters = model.check(**{name: np.array(value, dtype=np.float64) for name, value in given.items()})
+    fit = arguments.fit
+    if fit == "four-point":
+        samples = model.evaluate(cos_theta(basis.fit_angles)[:, None], **parameters)  # (K, 3)
+        coefficients = coefficients_from_samples(np.broadcast_to(samples, (basis.n_terms, 3)).T, basis)
+    else:
+        curve = model.evaluate(cos_theta(basis.theta)[:, None], **parameters)
+        coefficients = coefficients_least_squares_from_table(basis.theta, np.broadcast_to(curve, (basis.theta.size, 3)).T, basis)
+    theta = np.linspace(0.0, 0.5 * np.pi, 2001)
+    exact = np.broadcast_to(model.evaluate(cos_theta(theta)[:, None], **parameters), (theta.size, 3))
+    error = np.max(np.abs(exact - (coefficients @ basis.evaluate(theta).T).T), axis=0)
+    own = None
+    if model.linear:
+        own = {"lut": f"ggx_{model.name}.exr (fresnel-lut build --model {model.name})",
+               "weights": np.broadcast_to(model.channel_weights(**parameters), (3, model.channel_weights(**parameters).shape[-1])).tolist(),
+               "exact": bool(np.all(model.clamp_is_inactive(**parameters)))}
+    material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
+    if arguments.json:
+        print(json.dumps({"basis_hash": basis.content_hash, "material": material, "fit": fit,
+                          "coefficients": coefficients.tolist(), "layout": "[channel R,G,B][term c0..c3]",
+                          "max_abs_error_over_theta": error.tolist(), "own_split_sum": own}))
+        return 0
+    print(f"{model.name} ({model.reference}); {fit} projection, max |dF| over theta per channel: "
+          + ", ".join(f"{value:.4f}" for value in error))
+    print(f"basis {basis.content_hash}; Fbar = c0*LUT.r + c1*LUT.g + c2*LUT.b + c3*LUT.a per colour channel")
+    for name, row in zip("RGB", coefficients):
+        print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
+    if own is not None:
+        print(f"own exact split sum ({'exact' if own['exact'] else 'approximate: the curve is clamped'}): {own['lut']}")
+        for name, row in zip("RGB", own["weights"]):
+            print(f"  {name}: " + "  ".join(f"w{k}={value: .6f}" for k, value in enumerate(row)))
+    return 0
+
+
 def command_report(arguments) -> int:
     from .report import write_report  # imports the studies only when asked
 
@@ -267,6 +362,13 @@ def command_report(arguments) -> int:
     return 0
 
 
+def _add_shape_options(parser) -> None:
+    parser.add_argument("--exponent", type=float, default=None, help="exponent p (generalized-schlick, generalized-adobe)")
+    parser.add_argument("--alpha", type=float, default=None, help="exponent of the Lazanyi dip term (lazanyi)")
+    parser.add_argument("--eta-prime", type=float, default=None, help="representative eta (cook-torrance)")
+    parser.add_argument("--kappa-prime", type=float, default=None, help="representative kappa (cook-torrance)")
+
+
 def make_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="fresnel-lut", description="Preintegrable Fresnel eigen-basis and GGX split-sum LUTs.")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -277,6 +379,9 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
     build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
+    build.add_argument("--model", default=None, help="instead: the exact split-sum table of one linear model "
+                       f"({', '.join(sorted(n for n, m in APPROXIMATE_MODELS.items() if m.linear))})")
+    _add_shape_options(build)
     build.set_defaults(run=command_build)
 
     basis = commands.add_parser("basis", help="rebuild the eigen-basis (luts/basis.json)")
@@ -295,6 +400,15 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"))
     coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
     coeffs.add_argument("--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)")
+    coeffs.add_argument("--model", default=None, help=f"an approximate model ({', '.join(sorted(APPROXIMATE_MODELS))}) "
+                        "with its parameters")
+    for name in _MODEL_COLOUR_OPTIONS:
+        if name not in ("eta", "kappa", "reflectivity", "edge_tint"):
+            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--eta-e", type=float, default=None, help="index of the external medium")
+    _add_shape_options(coeffs)
+    coeffs.add_argument("--fit", default="four-point", choices=("four-point", "least-squares"),
+                        help="projection of --model onto the basis (default four-point)")
     coeffs.add_argument("--json", action="store_true", help="machine-readable output")
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     coeffs.set_defaults(run=command_coeffs)

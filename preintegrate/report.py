@@ -29,6 +29,7 @@ from basis.eigenbasis import default_basis
 from basis.files import write_text
 
 from .progress import Progress
+from .studies.approximation_error import approximation_markdown, approximation_table
 from .studies.basis_build import basis_build_cost, basis_build_markdown, basis_convergence
 from .studies.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
 from .studies.model_error import EIGHT_BIT_STEP, model_error_markdown, model_error_study, plot_model_error
@@ -133,6 +134,11 @@ def write_report(out="report", quick: bool = False) -> dict:
     convergence = basis_convergence(start=12_500 if quick else 25_000, doublings=2 if quick else 4)
     timings["basis build"] = time.perf_counter() - begin
 
+    print("models of the references on the basis ...", flush=True)
+    begin = time.perf_counter()
+    approximations = approximation_table(size=16 if quick else 32)
+    timings["reference models"] = time.perf_counter() - begin
+
     try:
         pngs.append(plot_lut_error(lut, out / "lut_error_vs_time.png"))
         pngs.append(plot_model_error(models, out / "fresnel_models.png"))
@@ -179,7 +185,10 @@ def write_report(out="report", quick: bool = False) -> dict:
         basis_build_markdown(cost, convergence),
         plots_note,
         "",
-        "## 5. Measured materials in colour",
+        "## 5. Every Fresnel model of the references, projected onto the basis",
+        "",
+        approximation_markdown(approximations),
+        "## 6. Measured materials in colour",
         "",
         "RMS ΔE2000 of Schlick, F82, Gulbrandsen and the basis against the spectral ground truth of Hoffman's "
         "metals and dielectrics, his blending and gamut tests, and what closes the gap to his 0.08: "

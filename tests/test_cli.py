@@ -19,7 +19,7 @@ import numpy as np
 import OpenEXR
 import pytest
 
-from basis import coefficients_from_gulbrandsen, coefficients_from_nk, default_basis
+from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficients_from_samples, default_basis
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
 from preintegrate.channels import basis_channels, schlick_channels
@@ -255,6 +255,77 @@ def test_coeffs_material_preset(capsys):
     ],
 )
 def test_coeffs_material_errors(argv, message, capsys):
+    assert run(["coeffs", *argv]) == 2
+    err = capsys.readouterr().err
+    assert_one_line_error(err)
+    assert message in err
+
+
+def test_build_model_table(tmp_path, capsys):
+    """build --model f82 writes a 3-channel table whose texels equal the integrator's (float32), with the
+    combination rule in the header; build --model generalized-schlick --exponent 2 records p."""
+    from basis.approximations import approximate_model
+    from preintegrate.channels import channel_set
+    from preintegrate.exr import read_lut
+    from preintegrate.quadrature import directional_albedo
+
+    assert run(["build", "--model", "f82", "--size", 8, "--out", tmp_path]) == 0
+    table, header = read_lut(tmp_path / "ggx_f82.exr")
+    assert table.shape == (8, 8, 3) and "x (1-x)^6" in header["combination"]
+    mu_o, roughness = (5 + 0.5) / 8, (2 + 0.5) / 8
+    expected = directional_albedo(channel_set("f82").functions, mu_o, roughness**2)
+    np.testing.assert_allclose(table[2, 5], expected, rtol=1e-6, atol=1e-7)
+    assert run(["build", "--model", "generalized-schlick", "--exponent", 2, "--size", 4, "--out", tmp_path]) == 0
+    assert read_lut(tmp_path / "ggx_generalized-schlick.exr")[1]["model_exponent"] == "2.0"
+    assert approximate_model("f82").linear
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--model", "gulbrandsen"], "not linear"),
+        (["--model", "generalized-schlick", "--alpha", 2], "takes ['--exponent']"),
+        (["--model", "nope"], "model must be one of"),
+        (["--model", "generalized-schlick", "--exponent", 0], "exponent must be in"),
+    ],
+)
+def test_build_model_errors_write_nothing(argv, message, tmp_path, capsys):
+    assert run(["build", *argv, "--size", 4, "--out", tmp_path / "out"]) == 2
+    err = capsys.readouterr().err
+    assert_one_line_error(err)
+    assert message in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_coeffs_model(capsys):
+    """coeffs --model f82 --json: four-point coefficients of the model's curve, its own LUT weights (f0, 1, -a)."""
+    from basis.approximations import approximate_model
+    from basis.fresnel import cos_theta
+
+    f0, f82 = [0.9, 0.6, 0.3], [0.85, 0.55, 0.35]
+    assert run(["coeffs", "--model", "f82", "--f0", *f0, "--f82", *f82, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    basis = default_basis()
+    samples = approximate_model("f82").evaluate(cos_theta(basis.fit_angles)[:, None], f0=f0, f82=f82)
+    np.testing.assert_allclose(np.array(data["coefficients"]), coefficients_from_samples(samples.T), atol=1e-15)
+    a = 823543 / 46656 * (np.array(f0) - f82) + 49 / 6 * (1 - np.array(f0))
+    np.testing.assert_allclose(np.array(data["own_split_sum"]["weights"])[:, 2], -a, atol=1e-12)
+    assert data["own_split_sum"]["exact"] is True
+    assert run(["coeffs", "--model", "generalized-schlick", "--r0", 0.04, 0.04, 0.04, "--r90", 1, 1, 1,
+                "--exponent", 5, "--fit", "least-squares"]) == 0
+    assert "least-squares projection" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--model", "f82", "--f0", 0.9, 0.6, 0.3], "needs f82"),
+        (["--model", "f82", "--f0", 0.9, 0.6, 0.3, "--f82", 0.5, 0.5, 1.5], "f82 must be in [0, 1]"),
+        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--exponent", 3], "takes ['f0']"),
+        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--material", "Gold"], "not --material"),
+    ],
+)
+def test_coeffs_model_errors(argv, message, capsys):
     assert run(["coeffs", *argv]) == 2
     err = capsys.readouterr().err
     assert_one_line_error(err)

@@ -1,0 +1,66 @@
+"""Exact split-sum channels of the linear models of the references (preintegrate/channels.py, build --model).
+
+For each model linear in fixed functions t_n of cos θ, Σ_n w_n · t̄_n (the integrator's channels) must
+equal the split sum of the model's own curve, estimated independently by VNDF Monte Carlo
+(preintegrate/montecarlo.py) — within 4σ plus the integrator's 1e-6.
+"""
+
+import numpy as np
+import pytest
+
+from basis.approximations import APPROXIMATE_MODELS, approximate_model
+from basis.validation import ParameterError
+from preintegrate.channels import CHANNEL_SETS, channel_set
+from preintegrate.montecarlo import monte_carlo_albedo
+from preintegrate.quadrature import directional_albedo
+
+# One material per linear model, away from the clamp (checked below), RGB where the model has colours.
+CASES = {
+    "schlick": {"f0": [0.9, 0.6, 0.3]},
+    "generalized-schlick": {"r0": [0.04, 0.5, 0.9], "r90": [1.0, 0.8, 0.6], "exponent": 2.5},
+    "lazanyi": {"f0": [0.9, 0.6, 0.3], "a": [0.5, 1.0, 1.5], "alpha": 4.0},
+    "f82": {"f0": [0.9, 0.6, 0.3], "f82": [0.85, 0.55, 0.35]},
+    "adobe": {"f0": [0.9, 0.6, 0.3], "tint": [0.9, 0.8, 1.0]},
+    "generalized-adobe": {"r0": [0.9, 0.6, 0.3], "r90": [1.0, 0.9, 0.8], "exponent": 4.0, "tint": [0.9, 0.8, 1.0]},
+    "cook-torrance": {"f0": [0.9, 0.6, 0.3], "eta_prime": 0.42, "kappa_prime": 2.35},
+    "schlick-external": {"f0": [0.04, 0.5, 0.9], "eta_e": 1.33},
+    "schlick-external-metal": {"f0": [0.04, 0.5, 0.9], "eta_e": 2.42},
+    "fresnel-blend": {"rs": [0.04, 0.5, 0.9]},
+}
+TEXELS = [(0.9, 0.2), (0.35, 0.5), (0.08, 0.8)]  # (μo, α)
+
+
+def test_every_linear_model_has_a_case_and_a_channel_set():
+    linear = {name for name, model in APPROXIMATE_MODELS.items() if model.linear}
+    assert set(CASES) == linear
+    assert linear <= set(CHANNEL_SETS)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_weighted_channels_equal_monte_carlo_of_the_curve(name):
+    model = approximate_model(name)
+    parameters = CASES[name]
+    assert np.all(model.clamp_is_inactive(**parameters))
+    channels = channel_set(name, **parameters)
+    weights = model.channel_weights(**parameters)  # (3, n)
+    for index, (mu_o, alpha) in enumerate(TEXELS):
+        table = directional_albedo(channels.functions, mu_o, alpha)  # (n,)
+        mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha,
+                                         samples=400_000, seed=index)
+        np.testing.assert_array_less(np.abs(weights @ table - mean), 4.0 * error + 1e-6)
+
+
+def test_schlick_model_channels_are_the_shipped_schlick_channels():
+    x = np.linspace(0.0, 1.0, 11)
+    np.testing.assert_array_equal(channel_set("fresnel-blend").functions(x), channel_set("schlick").functions(x))
+
+
+def test_shape_parameters_fix_the_channels():
+    x = np.linspace(0.0, 1.0, 11)
+    two = channel_set("generalized-schlick", exponent=2.0).functions(x)
+    np.testing.assert_allclose(two[:, 1], (1.0 - x) ** 2, atol=1e-15)
+    assert channel_set("f82").n_channels == 3 and channel_set("generalized-schlick").n_channels == 2
+    with pytest.raises(ParameterError, match="not linear"):
+        approximate_model("gulbrandsen").channel_functions()
+    with pytest.raises(ParameterError, match=r"exponent must be in \[0.1, 50\]"):
+        channel_set("generalized-schlick", exponent=0.0)
