@@ -98,6 +98,8 @@ def _cook_torrance_terms(eta_prime: float, kappa_prime: float) -> Callable[[np.n
     f_normal = float(_fresnel(np.array(1.0), np.array(eta_prime), np.array(kappa_prime)))
     if f_normal >= 1.0:
         raise ParameterError(f"eta_prime, kappa_prime = {eta_prime}, {kappa_prime} reflect everything (F'(0) = 1)")
+    if eta_prime == 1.0 and kappa_prime == 0.0:
+        raise ParameterError("eta_prime = 1, kappa_prime = 0 is no interface (F' = 0): the interpolation is undefined")
 
     def terms(mu: np.ndarray) -> np.ndarray:
         g = np.maximum(0.0, _fresnel(mu, np.array(eta_prime), np.array(kappa_prime)) - f_normal) / (1.0 - f_normal)
@@ -191,6 +193,8 @@ class ApproximateModel:
             value = check_range(parameter.name, value, parameter.low, parameter.high)
             if parameter.name in self.shape and value.ndim != 0:
                 raise ParameterError(f"{parameter.name} fixes the LUT channels and must be one number, got shape {value.shape}")
+            if not parameter.colour and value.ndim != 0:
+                raise ParameterError(f"{parameter.name} ({parameter.description}) is one number, got shape {value.shape}")
             checked[parameter.name] = value
         return checked
 
@@ -211,7 +215,10 @@ class ApproximateModel:
                 value = values.get(parameter.name, parameter.default)
                 if value is None:
                     raise ParameterError(f"model {self.name!r} needs {parameter.name} to fix its channels")
-                shape[parameter.name] = float(check_range(parameter.name, value, parameter.low, parameter.high))
+                value = check_range(parameter.name, value, parameter.low, parameter.high)
+                if value.ndim != 0:
+                    raise ParameterError(f"{parameter.name} fixes the LUT channels and must be one number, got shape {value.shape}")
+                shape[parameter.name] = float(value)
         return self.terms(**shape)
 
     def channel_weights(self, **values) -> np.ndarray:
@@ -348,10 +355,8 @@ _register(ApproximateModel(
 
 
 def _cook_torrance_curve(mu: np.ndarray, p: dict) -> np.ndarray:
-    f_prime = _fresnel(mu, p["eta_prime"], p["kappa_prime"])
-    f_normal = _fresnel(np.ones_like(p["eta_prime"]), p["eta_prime"], p["kappa_prime"])
-    g = np.maximum(0.0, f_prime - f_normal) / np.maximum(1.0 - f_normal, np.finfo(float).tiny)
-    return p["f0"] + (1.0 - p["f0"]) * g
+    terms = _cook_torrance_terms(float(p["eta_prime"]), float(p["kappa_prime"]))(mu)  # (..., 2)
+    return p["f0"] * terms[..., 0] + terms[..., 1]
 
 
 def _external_curve(adjust) -> Callable[[np.ndarray, dict], np.ndarray]:
@@ -392,7 +397,8 @@ _register(ApproximateModel(
 _register(ApproximateModel(
     "gulbrandsen", "Gulbrandsen 2014, eq. 7-9, then the Fresnel equations",
     "Fresnel equations of gulbrandsen_to_nk(r, g)",
-    (Parameter("reflectivity", 0.0, 1.0 - 1e-12, "reflectivity r"), Parameter("edge_tint", 0.0, 1.0, "edge tint g")),
+    # r = 1 is refused by gulbrandsen_to_nk itself, with the reason (η, κ out of range)
+    (Parameter("reflectivity", 0.0, 1.0, "reflectivity r"), Parameter("edge_tint", 0.0, 1.0, "edge tint g")),
     curve=lambda mu, p: _fresnel(mu, *gulbrandsen_to_nk(p["reflectivity"], p["edge_tint"])),
     sweep=_grid(reflectivity=(0.04, 0.3, 0.6, 0.9), edge_tint=(0.0, 0.5, 1.0)),
 ))

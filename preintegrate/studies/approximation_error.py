@@ -41,7 +41,13 @@ def _describe(parameters: dict) -> str:
 
 def _sweep_description(sweep: tuple[dict, ...]) -> str:
     names = list(sweep[0])
-    return "; ".join(f"{name} ∈ {{{', '.join(f'{v:g}' for v in sorted({p[name] for p in sweep}))}}}" for name in names)
+    values = {name: sorted({point[name] for point in sweep}) for name in names}
+    if np.prod([len(v) for v in values.values()]) == len(sweep):  # a full grid
+        return "; ".join(f"{name} ∈ {{{', '.join(f'{v:g}' for v in values[name])}}}" for name in names)
+    first, rest = names[0], names[1:]
+    pairs = sorted({tuple(point[name] for name in rest) for point in sweep})
+    return (f"{first} ∈ {{{', '.join(f'{v:g}' for v in values[first])}}}; ({', '.join(rest)}) ∈ "
+            + "{" + ", ".join("(" + ", ".join(f"{v:g}" for v in pair) + ")" for pair in pairs) + "}")
 
 
 def approximation_table(basis: Basis | None = None, size: int = 32, names=None) -> dict:
@@ -70,6 +76,7 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
             albedo_error = np.max(np.abs(difference @ weights.T), axis=1)
             worst = int(np.argmax(albedo_error))
             row[fit] = {"curve": float(curve_error.max()), "albedo": float(albedo_error.max()),
+                        "albedo_median": float(np.median(albedo_error)),
                         "worst": _describe(model.sweep[worst]), "over_1_255": int(np.sum(albedo_error > 1 / 255))}
         if model.linear:
             inactive = sum(bool(np.all(model.clamp_is_inactive(**point))) for point in model.sweep)
@@ -87,13 +94,14 @@ def approximation_markdown(result: dict) -> str:
     """One row per model: parameters, own split-sum channels, basis projection error."""
     lines = [
         f"Projection onto the basis (hash {result['basis_hash']}): max |ΔF| over θ and max |ΔF̄| over a "
-        f"{result['size']} × {result['size']} LUT grid, worst point of each model's sweep [points with "
+        f"{result['size']} × {result['size']} LUT grid: worst and median over each model's sweep [points with "
         "|ΔF̄| > 1/255 / points]. 'Own channels': LUT channels of the model's exact split sum "
         "(`fresnel-lut build --model NAME`).",
         "",
-        "| model | parameters swept | own channels | four-point max abs dF | four-point max abs dFbar "
-        "| least-squares max abs dF | least-squares max abs dFbar | worst point (four-point) |",
-        "|---|---|---|---|---|---|---|---|",
+        ("| model | parameters swept | own channels | four-point: worst max abs dF | worst max abs dFbar "
+         "| median max abs dFbar | least squares: worst max abs dF | worst max abs dFbar | median max abs dFbar "
+         "| worst point (four-point) |"),
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for row in result["rows"]:
         if row["channels"] is None:
@@ -105,8 +113,9 @@ def approximation_markdown(result: dict) -> str:
         four, least = row["four-point"], row["least-squares"]
         lines.append(
             f"| `{row['model']}` | {row['sweep']} | {channels} | {four['curve']:.4f} "
-            f"| {four['albedo']:.4f} [{four['over_1_255']}/{row['points']}] | {least['curve']:.4f} "
-            f"| {least['albedo']:.4f} [{least['over_1_255']}/{row['points']}] | {four['worst']} |"
+            f"| {four['albedo']:.4f} [{four['over_1_255']}/{row['points']}] | {four['albedo_median']:.4f} "
+            f"| {least['curve']:.4f} | {least['albedo']:.4f} [{least['over_1_255']}/{row['points']}] "
+            f"| {least['albedo_median']:.4f} | {four['worst']} |"
         )
     return "\n".join(lines) + "\n"
 
