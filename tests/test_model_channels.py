@@ -64,3 +64,33 @@ def test_shape_parameters_fix_the_channels():
         approximate_model("gulbrandsen").channel_functions()
     with pytest.raises(ParameterError, match=r"exponent must be in \[0.1, 50\]"):
         channel_set("generalized-schlick", exponent=0.0)
+
+
+# Every model (linear or not): the basis projection rendered with the basis channels, against VNDF
+# Monte Carlo of the model's own curve. F̄ is ∫ F K with K ≥ 0 and ∫ K ≤ 1 (energy), so the split-sum
+# error of the projection is at most its max |ΔF| over θ: the bound is that plus 4σ.
+ALL_CASES = {
+    **CASES,
+    "exact-external": {"eta": [0.18, 0.42, 1.37], "kappa": [3.42, 2.35, 1.77], "eta_e": 1.33},
+    "gulbrandsen": {"reflectivity": [0.9, 0.6, 0.3], "edge_tint": [0.2, 0.5, 0.9]},
+}
+
+
+@pytest.mark.parametrize("name", sorted(ALL_CASES))
+def test_basis_projection_of_every_model_against_monte_carlo(name):
+    from basis.coefficients import coefficients_from_samples
+    from basis.eigenbasis import default_basis
+    from basis.fresnel import cos_theta
+    from preintegrate.channels import basis_channels
+
+    assert set(ALL_CASES) == set(APPROXIMATE_MODELS)
+    model, parameters, basis = approximate_model(name), ALL_CASES[name], default_basis()
+    coefficients = coefficients_from_samples(model.evaluate(cos_theta(basis.fit_angles)[:, None], **parameters).T)
+    theta = np.linspace(0.0, 0.5 * np.pi, 4001)
+    exact = model.evaluate(cos_theta(theta)[:, None], **parameters)
+    projection_error = np.max(np.abs(exact - (coefficients @ basis.evaluate(theta).T).T), axis=0)
+    for index, (mu_o, alpha) in enumerate(TEXELS[:2]):
+        rendered = coefficients @ directional_albedo(basis_channels().functions, mu_o, alpha)
+        mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha,
+                                         samples=200_000, seed=10 + index)
+        np.testing.assert_array_less(np.abs(rendered - mean), projection_error + 4.0 * error + 1e-6)
