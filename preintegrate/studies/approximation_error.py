@@ -25,7 +25,10 @@ import time
 import numpy as np
 
 from basis.approximations import APPROXIMATE_MODELS
-from basis.coefficients import coefficients_from_samples, coefficients_least_squares_from_table
+from basis.coefficients import (
+    coefficients_from_samples,
+    coefficients_least_squares_from_table,
+)
 from basis.eigenbasis import Basis, default_basis
 from basis.fresnel import cos_theta
 
@@ -93,10 +96,10 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
 def approximation_markdown(result: dict) -> str:
     """One row per model: parameters, own split-sum channels, basis projection error."""
     lines = [
-        f"Projection onto the basis (hash {result['basis_hash']}): max |ΔF| over θ and max |ΔF̄| over a "
-        f"{result['size']} × {result['size']} LUT grid: worst and median over each model's sweep [points with "
-        "|ΔF̄| > 1/255 / points]. 'Own channels': LUT channels of the model's exact split sum "
-        "(`fresnel-lut build --model NAME`).",
+        (f"Projection onto the basis (hash {result['basis_hash']}): max |ΔF| over θ and max |ΔF̄| over a "
+         f"{result['size']} × {result['size']} LUT grid: worst and median over each model's sweep [points with "
+         "|ΔF̄| > 1/255 / points]. 'Own channels': LUT channels of the model's exact split sum "
+         "(`fresnel-lut build --model NAME`)."),
         "",
         ("| model | parameters swept | own channels | four-point: worst max abs dF | worst max abs dFbar "
          "| median max abs dFbar | least squares: worst max abs dF | worst max abs dFbar | median max abs dFbar "
