@@ -69,10 +69,12 @@ def content_hash(attributes: Mapping[str, str], channels: Mapping[str, np.ndarra
     return digest.hexdigest()[:16]
 
 
-def write_luts(items, half: bool = False) -> list[Path]:
+def write_luts(items, half: bool = False, texts=()) -> list[Path]:
     """Write several LUTs as one transaction: all temporaries first, then all renames.
 
-    ``items`` is a sequence of (path, table (H, W, K), channel names, attributes mapping str → str).
+    ``items`` is a sequence of (path, table (H, W, K), channel names, attributes mapping str → str);
+    ``texts`` a sequence of (path, UTF-8 text) files that belong to the same transaction (a scene's
+    coefficients and report).
     """
     prepared = []
     for path, table, channel_names, attributes in items:
@@ -87,15 +89,20 @@ def write_luts(items, half: bool = False) -> list[Path]:
         }
         prepared.append((path, header, channels))
     temporaries = []
+    texts = [(Path(path), text) for path, text in texts]
     try:
         for path, header, channels in prepared:
             temporaries.append(temporary_sibling(path))
             OpenEXR.File(header, channels).write(str(temporaries[-1]))
+        for path, text in texts:
+            temporaries.append(temporary_sibling(path))
+            temporaries[-1].write_text(text, encoding="utf-8")
     except BaseException:
         for temporary in temporaries:
             temporary.unlink(missing_ok=True)
         raise
-    replace_together(zip(temporaries, [path for path, _, _ in prepared]))
+    targets = [path for path, _, _ in prepared] + [path for path, _ in texts]
+    replace_together(zip(temporaries, targets))
     return [path for path, _, _ in prepared]
 
 

@@ -45,15 +45,21 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import shutil
+import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
-import tomllib
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10: the same parser as the tomli package (a dependency there)
+    import tomli as tomllib
 
 from basis.approximations import approximate_model
 from basis.coefficients import coefficients_least_squares_from_table
 from basis.eigenbasis import Basis, default_basis
-from basis.files import write_text
 from basis.fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel, cos_theta
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.materials import PRESET_SPACES, material_curve, material_preset
@@ -391,8 +397,17 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         "layout": "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k",
         "materials": materials,
     }
-    paths = write_luts(items)
-    written = {path.name: path.stat().st_size for path in paths}
+    # the tables, the coefficients and the report are renamed into place together (or not at all); the
+    # report quotes the tables' sizes, so the tables are encoded once to measure them
+    sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out)) if out.exists() else None
+    if sizes_folder is None:
+        out.mkdir(parents=True)
+        sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out))
+    try:
+        measured = write_luts([(sizes_folder / Path(path).name, *rest) for path, *rest in items])
+        written = {path.name: path.stat().st_size for path in measured}
+    finally:
+        shutil.rmtree(sizes_folder, ignore_errors=True)
     reference_folder = Path(__file__).resolve().parent.parent / "luts" if reference_folder is None else Path(reference_folder)
     full = {name: (reference_folder / name).stat().st_size for name in ("ggx_basis_rgba.exr", "ggx_schlick_rg.exr")
             if (reference_folder / name).exists()}
@@ -417,7 +432,8 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         (f"Bytes: {sum(written.values()):,} written against {sum(full.values()):,} for the full default build "
          f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
     ]
-    coefficients_path = write_text(out / "scene_coefficients.json", json.dumps(document, indent=1) + "\n")
-    report_path = write_text(out / "scene_report.md", "\n".join(report) + "\n")
+    coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
+    paths = write_luts(items, texts=[(coefficients_path, json.dumps(document, indent=1) + "\n"),
+                                     (report_path, "\n".join(report) + "\n")])
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "full_bytes": full, "text": "\n".join(report)}

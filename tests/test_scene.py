@@ -158,3 +158,24 @@ def test_json_scene_and_coefficients_file(tmp_path):
         assert np.array(entry["coefficients"]).shape == (3, channels)
         assert entry["max_abs_error_fbar"] <= document["tolerance"]
         assert (tmp_path / "out" / entry["lut"]).exists()
+
+
+def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
+    """The tables, scene_coefficients.json and scene_report.md are renamed together: a failure at the
+    last rename rolls the others back, and no temporary is left."""
+    import basis.files
+
+    plan = plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS)))
+    original, calls = basis.files.os.replace, []
+
+    def failing(source, target):
+        calls.append(target)
+        if str(target).endswith("scene_report.md"):
+            raise KeyboardInterrupt
+        return original(source, target)
+
+    monkeypatch.setattr(basis.files.os, "replace", failing)
+    with pytest.raises(KeyboardInterrupt):
+        write_scene(plan, tmp_path / "out")
+    assert len(calls) >= 3
+    assert [p.name for p in (tmp_path / "out").iterdir()] == []
