@@ -8,6 +8,7 @@ Usage::
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares]) [--json] [--basis FILE]
     fresnel-lut materials [--out DIR] [--presets FILE] [--from-database]
     fresnel-lut scene FILE --out DIR
+    fresnel-lut render [--out DIR] [--quick]
     fresnel-lut report [--out DIR] [--quick]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
@@ -368,6 +369,21 @@ def command_scene(arguments) -> int:
     return 0
 
 
+def command_render(arguments) -> int:
+    from .studies.renders import render_markdown, write_renders
+
+    out = _output_folder("--out", arguments.out)
+    progress = Progress("rendering", "images")
+    result = write_renders(out, quick=arguments.quick, progress=progress)
+    progress.close()
+    print(render_markdown(result))
+    print(f"rendered in {result['seconds']:.1f} s:")
+    for path in [*result["pngs"], result["markdown"]]:
+        print(f"  {path}  {_size_text(path)}")
+    print(f"  {len(result['exrs'])} linear EXRs beside them")
+    return 0
+
+
 def command_report(arguments) -> int:
     from .report import write_report  # imports the studies only when asked
 
@@ -442,6 +458,11 @@ def make_parser() -> argparse.ArgumentParser:
     scene.add_argument("file", help="scene file (see examples/)")
     scene.add_argument("--out", required=True, help="output folder")
     scene.set_defaults(run=command_scene)
+
+    render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")
+    render.add_argument("--out", default="report/render", help="output folder (default: report/render)")
+    render.add_argument("--quick", action="store_true", help="128x128 spheres, 256-spp references, 2 roughnesses per scene")
+    render.set_defaults(run=command_render)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")

@@ -1,0 +1,255 @@
+"""A small vectorised renderer: spheres under an environment, split sum against Monte Carlo.
+
+Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``, ``render_material``,
+``render_split_sum``, ``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
+
+* **Environment**: a procedural studio made of spherical Gaussians (SGs) — a sky dome, a ground
+  bounce, two soft boxes and a rim light — so that both the exact radiance L(ω) and Karis's prefiltered
+  radiance have closed forms. Prefiltering uses the SG approximation of the GGX lobe around the mirror
+  direction with n = v = r (Karis 2013; Wang et al. 2009: D(h) ≈ exp(2/α² (h·n − 1)) / (πα²), a lobe of
+  sharpness 1/(2α²) around r), and the SG inner product in closed form.
+* **Split sum**: pixel = prefiltered L(r, α) × F̄(μo, α), F̄ from the shipped LUTs by bilinear lookup
+  (texel centres, clamp to edge, as a GPU): Schlick's two channels with F0 = F(0°), or the basis'
+  four with the material's coefficients.
+* **Reference**: Monte Carlo of ∫ F(ωo·h) ρ(ωo, ωi) L(ωi) μi dωi with VNDF sampling (Heitz 2018),
+  weight F · G2/G1, the material's exact RGB Fresnel curve, seeded; its standard error is returned.
+
+The camera is orthographic along −z; the sphere fills the image; pixels outside it are black.
+
+References
+----------
+:cite:`Karis2013` "Real Shading in Unreal Engine 4", split-sum approximation.
+:cite:`Wang2009` J. Wang et al., "All-frequency rendering of dynamic, spatially-varying reflectance",
+    SIGGRAPH Asia 2009 (spherical-Gaussian GGX lobe and warp).
+:cite:`Heitz2018` JCGT 7(4), VNDF sampling.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from basis.validation import ParameterError, check_positive_int, check_range
+
+from .ggx import g1, g2_height_correlated, sample_vndf
+
+__all__ = [
+    "DEFAULT_SCENES",
+    "STUDIO",
+    "Environment",
+    "RenderMaterial",
+    "lut_lookup",
+    "render_reference",
+    "render_split_sum",
+    "sphere_geometry",
+    "to_srgb8",
+    "tone_map",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class Environment:
+    """L(ω) = Σ_i c_i exp(λ_i (ω·p_i − 1)): axes p_i (unit), sharpness λ_i ≥ 0, RGB amplitudes c_i."""
+
+    axes: np.ndarray  # (N, 3)
+    sharpness: np.ndarray  # (N,)
+    amplitudes: np.ndarray  # (N, 3)
+
+    def radiance(self, direction: np.ndarray) -> np.ndarray:
+        """(..., 3) radiance for unit directions (..., 3)."""
+        cosine = direction @ self.axes.T  # (..., N)
+        return np.exp(self.sharpness * (cosine - 1.0)) @ self.amplitudes
+
+    def prefiltered(self, direction: np.ndarray, alpha) -> np.ndarray:
+        """Karis's prefiltered radiance: L convolved with a normalised SG lobe of sharpness 1/(2α²) around
+        ``direction`` (…, 3); α broadcast against its leading axes."""
+        lobe = 0.5 / np.maximum(np.asarray(alpha, dtype=np.float64), 1e-4) ** 2
+        lobe = np.asarray(lobe)[..., None]  # (..., 1) against the N SGs
+        vector = self.sharpness[:, None] * self.axes  # (N, 3)
+        total = vector[None, ...] + lobe[..., None] * direction[..., None, :]  # (..., N, 3)
+        length = np.linalg.norm(total, axis=-1)  # (..., N)
+        # ∫ e^{λ1(d·p1 − 1) + λ2(d·p2 − 1)} dd = 2π e^{m − λ1 − λ2} (1 − e^{−2m}) / m, m = |λ1 p1 + λ2 p2|;
+        # the lobe is divided by its own integral 2π (1 − e^{−2λ2}) / λ2
+        inner = np.exp(length - self.sharpness - lobe) * -np.expm1(-2.0 * length) / np.maximum(length, 1e-300)
+        norm = -np.expm1(-2.0 * lobe) / lobe
+        return (inner / norm) @ self.amplitudes
+
+
+def _unit(vector) -> np.ndarray:
+    vector = np.asarray(vector, dtype=np.float64)
+    return vector / np.linalg.norm(vector, axis=-1, keepdims=True)
+
+
+#: The default studio: sky from above, warm ground bounce, a large key soft box, a fill and a rim light.
+STUDIO = Environment(
+    axes=_unit([[0.0, 1.0, 0.2], [0.0, -1.0, 0.0], [-0.6, 0.55, 0.6], [0.8, 0.2, 0.55], [0.2, 0.3, -0.9]]),
+    sharpness=np.array([1.5, 2.0, 40.0, 25.0, 60.0]),
+    amplitudes=np.array([[0.35, 0.45, 0.65], [0.25, 0.2, 0.15], [6.0, 5.8, 5.4], [1.6, 1.8, 2.2], [5.0, 5.0, 5.0]]),
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class RenderMaterial:
+    """A material to render: its exact RGB curve, Schlick's F0 and its basis coefficients (3, K)."""
+
+    name: str
+    curve: Callable[[np.ndarray], np.ndarray]  # μ (...) → (..., 3), exact
+    coefficients: np.ndarray
+    roughness: tuple[float, ...]
+
+
+def _figure2(space: str):
+    from basis.coefficients import coefficients_from_gulbrandsen
+    from basis.fresnel import _fresnel
+    from basis.gulbrandsen import gulbrandsen_to_nk
+
+    reflectivity, edge_tint = np.full(3, 0.44), np.array([0.0, 1.0, 0.0])
+    eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
+    return RenderMaterial(
+        "Figure 2 (r 0.44, g (0, 1, 0))",
+        lambda mu: _fresnel(np.asarray(mu)[..., None], eta, kappa),
+        coefficients_from_gulbrandsen(reflectivity, edge_tint),
+        (float(np.sqrt(0.08)), 0.5),
+    )
+
+
+def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
+    """The curve on a dense μ table, linearly interpolated (max error < 1e-6 for Fresnel curves, measured
+    by ``tests/test_render.py``): the spectral curve costs 95 wavelengths per evaluation."""
+    mu = np.linspace(0.0, 1.0, samples)
+    table = curve(mu)
+
+    def tabulated(x: np.ndarray) -> np.ndarray:
+        x = np.clip(np.asarray(x, dtype=np.float64), 0.0, 1.0)
+        position = x * (samples - 1)
+        low = np.minimum(position.astype(int), samples - 2)
+        fraction = (position - low)[..., None]
+        return (1.0 - fraction) * table[low] + fraction * table[low + 1]
+
+    return tabulated
+
+
+def _preset(name: str, space: str):
+    from basis.materials import material_coefficients, material_curve
+
+    return RenderMaterial(name, _tabulated(material_curve(name, space)), material_coefficients(name, space),
+                          (0.15, 0.3, 0.6))
+
+
+#: The default scenes: the talk's Figure 2 material at α = 0.08 (r = √0.08), and three measured metals.
+DEFAULT_SCENES: dict[str, Callable[[str], RenderMaterial]] = {
+    "figure2": _figure2,
+    "chromium": lambda space: _preset("Chromium", space),
+    "gold": lambda space: _preset("Gold", space),
+    "beryllium": lambda space: _preset("Beryllium", space),
+}
+
+
+def sphere_geometry(size: int) -> tuple[np.ndarray, np.ndarray]:
+    """(normals (S, S, 3), mask (S, S)) of a unit sphere filling a square orthographic image, +y up."""
+    size = check_positive_int("size", size, low=2, high=8192)
+    coordinate = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    x, y = np.meshgrid(coordinate, -coordinate)
+    radius2 = x * x + y * y
+    mask = radius2 < 1.0
+    z = np.sqrt(np.clip(1.0 - radius2, 0.0, 1.0))
+    return np.stack([x, y, z], axis=-1), mask
+
+
+def lut_lookup(table: np.ndarray, mu_o: np.ndarray, roughness) -> np.ndarray:
+    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) at (μo, r) with texel-centre convention."""
+    height, width = table.shape[:2]
+    x = np.clip(np.asarray(mu_o) * width - 0.5, 0.0, width - 1.0)
+    y = np.clip(np.broadcast_to(np.asarray(roughness, dtype=np.float64), x.shape) * height - 0.5, 0.0, height - 1.0)
+    x0, y0 = np.minimum(x.astype(int), width - 2), np.minimum(y.astype(int), height - 2)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+    return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
+            + fy * ((1 - fx) * table[y0 + 1, x0] + fx * table[y0 + 1, x0 + 1]))
+
+
+def render_split_sum(material: RenderMaterial, roughness: float, size: int, basis_lut: np.ndarray,
+                     schlick_lut: np.ndarray, environment: Environment = STUDIO) -> dict[str, np.ndarray]:
+    """Linear RGB images (S, S, 3) of the split sum with the Schlick and the basis LUTs, and their time."""
+    roughness = float(check_range("roughness", roughness, 0.0, 1.0))
+    started = time.perf_counter()
+    normals, mask = sphere_geometry(size)
+    mu_o = np.clip(normals[..., 2], 0.0, 1.0)
+    view = np.array([0.0, 0.0, 1.0])
+    reflected = 2.0 * mu_o[..., None] * normals - view
+    prefiltered = environment.prefiltered(reflected, roughness**2)
+    f0 = material.curve(np.array(1.0))
+    schlick = lut_lookup(schlick_lut, mu_o, roughness)  # (S, S, 2)
+    images = {
+        "schlick": prefiltered * (schlick[..., :1] * f0 + schlick[..., 1:2]),
+        "basis": prefiltered * (lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T),
+    }
+    for image in images.values():
+        image[~mask] = 0.0
+    images["seconds"] = time.perf_counter() - started
+    return images
+
+
+def render_reference(material: RenderMaterial, roughness: float, size: int, samples: int, seed: int = 0,
+                     environment: Environment = STUDIO, batch: int = 64) -> tuple[np.ndarray, np.ndarray, float]:
+    """(image (S, S, 3), standard error (S, S, 3), seconds): VNDF Monte Carlo with the exact Fresnel curve."""
+    roughness = float(check_range("roughness", roughness, 1e-3, 1.0))
+    samples = check_positive_int("samples", samples, low=2, high=1 << 20)
+    started = time.perf_counter()
+    alpha = roughness**2
+    normals, mask = sphere_geometry(size)
+    n = normals[mask]  # (P, 3)
+    view = np.array([0.0, 0.0, 1.0])
+    mu_o = np.clip(n[:, 2], 1e-6, 1.0)
+    tangent = view - mu_o[:, None] * n
+    length = np.linalg.norm(tangent, axis=-1, keepdims=True)
+    fallback = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    tangent = np.where(length > 1e-9, tangent / np.maximum(length, 1e-300), fallback - (fallback * n).sum(-1, keepdims=True) * n)
+    tangent /= np.linalg.norm(tangent, axis=-1, keepdims=True)
+    bitangent = np.cross(n, tangent)
+    omega_o = np.stack([np.sqrt(np.maximum(0.0, 1.0 - mu_o**2)), np.zeros_like(mu_o), mu_o], axis=-1)
+    rng = np.random.default_rng(seed)
+    total = np.zeros((n.shape[0], 3))
+    total_sq = np.zeros_like(total)
+    for start in range(0, samples, batch):
+        count = min(batch, samples - start)
+        u1, u2 = rng.random((count, n.shape[0])), rng.random((count, n.shape[0]))
+        h = sample_vndf(omega_o[None], alpha, u1, u2)  # (count, P, 3) local
+        cos_d = np.clip(np.sum(h * omega_o[None], axis=-1), 0.0, 1.0)
+        local_i = 2.0 * cos_d[..., None] * h - omega_o[None]
+        mu_i = local_i[..., 2]
+        weight = np.where(mu_i > 0.0, g2_height_correlated(mu_o[None], mu_i, alpha) / g1(mu_o[None], alpha), 0.0)
+        world_i = local_i[..., :1] * tangent + local_i[..., 1:2] * bitangent + local_i[..., 2:] * n
+        value = material.curve(cos_d) * weight[..., None] * environment.radiance(world_i)
+        total += value.sum(axis=0)
+        total_sq += (value**2).sum(axis=0)
+    mean = total / samples
+    error = np.sqrt(np.maximum(total_sq / samples - mean**2, 0.0) / (samples - 1))
+    image = np.zeros(normals.shape)
+    deviation = np.zeros(normals.shape)
+    image[mask], deviation[mask] = mean, error
+    return image, deviation, time.perf_counter() - started
+
+
+def tone_map(image: np.ndarray, exposure: float = 1.0) -> np.ndarray:
+    """Linear display values in [0, 1]: exposure, then x / (1 + x) on each channel's excess over 0.8
+    (identity below 0.8, so most of the sphere is compared unchanged)."""
+    scaled = np.maximum(image * exposure, 0.0)
+    knee = 0.8
+    excess = np.maximum(scaled - knee, 0.0)
+    return np.where(scaled <= knee, scaled, knee + (1.0 - knee) * excess / (excess + (1.0 - knee)))
+
+
+def to_srgb8(linear: np.ndarray) -> np.ndarray:
+    """8-bit sRGB (IEC 61966-2-1 transfer function) of linear values in [0, 1]."""
+    linear = np.clip(linear, 0.0, 1.0)
+    encoded = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1.0 / 2.4) - 0.055)
+    return np.round(encoded * 255.0).astype(np.uint8)
+
+
+def check_scene_name(name: str) -> str:
+    if name not in DEFAULT_SCENES:
+        raise ParameterError(f"scene must be one of {sorted(DEFAULT_SCENES)}, got {name!r}")
+    return name

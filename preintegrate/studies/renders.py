@@ -1,0 +1,178 @@
+"""Pictures: Fresnel curves and colour strips, and spheres rendered three ways with ΔE2000 heat maps.
+
+Public objects: ``render_study``, ``render_markdown``, ``write_renders``.
+
+For every default scene of :data:`preintegrate.render.DEFAULT_SCENES` (the talk's Figure 2 material,
+Chromium, Gold, Beryllium; linear sRGB) and each of its roughnesses: the split sum with the shipped
+Schlick LUT, with the shipped basis LUT, and a Monte-Carlo reference with the exact Fresnel curve; the
+CIEDE2000 of each split-sum image against the reference (on the tone-mapped linear values, white = 1),
+over the sphere's pixels: mean and 99th percentile. The reference's own noise is measured the same way,
+between two references of different seeds, and reported beside.
+
+Run: ``fresnel-lut render [--quick] [--out DIR]``.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from basis.colorimetry import delta_E_2000
+from basis.fresnel import cos_theta
+
+from ..exr import read_lut, write_luts
+from ..render import (
+    DEFAULT_SCENES,
+    render_reference,
+    render_split_sum,
+    sphere_geometry,
+    to_srgb8,
+    tone_map,
+)
+from .figures import pyplot, save_figure
+
+__all__ = ["render_markdown", "render_study", "write_renders"]
+
+SPACE = "sRGB"
+EXPOSURE = 1.0
+
+
+def _luts() -> tuple[np.ndarray, np.ndarray]:
+    folder = Path(__file__).resolve().parent.parent.parent / "luts"
+    return read_lut(folder / "ggx_basis_rgba.exr")[0], read_lut(folder / "ggx_schlick_rg.exr")[0]
+
+
+def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
+    """Images and ΔE2000 statistics of every scene and roughness (module docstring)."""
+    size, samples = (128, 256) if quick else (256, 512)
+    basis_lut, schlick_lut = _luts()
+    results = []
+    names = list(DEFAULT_SCENES) if scenes is None else scenes
+    for scene in names:
+        material = DEFAULT_SCENES[scene](SPACE)
+        roughnesses = material.roughness[:2] if quick else material.roughness
+        for roughness in roughnesses:
+            split = render_split_sum(material, roughness, size, basis_lut, schlick_lut)
+            timed = render_split_sum(material, roughness, 512, basis_lut, schlick_lut)["seconds"]
+            reference, _, seconds = render_reference(material, roughness, size, samples, seed=1)
+            second, _, _ = render_reference(material, roughness, size, samples, seed=2)
+            _, mask = sphere_geometry(size)
+            shown = {key: tone_map(split[key], EXPOSURE) for key in ("schlick", "basis")}
+            truth = tone_map(reference, EXPOSURE)
+            maps = {key: delta_E_2000(shown[key], truth, SPACE) for key in shown}
+            noise = delta_E_2000(tone_map(second, EXPOSURE), truth, SPACE)[mask]
+            row = {"scene": scene, "material": material.name, "roughness": roughness, "size": size,
+                   "samples": samples, "reference_seconds": seconds, "split_sum_512_seconds": timed,
+                   "images": {"schlick": split["schlick"], "basis": split["basis"], "reference": reference},
+                   "maps": maps, "mask": mask,
+                   "noise_mean": float(noise.mean()), "noise_p99": float(np.percentile(noise, 99))}
+            for key, values in maps.items():
+                row[f"{key}_mean"] = float(values[mask].mean())
+                row[f"{key}_p99"] = float(np.percentile(values[mask], 99))
+            results.append(row)
+            if progress is not None:
+                progress(len(results), None)
+    return {"rows": results, "quick": quick}
+
+
+def _curves_figure(scene: str, path: Path) -> Path:
+    """RGB curves and colour strips (0–90°, zoom 80–90°) of ground truth, Schlick and the basis."""
+    from basis.eigenbasis import default_basis
+
+    plt = pyplot()
+    material = DEFAULT_SCENES[scene](SPACE)
+    basis = default_basis()
+    theta = np.linspace(0.0, 0.5 * np.pi, 901)
+    truth = material.curve(cos_theta(theta))
+    f0 = truth[0]
+    curves = {
+        "ground truth": truth,
+        "Schlick": f0 + (1.0 - f0) * (1.0 - cos_theta(theta))[:, None] ** 5,
+        "basis": (material.coefficients @ basis.evaluate(theta).T).T,
+    }
+    figure, axes = plt.subplots(2, 2, figsize=(11, 6), gridspec_kw={"height_ratios": [3, 1.4]})
+    for column, (low, high) in enumerate(((0.0, 90.0), (80.0, 90.0))):
+        plot = axes[0, column]
+        degrees = np.degrees(theta)
+        for (label, values), style in zip(curves.items(), ("-", "--", ":")):
+            for channel, colour in zip(range(3), ("tab:red", "tab:green", "tab:blue")):
+                plot.plot(degrees, values[:, channel], style, color=colour, lw=1.4,
+                          label=label if channel == 0 else None)
+        plot.set_xlim(low, high)
+        plot.set_xlabel("angle of incidence (degrees)")
+        plot.set_ylabel("reflectance (linear sRGB)")
+        plot.legend(loc="upper left", fontsize=8)
+        inside = (degrees >= low) & (degrees <= high)
+        strips = np.stack([to_srgb8(np.clip(values[inside], 0.0, 1.0)) for values in curves.values()])
+        axes[1, column].imshow(np.repeat(strips, 12, axis=0), aspect="auto", extent=(low, high, 0, 3 * 12))
+        axes[1, column].set_yticks([6 + 12 * k for k in range(3)], list(curves)[::-1])
+        axes[1, column].set_xlabel("colour strips, degrees")
+    figure.suptitle(f"{material.name}: Fresnel curves (solid: ground truth; dashed: Schlick; dotted: basis)")
+    figure.tight_layout()
+    return save_figure(figure, path)
+
+
+def _spheres_figure(rows: list[dict], path: Path) -> Path:
+    plt = pyplot()
+    figure, axes = plt.subplots(len(rows), 5, figsize=(15, 3.1 * len(rows)), squeeze=False)
+    limit = max(3.0, max(float(np.percentile(row["maps"]["schlick"][row["mask"]], 99)) for row in rows))
+    for line, row in zip(axes, rows):
+        panels = [("split sum, Schlick LUT", row["images"]["schlick"]), ("split sum, basis LUT", row["images"]["basis"]),
+                  (f"reference, {row['samples']} spp", row["images"]["reference"])]
+        for axis, (title, image) in zip(line[:3], panels):
+            axis.imshow(to_srgb8(tone_map(image, EXPOSURE)))
+            axis.set_title(f"{title}\n{row['material']}, r = {row['roughness']:.2f}", fontsize=8)
+        for axis, key in zip(line[3:], ("schlick", "basis")):
+            shown = np.where(row["mask"], row["maps"][key], np.nan)
+            heat = axis.imshow(shown, cmap="magma", vmin=0.0, vmax=limit)
+            axis.set_title(f"ΔE2000 {key}: mean {row[f'{key}_mean']:.2f}, p99 {row[f'{key}_p99']:.2f}", fontsize=8)
+            figure.colorbar(heat, ax=axis, fraction=0.046)
+        for axis in line:
+            axis.set_xticks([])
+            axis.set_yticks([])
+    figure.tight_layout()
+    return save_figure(figure, path)
+
+
+def render_markdown(result: dict) -> str:
+    lines = [
+        ("| scene | roughness | Schlick ΔE2000 mean / p99 | basis ΔE2000 mean / p99 | reference noise mean / p99 "
+         "| reference | 512² split sum |"),
+        "|---|---|---|---|---|---|---|",
+    ]
+    for row in result["rows"]:
+        lines.append(
+            f"| {row['material']} | {row['roughness']:.3f} | {row['schlick_mean']:.2f} / {row['schlick_p99']:.2f} "
+            f"| {row['basis_mean']:.2f} / {row['basis_p99']:.2f} | {row['noise_mean']:.2f} / {row['noise_p99']:.2f} "
+            f"| {row['size']}², {row['samples']} spp, {row['reference_seconds']:.1f} s "
+            f"| {row['split_sum_512_seconds']:.2f} s |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def write_renders(out, quick: bool = False, progress=None) -> dict:
+    """PNGs (curves, spheres and heat maps per scene), linear EXRs beside them, and ``renders.md``."""
+    out = Path(out)
+    started = time.perf_counter()
+    result = render_study(quick=quick, progress=progress)
+    pngs, items = [], []
+    for scene in dict.fromkeys(row["scene"] for row in result["rows"]):
+        rows = [row for row in result["rows"] if row["scene"] == scene]
+        pngs.append(_curves_figure(scene, out / f"{scene}_curves.png"))
+        pngs.append(_spheres_figure(rows, out / f"{scene}_spheres.png"))
+        for row in rows:
+            for key, image in row["images"].items():
+                items.append((out / f"{scene}_r{row['roughness']:.2f}_{key}.exr", image, ("R", "G", "B"), {
+                    "content": f"{key} render of {row['material']} at roughness {row['roughness']:.4f}, linear {SPACE}",
+                    "samples": str(row["samples"]) if key == "reference" else "split sum",
+                }))
+    exrs = write_luts(items, texts=[(out / "renders.md", (
+        f"# Renders{' (quick)' if quick else ''}\n\nMade by `fresnel-lut render{' --quick' if quick else ''}`; "
+        "ΔE2000 of each split-sum image against the Monte-Carlo reference over the sphere, on tone-mapped "
+        f"linear {SPACE} (white = 1). Reference noise: ΔE2000 between two references of different seeds.\n\n"
+        + render_markdown(result)))])
+    result["pngs"], result["exrs"], result["markdown"] = pngs, exrs, out / "renders.md"
+    result["seconds"] = time.perf_counter() - started
+    return result
