@@ -332,6 +332,14 @@ def test_coeffs_model_errors(argv, message, capsys):
     assert message in err
 
 
+def test_render_refuses_a_file_as_output_folder(tmp_path, capsys):
+    target = tmp_path / "file"
+    target.write_text("x")
+    assert run(["render", "--quick", "--out", target]) == 2
+    assert_one_line_error(capsys.readouterr().err)
+    assert target.read_text() == "x"
+
+
 def test_materials_refuses_a_folder_as_presets_before_any_work(tmp_path, capsys):
     assert run(["materials", "--out", tmp_path / "report", "--presets", tmp_path]) == 2
     assert_one_line_error(capsys.readouterr().err)
