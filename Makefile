@@ -3,11 +3,12 @@
 #   make test   run the test suite
 #   make report error against run time (report/README.md and plots; installs the plot extra)
 #   make materials  measured materials: report/materials.md and luts/materials.json (about 6 minutes)
+#   make render     pictures: report/render/ (about 4 minutes)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: luts test basis report materials clean-venv
+.PHONY: luts test basis report materials render clean-venv
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,6 +28,9 @@ report: $(STAMP)
 
 materials: $(STAMP)
 	$(VENV)/bin/fresnel-lut materials --out report
+
+render: $(STAMP)
+	$(VENV)/bin/fresnel-lut render --out report/render
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest
