@@ -356,11 +356,12 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     basis = default_basis() if basis is None else basis
     out = Path(out)
     low, high = plan.roughness_range
-    convention = PIXEL_CONVENTION.replace(
-        "row j <-> perceptual roughness r = (j + 0.5) / height",
+    rows_text = (
         f"row j <-> perceptual roughness r = {low:.6g} + j * ({high:.6g} - {low:.6g}) / (height - 1) (rows at the "
-        f"range's end points; engine: v = ((r - {low:.6g}) / ({high:.6g} - {low:.6g}) * (height - 1) + 0.5) / height)",
+        f"range's end points; engine: v = ((r - {low:.6g}) / ({high:.6g} - {low:.6g}) * (height - 1) + 0.5) / height)"
+        if plan.rows > 1 else f"one row, at perceptual roughness r = {low:.6g} (engine: v = 0.5)"
     )
+    convention = PIXEL_CONVENTION.replace("row j <-> perceptual roughness r = (j + 0.5) / height", rows_text)
     items, names = [], {}
     for table in plan.tables:
         if table == "schlick":
