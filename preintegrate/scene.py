@@ -21,9 +21,12 @@ the Fresnel equations of (η, κ) or of Gulbrandsen's (r, g), Schlick for ``f0``
 ``f0`` + ``f82``, any model of :data:`basis.approximations.APPROXIMATE_MODELS` for ``model``.
 
 **Candidate layouts** of a material: the Schlick table with F0 = F(0°) (exact for the Schlick family),
-or the first K basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
-c0 + c1 = F90 kept exact). **Tables**: Schlick only, basis with K channels, or both; the smallest that
-lets every material meet the tolerance with one of its layouts. **Rows**: cropped to the union of the
+the first K basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
+c0 + c1 = F90 kept exact), and, for a material given by a linear model of the references (F0 + F82,
+Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while
+its clamp is inactive). **Tables**: any combination of the Schlick table, one basis table and the
+models' own tables; the one with the fewest channels that lets every material meet the tolerance with
+one of its layouts. **Rows**: cropped to the union of the
 materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi − r_lo)/(H − 1)), with
 the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still meet the tolerance.
 
@@ -43,6 +46,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 import shutil
@@ -65,6 +69,7 @@ from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.materials import PRESET_SPACES, material_curve, material_preset
 from basis.validation import ParameterError, check_positive_int, check_range
 
+from .channels import model_channels
 from .exr import write_luts
 from .studies.model_error import texel_weights
 from .table import PIXEL_CONVENTION
@@ -199,8 +204,39 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
     return Scene(tuple(materials), tolerance, space, size, str(path))
 
 
-def _layout_coefficients(material: SceneMaterial, layout: str, basis: Basis) -> np.ndarray:
-    """(3, n) weights of a layout: Schlick (F0, 1) or the first K basis terms by least squares."""
+def _own_layout(material: SceneMaterial) -> str | None:
+    """``model:NAME[:shape=value,…]`` for a material given by a linear model of the references other
+    than Schlick's (whose own table is the Schlick table), else None."""
+    name = material.description.get("model")
+    if name is None or name in _SCHLICK_FAMILY or not approximate_model(name).linear:
+        return None
+    model = approximate_model(name)
+    shape = ",".join(f"{key}={float(material.description.get(key, p.default))!r}"
+                     for key, p in ((p.name, p) for p in model.parameters) if key in model.shape)
+    return f"model:{name}" + (f":{shape}" if shape else "")
+
+
+def _own_model(layout: str) -> tuple[str, dict]:
+    parts = layout.split(":")
+    shape = dict(item.split("=") for item in parts[2].split(",")) if len(parts) > 2 else {}
+    return parts[1], {key: float(value) for key, value in shape.items()}
+
+
+def _own_functions(layout: str):
+    name, shape = _own_model(layout)
+    return approximate_model(name).channel_functions(**shape)
+
+
+def _layout_coefficients(material: SceneMaterial, layout: str, basis: Basis) -> np.ndarray | None:
+    """(3, n) weights of a layout: Schlick (F0, 1), the first K basis terms by least squares, or a
+    linear model's own weights (NaN for a material of another model: not a candidate)."""
+    if layout.startswith("model:"):
+        if _own_layout(material) != layout:
+            return None  # another model's table: not a candidate for this material
+        name, _ = _own_model(layout)
+        parameters = {key: value for key, value in material.description.items() if key != "model"}
+        weights = np.asarray(approximate_model(name).channel_weights(**parameters), dtype=np.float64)
+        return np.broadcast_to(weights, (3, weights.shape[-1])).copy()
     if layout == "schlick":
         f0 = material.curve[0]
         return np.stack([f0, np.ones(3)], axis=-1)
@@ -270,6 +306,8 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     interp_mu = _interpolation(mu_eval, mu_columns)  # (P, W)
     w_rows_mu = np.einsum("pw,hwm->hpm", interp_mu, w_rows)  # table texels interpolated along μo
     functions = {"schlick": _schlick_functions(theta), **{f"basis-{k}": basis.curves[:k].T for k in (2, 3, 4)}}
+    own = sorted({layout for layout in map(_own_layout, scene.materials) if layout is not None})
+    functions.update({layout: _own_functions(layout)(cos_theta(theta)) for layout in own})
 
     def errors_for(layout: str, rows: np.ndarray, weights=None, positions=None) -> dict[str, float]:
         result = {}
@@ -279,7 +317,11 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
             r_index = np.searchsorted(all_r, r_eval[material.name])
             exact = w_eval[r_index] @ material.curve  # (r, P, 3)
             interp_r = _interpolation(r_eval[material.name], positions)  # (r, H')
-            approx_curve = functions[layout] @ _layout_coefficients(material, layout, basis).T  # (M, 3)
+            coefficients = _layout_coefficients(material, layout, basis)
+            if coefficients is None:
+                result[material.name] = np.inf
+                continue
+            approx_curve = functions[layout] @ coefficients.T  # (M, 3)
             approx = np.einsum("rh,hpc->rpc", interp_r, weights_rows @ approx_curve)
             result[material.name] = float(np.max(np.abs(approx - exact)))
         return result
@@ -304,9 +346,13 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
             f"{best[worst]:.3g}; use tolerance >= {best[worst] * 1.01:.3g} (or another model for it)"
             + (f"; also failing: {sorted(set(failing) - {worst})}" if len(failing) > 1 else "")
         )
-    options = [("schlick",), ("basis-2",), ("basis-3",), ("basis-4",), ("schlick", "basis-2"),
-               ("schlick", "basis-3"), ("schlick", "basis-4")]
-    channels = {"schlick": 2, "basis-2": 2, "basis-3": 3, "basis-4": 4}
+    channels = {"schlick": 2, "basis-2": 2, "basis-3": 3, "basis-4": 4,
+                **{layout: functions[layout].shape[-1] for layout in own}}
+    # every combination of at most one basis table, the Schlick table and the models' own tables
+    options = [tuple(x for x in (schlick, basis_table, *extra) if x)
+               for schlick in ("", "schlick") for basis_table in ("", "basis-2", "basis-3", "basis-4")
+               for count in range(len(own) + 1) for extra in itertools.combinations(own, count)]
+    options = [option for option in options if option]
 
     def assign(tables, errors) -> dict[str, str] | None:
         layouts = {}
@@ -367,6 +413,13 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         if table == "schlick":
             values = _table(_schlick_functions(basis.theta), plan, basis)
             path, channel_names, combination = out / "ggx_schlick_rg.exr", ("R", "G"), "Fbar = F0 * R + G"
+        elif table.startswith("model:"):
+            name, shape = _own_model(table)
+            channel_set_ = model_channels(name, **shape)
+            values = _table(_own_functions(table)(cos_theta(basis.theta)), plan, basis)
+            channel_names, combination = channel_set_.channel_names, channel_set_.combination
+            suffix = "".join(f"_{key}{value:g}" for key, value in shape.items())
+            path = out / f"ggx_{name}{suffix}.exr"
         else:
             terms = int(table.split("-")[1])
             values = _table(basis.curves[:terms].T, plan, basis)

@@ -179,3 +179,30 @@ def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
         write_scene(plan, tmp_path / "out")
     assert len(calls) >= 3
     assert [p.name for p in (tmp_path / "out").iterdir()] == []
+
+
+def test_f82_material_gets_its_own_exact_table_when_the_basis_cannot_hold_it(tmp_path):
+    """A strong-dip F0/F82 copper: the basis reaches only ~1e-2, Hoffman 2019's own three channels
+    (exact split sum: the dip stays in [0, 1]) meet 1/255; the written table combines to Monte Carlo."""
+    path = tmp_path / "f82.toml"  # 64 columns: at 16 the lookup alone costs 1.2e-2 near grazing
+    path.write_text("""size = 64
+[[material]]
+name = "old copper"
+f0 = [0.95, 0.64, 0.54]
+f82 = [0.93, 0.60, 0.50]
+roughness = [0.3, 0.6]
+""", encoding="utf-8")
+    plan = plan_scene(read_scene(path))
+    assert plan.full_errors["basis-4"]["old copper"] > DEFAULT_TOLERANCE
+    assert plan.tables == ("model:f82",) and plan.errors["old copper"] <= DEFAULT_TOLERANCE
+    write_scene(plan, tmp_path / "out")
+    table, header = read_lut(tmp_path / "out" / "ggx_f82.exr")
+    assert table.shape[-1] == 3 and "x (1-x)^6" in header["combination"]
+    weights = np.array(plan.coefficients["old copper"])
+    rows = np.linspace(0.3, 0.6, plan.rows)
+    j, i = 0, 9
+    model = approximate_model("f82")
+    f0, f82 = np.array([0.95, 0.64, 0.54]), np.array([0.93, 0.60, 0.50])
+    mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64,
+                                     rows[j] ** 2, samples=400_000, seed=8)
+    np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
