@@ -330,7 +330,7 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
     array([ 0.903,  0.746,  0.418])
     """
     if basis is not None and basis.content_hash != default_basis().content_hash:
-        material_preset(name, space)  # validates name and space with the usual messages
+        # the preset lookup validates name and space with the usual messages
         return fit_material(material_preset(name, space)["name"], space, "delta-e", basis)
     preset = material_preset(name, space)
     if preset["basis_hash"] != default_basis().content_hash:

@@ -190,7 +190,7 @@ def _sample_page(source: Source) -> tuple[np.ndarray, np.ndarray, dict]:
     with open(entry.path, encoding="utf-8") as stream:
         references = " ".join(re.sub(r"<[^>]+>", "", str(yaml.safe_load(stream).get("REFERENCES", ""))).split())
     provenance = {
-        "database": f"refractiveindex.info {implementation_version()}",
+        "database": f"refractiveindex.info {_database_version()}",
         "shelf": source.shelf, "book": source.book, "page": source.page,
         "file": str(Path(entry.path).relative_to(implementation._DEFAULT_DB_PATH / "data")),
         "references": references,
@@ -199,7 +199,7 @@ def _sample_page(source: Source) -> tuple[np.ndarray, np.ndarray, dict]:
     return eta, kappa, provenance
 
 
-def implementation_version() -> str:
+def _database_version() -> str:
     from refractiveindex._database_version import DATABASE_VERSION
 
     return DATABASE_VERSION

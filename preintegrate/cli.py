@@ -331,8 +331,9 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
     error = np.max(np.abs(exact - (coefficients @ basis.evaluate(theta).T).T), axis=0)
     own = None
     if model.linear:
+        weights = model.channel_weights(**parameters)
         own = {"lut": f"ggx_{model.name}.exr (fresnel-lut build --model {model.name})",
-               "weights": np.broadcast_to(model.channel_weights(**parameters), (3, model.channel_weights(**parameters).shape[-1])).tolist(),
+               "weights": np.broadcast_to(weights, (3, weights.shape[-1])).tolist(),
                "exact": bool(np.all(model.clamp_is_inactive(**parameters)))}
     material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
     if arguments.json:

@@ -30,14 +30,10 @@ import numpy as np
 
 from basis.validation import check_positive_int, check_range
 
+from .channels import schlick_channels
 from .ggx import ndf
 
 __all__ = ["fresnel_blend_albedo", "fresnel_blend_brdf", "fresnel_blend_diffuse_albedo", "fresnel_blend_specular_albedo"]
-
-
-def _schlick_terms(x: np.ndarray) -> np.ndarray:
-    weight = (1.0 - x) ** 5
-    return np.stack([1.0 - weight, weight], axis=-1)
 
 
 def fresnel_blend_brdf(mu_i, mu_o, mu_h, i_dot_h, alpha, rd, rs) -> np.ndarray:
@@ -74,7 +70,7 @@ def _specular_terms(mu_o: np.ndarray, alpha: np.ndarray, nodes_u: int, nodes_phi
     ratio = np.where(valid, mu_i / np.maximum(np.maximum(mu_i, mu_o), np.finfo(float).tiny) / mu_h, 0.0)
     # D dωh = du dφ / (2π μh); the integrand D F μi / max(μi, μo) dωh
     weight = ratio * (w_u[:, None] / nodes_phi)
-    return np.einsum("...ij,...ijk->...k", weight, _schlick_terms(np.clip(o_dot_h, 0.0, 1.0)))
+    return np.einsum("...ij,...ijk->...k", weight, schlick_channels().functions(np.clip(o_dot_h, 0.0, 1.0)))
 
 
 def fresnel_blend_specular_albedo(mu_o, alpha, rs, nodes_u: int = 256, nodes_phi: int = 256) -> np.ndarray:

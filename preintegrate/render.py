@@ -32,7 +32,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from basis.validation import ParameterError, check_positive_int, check_range
+from basis.validation import check_positive_int, check_range
 
 from .ggx import g1, g2_height_correlated, sample_vndf
 
@@ -248,8 +248,3 @@ def to_srgb8(linear: np.ndarray) -> np.ndarray:
     encoded = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1.0 / 2.4) - 0.055)
     return np.round(encoded * 255.0).astype(np.uint8)
 
-
-def check_scene_name(name: str) -> str:
-    if name not in DEFAULT_SCENES:
-        raise ParameterError(f"scene must be one of {sorted(DEFAULT_SCENES)}, got {name!r}")
-    return name

@@ -69,7 +69,7 @@ from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.materials import PRESET_SPACES, material_curve, material_preset
 from basis.validation import ParameterError, check_positive_int, check_range
 
-from .channels import model_channels
+from .channels import model_channels, schlick_channels
 from .exr import write_luts
 from .studies.model_error import texel_weights
 from .table import PIXEL_CONVENTION
@@ -95,7 +95,6 @@ class SceneMaterial:
     description: dict
     curve: np.ndarray
     roughness: tuple[float, float]
-    schlick_exact: bool
 
 
 @dataclasses.dataclass(frozen=True)
@@ -114,33 +113,33 @@ def _rgb(name: str, item: dict, key: str) -> np.ndarray:
     return np.broadcast_to(value, (3,)).copy()
 
 
-def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict, bool]:
-    """(curve (M, 3) on basis.theta, description, Schlick family?) of one material entry."""
+def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict]:
+    """(curve (M, 3) on basis.theta, description) of one material entry."""
     mu = cos_theta(basis.theta)[:, None]
     keys = set(item) - {"name", "roughness"}
     if "preset" in item:
         preset = material_preset(item["preset"], space)
-        return material_curve(preset["name"], space)(mu[:, 0]), {"preset": preset["name"], "space": space}, False
+        return material_curve(preset["name"], space)(mu[:, 0]), {"preset": preset["name"], "space": space}
     if "model" in item:
         model = approximate_model(item["model"])
         parameters = {key: item[key] for key in keys - {"model"}}
         curve = np.broadcast_to(model.evaluate(mu, **parameters), (mu.shape[0], 3))
-        return curve, {"model": model.name, **parameters}, model.name in _SCHLICK_FAMILY
+        return curve, {"model": model.name, **parameters}
     if keys == {"eta", "kappa"}:
         eta = check_range(f"{name}: eta", _rgb(name, item, "eta"), *ETA_RANGE)
         kappa = check_range(f"{name}: kappa", _rgb(name, item, "kappa"), *KAPPA_RANGE)
-        return _fresnel(mu, eta, kappa), {"eta": eta.tolist(), "kappa": kappa.tolist()}, False
+        return _fresnel(mu, eta, kappa), {"eta": eta.tolist(), "kappa": kappa.tolist()}
     if keys == {"reflectivity", "edge_tint"}:
         eta, kappa = gulbrandsen_to_nk(_rgb(name, item, "reflectivity"), _rgb(name, item, "edge_tint"))
         description = {"reflectivity": _rgb(name, item, "reflectivity").tolist(), "edge_tint": _rgb(name, item, "edge_tint").tolist()}
-        return _fresnel(mu, eta, kappa), description, False
+        return _fresnel(mu, eta, kappa), description
     if keys == {"f0"}:
         model = approximate_model("schlick")
-        return model.evaluate(mu, f0=_rgb(name, item, "f0")), {"model": "schlick", "f0": _rgb(name, item, "f0").tolist()}, True
+        return model.evaluate(mu, f0=_rgb(name, item, "f0")), {"model": "schlick", "f0": _rgb(name, item, "f0").tolist()}
     if keys == {"f0", "f82"}:
         model = approximate_model("f82")
         f0, f82 = _rgb(name, item, "f0"), _rgb(name, item, "f82")
-        return model.evaluate(mu, f0=f0, f82=f82), {"model": "f82", "f0": f0.tolist(), "f82": f82.tolist()}, False
+        return model.evaluate(mu, f0=f0, f82=f82), {"model": "f82", "f0": f0.tolist(), "f82": f82.tolist()}
     raise SceneError(
         f"material {name!r}: give one of preset; eta and kappa; reflectivity and edge_tint; f0; f0 and f82; "
         f"or model with its parameters (got {sorted(keys)})"
@@ -194,13 +193,13 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
         if "roughness" not in item:
             raise SceneError(f"material {name!r}: roughness (a number or [low, high]) is missing")
         try:
-            curve, description, schlick = _target(name, item, space, basis)
+            curve, description = _target(name, item, space, basis)
         except SceneError:
             raise
         except ParameterError as error:
             raise SceneError(f"material {name!r}: {error}") from None
         materials.append(SceneMaterial(name, description, np.asarray(curve, dtype=np.float64),
-                                       _roughness(name, item["roughness"]), schlick))
+                                       _roughness(name, item["roughness"])))
     return Scene(tuple(materials), tolerance, space, size, str(path))
 
 
@@ -245,11 +244,6 @@ def _layout_coefficients(material: SceneMaterial, layout: str, basis: Basis) -> 
     if terms == 2:
         return np.stack([material.curve[0], material.curve[-1] - material.curve[0]], axis=-1)
     return coefficients_least_squares_from_table(basis.theta, material.curve.T, truncated)
-
-
-def _schlick_functions(theta: np.ndarray) -> np.ndarray:
-    weight = (1.0 - cos_theta(theta)) ** 5
-    return np.stack([1.0 - weight, weight], axis=-1)
 
 
 def _interpolation(points: np.ndarray, centres: np.ndarray) -> np.ndarray:
@@ -305,9 +299,12 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
     interp_mu = _interpolation(mu_eval, mu_columns)  # (P, W)
     w_rows_mu = np.einsum("pw,hwm->hpm", interp_mu, w_rows)  # table texels interpolated along μo
-    functions = {"schlick": _schlick_functions(theta), **{f"basis-{k}": basis.curves[:k].T for k in (2, 3, 4)}}
+    functions = {"schlick": schlick_channels().functions(cos_theta(theta)), **{f"basis-{k}": basis.curves[:k].T for k in (2, 3, 4)}}
     own = sorted({layout for layout in map(_own_layout, scene.materials) if layout is not None})
     functions.update({layout: _own_functions(layout)(cos_theta(theta)) for layout in own})
+
+    # each material's weights per layout, once: the error loops below reuse them for every row count
+    weights_of = {(m.name, layout): _layout_coefficients(m, layout, basis) for m in scene.materials for layout in functions}
 
     def errors_for(layout: str, rows: np.ndarray, weights=None, positions=None) -> dict[str, float]:
         result = {}
@@ -317,7 +314,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
             r_index = np.searchsorted(all_r, r_eval[material.name])
             exact = w_eval[r_index] @ material.curve  # (r, P, 3)
             interp_r = _interpolation(r_eval[material.name], positions)  # (r, H')
-            coefficients = _layout_coefficients(material, layout, basis)
+            coefficients = weights_of[material.name, layout]
             if coefficients is None:
                 result[material.name] = np.inf
                 continue
@@ -379,7 +376,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     layouts = assign(tables, chosen_errors)
     return ScenePlan(
         scene=scene, tables=tables, roughness_range=(low, high), rows=len(chosen_rows), layouts=layouts,
-        coefficients={m.name: _layout_coefficients(m, layouts[m.name], basis) for m in scene.materials},
+        coefficients={m.name: weights_of[m.name, layouts[m.name]] for m in scene.materials},
         errors={m.name: chosen_errors[layouts[m.name]][m.name] for m in scene.materials},
         full_errors=full_errors,
         default_build_errors=default_best,
@@ -411,7 +408,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     items, names = [], {}
     for table in plan.tables:
         if table == "schlick":
-            values = _table(_schlick_functions(basis.theta), plan, basis)
+            values = _table(schlick_channels().functions(cos_theta(basis.theta)), plan, basis)
             path, channel_names, combination = out / "ggx_schlick_rg.exr", ("R", "G"), "Fbar = F0 * R + G"
         elif table.startswith("model:"):
             name, shape = _own_model(table)

@@ -21,6 +21,7 @@ import numpy as np
 
 from basis.colorimetry import delta_E_2000
 from basis.fresnel import cos_theta
+from basis.models import _schlick  # unchecked: an sRGB F0 may leave [0, 1]
 
 from ..exr import read_lut, write_luts
 from ..render import (
@@ -89,7 +90,7 @@ def _curves_figure(scene: str, path: Path) -> Path:
     f0 = truth[0]
     curves = {
         "ground truth": truth,
-        "Schlick": f0 + (1.0 - f0) * (1.0 - cos_theta(theta))[:, None] ** 5,
+        "Schlick": _schlick(cos_theta(theta)[:, None], f0),
         "basis": (material.coefficients @ basis.evaluate(theta).T).T,
     }
     figure, axes = plt.subplots(2, 2, figsize=(11, 6), gridspec_kw={"height_ratios": [3, 1.4]})
