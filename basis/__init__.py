@@ -7,8 +7,10 @@ The coefficient API engines call::
 Modules: ``fresnel`` (exact Fresnel), ``gulbrandsen`` (artist parameters), ``training`` and ``svd``
 (the iterative SVD), ``builder`` (build a basis), ``eigenbasis`` (the ``Basis`` data and
 ``basis.json``), ``coefficients`` (the solver), ``holdout`` (held-out materials), ``validation``,
-``colorimetry`` (working spaces, ΔE2000), ``spectral`` (measured η(λ), κ(λ) → RGB curves), ``materials``
-(presets of measured materials), ``models`` (approximate Fresnel models).
+``colorimetry`` (working spaces, ΔE2000), ``spectral`` (measured η(λ), κ(λ) → RGB curves), ``presets``
+(the shipped presets of measured materials; no colour science), ``material_fits`` (ΔE2000 fits),
+``models`` (approximate Fresnel models), ``angles`` (θ grids, the θ spline), ``storage`` (shipped paths,
+atomic writes, JSON documents).
 """
 
 from .coefficients import (
@@ -25,7 +27,7 @@ from .coefficients import (
 from .eigenbasis import Basis, BasisFileError, default_basis
 from .fresnel import fresnel_conductor, fresnel_dielectric
 from .gulbrandsen import gulbrandsen_to_nk, nk_to_gulbrandsen
-from .materials import material_coefficients, material_preset
+from .presets import material_coefficients, material_preset
 from .validation import ParameterError
 
 __all__ = [

@@ -19,11 +19,12 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .angles import angle_grid, cos_theta
 from .eigenbasis import Basis
-from .fresnel import _fresnel, cos_theta
+from .fresnel import fresnel_kernel
 from .holdout import holdout_materials
 from .svd import build_curves
-from .training import DEFAULT_DOMAIN, TrainingDomain, angle_grid
+from .training import DEFAULT_DOMAIN, TrainingDomain
 from .validation import check_positive_int
 
 __all__ = ["NOTEBOOK_ANGLES", "TALK_ANGLES", "build_basis", "choose_fit_angles", "holdout_fit_errors"]
@@ -44,8 +45,8 @@ def holdout_fit_errors(basis: Basis, angles=None, samples: int = 1001) -> dict[s
     curves = basis.evaluate(theta)
     errors = {}
     for name, (eta, kappa) in holdout_materials().items():
-        coefficients = _fresnel(cos_theta(fit_angles), eta[:, None], kappa[:, None]) @ inverse
-        exact = _fresnel(cos_theta(theta), eta[:, None], kappa[:, None])
+        coefficients = fresnel_kernel(cos_theta(fit_angles), eta[:, None], kappa[:, None]) @ inverse
+        exact = fresnel_kernel(cos_theta(theta), eta[:, None], kappa[:, None])
         errors[name] = float(np.max(np.abs(coefficients @ curves.T - exact)))
     return errors
 
@@ -60,8 +61,8 @@ def choose_fit_angles(basis: Basis, theta2=(1.30, 1.56, 27), theta3=(1.0, 1.5, 2
     angles = np.concatenate([[0.0, 0.5 * np.pi], candidates2, candidates3])
     theta = np.linspace(0.0, 0.5 * np.pi, 257)
     eta, kappa = (np.concatenate(parts) for parts in zip(*(holdout_materials()[group] for group in SELECTION_GROUPS)))
-    exact_at = _fresnel(cos_theta(angles), eta[:, None], kappa[:, None])
-    exact = _fresnel(cos_theta(theta), eta[:, None], kappa[:, None])
+    exact_at = fresnel_kernel(cos_theta(angles), eta[:, None], kappa[:, None])
+    exact = fresnel_kernel(cos_theta(theta), eta[:, None], kappa[:, None])
     basis_at, curves = basis.evaluate(angles), basis.evaluate(theta)
     best = (np.inf, TALK_ANGLES)
     for i, angle2 in enumerate(candidates2, start=2):

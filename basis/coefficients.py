@@ -29,12 +29,11 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
-from .eigenbasis import Basis, default_basis
-from .fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel, cos_theta
+from .angles import check_theta_grid, cos_theta, theta_spline, trapezoid_weights
+from .eigenbasis import Basis, resolve_basis
+from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
 from .gulbrandsen import gulbrandsen_to_nk
-from .svd import trapezoid_weights
 from .validation import ParameterError, as_float_array, check_positive_int, check_range, check_shape_last
 
 __all__ = [
@@ -53,17 +52,9 @@ __all__ = [
 ]
 
 
-def _basis(basis: Basis | None) -> Basis:
-    if basis is None:
-        return default_basis()
-    if not isinstance(basis, Basis):
-        raise ParameterError(f"basis must be a fresnel basis.Basis or None, got {type(basis).__name__}")
-    return basis
-
-
 def fit_matrix(basis: Basis | None = None) -> np.ndarray:
     """B[i, k] = b_k(θ_i) at the fit angles: the system the four-point solver inverts."""
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     return basis.evaluate(basis.fit_angles)
 
 
@@ -85,7 +76,7 @@ def coefficients_from_samples(samples, basis: Basis | None = None) -> np.ndarray
     numpy.ndarray
         (..., K) coefficients c with Σ_k c_k b_k(θ_i) = F(θ_i).
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     samples = as_float_array("samples", samples)
     check_shape_last("samples", samples, basis.n_terms)  # one value per fit angle
     return samples @ np.linalg.inv(fit_matrix(basis)).T
@@ -97,7 +88,7 @@ def coefficients_from_curve(curve: Callable, variable: str = "theta", basis: Bas
     The callable receives a 1-D array of the K fit angles (or their cosines) and must return an array
     whose last axis has length K (any leading material axes are kept).
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     if not callable(curve):
         raise ParameterError(f"curve must be callable, got {type(curve).__name__}")
     if variable == "theta":
@@ -114,20 +105,16 @@ def coefficients_from_table(theta, values, basis: Basis | None = None) -> np.nda
 
     The table must cover [0, π/2]; it is interpolated by a cubic spline in θ at the fit angles.
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     return coefficients_from_samples(_table_spline(theta, values)(basis.fit_angles), basis)
 
 
-def _table_spline(theta, values) -> CubicSpline:
+def _table_spline(theta, values):
     """Validate a tabulated curve over [0, π/2] and return its cubic spline in θ (zero slope at 0)."""
-    theta = check_range("theta", theta, 0.0, 0.5 * np.pi)
+    theta = check_theta_grid("theta", theta)
     values = as_float_array("values", values)
-    if theta.ndim != 1 or theta.size < 4 or np.any(np.diff(theta) <= 0):
-        raise ParameterError("theta must be a strictly increasing 1-D array of at least 4 angles")
-    if theta[0] > 1e-12 or theta[-1] < 0.5 * np.pi - 1e-12:
-        raise ParameterError(f"theta must cover [0, pi/2], got [{theta[0]}, {theta[-1]}]")
     check_shape_last("values", values, theta.size)
-    return CubicSpline(theta, values, axis=-1, bc_type=((1, np.zeros(values.shape[:-1])), "not-a-knot"))
+    return theta_spline(theta, values)
 
 
 def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
@@ -147,11 +134,11 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
     >>> c.shape
     (3, 4)
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     mu = cos_theta(basis.fit_angles)
-    return coefficients_from_samples(_fresnel(mu, eta[..., None], kappa[..., None]), basis)
+    return coefficients_from_samples(fresnel_kernel(mu, eta[..., None], kappa[..., None]), basis)
 
 
 def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None = None) -> np.ndarray:
@@ -262,7 +249,7 @@ def coefficients_least_squares_from_table(
     >>> bool(np.allclose(coefficients_least_squares_from_table(theta, curve), [0.5, 0.25, 0, 0], atol=1e-12))
     True
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     weight = _check_weight(weight)
     iterations = check_positive_int("iterations", iterations, low=1, high=10_000)
     theta_array = as_float_array("theta", theta)
@@ -303,16 +290,16 @@ def coefficients_least_squares(
     >>> c.shape
     (3, 4)
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
-    values = _fresnel(cos_theta(basis.theta), eta[..., None], kappa[..., None])
+    values = fresnel_kernel(cos_theta(basis.theta), eta[..., None], kappa[..., None])
     return coefficients_least_squares_from_table(basis.theta, values, basis, weight, iterations)
 
 
 def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
     """Σ_k c_k b_k(arccos μ): coefficients (..., K) and μ broadcast over the leading axes → (...)."""
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     coefficients = as_float_array("coefficients", coefficients)
     check_shape_last("coefficients", coefficients, basis.n_terms)
     return np.sum(coefficients * basis.evaluate_mu(mu), axis=-1)
@@ -349,7 +336,7 @@ def reconstruction_error(coefficients, theta, values, basis: Basis | None = None
     >>> round(float(max_abs), 12), round(float(rms), 12)
     (0.4, 0.1788854382)
     """
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     coefficients = as_float_array("coefficients", coefficients)
     check_shape_last("coefficients", coefficients, basis.n_terms)
     theta = check_range("theta", theta, 0.0, 0.5 * np.pi)

@@ -1,6 +1,7 @@
 """The Fresnel eigen-basis as data: curves on a θ grid, fit angles, provenance; read, write, evaluate.
 
-Public objects: ``Basis``, ``default_basis``, ``BasisFileError``, ``FORMAT``.
+Public objects: ``Basis``, ``default_basis``, ``resolve_basis``, ``shipped_basis_path``, ``BasisFileError``,
+``FORMAT``.
 
 ``luts/basis.json`` holds the θ grid (radians), the K curves b_k(θ_j), the K fit angles of the
 coefficient solver, the training-set description, build statistics and a SHA-256 content hash of the
@@ -17,16 +18,16 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
-import json
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from .files import write_text
+from .angles import theta_spline
+from .storage import read_json_document, shipped_path, write_json
 from .validation import ParameterError, check_range
 
-__all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis"]
+__all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis", "resolve_basis", "shipped_basis_path"]
 
 #: Identifies the file format; bumped when the layout changes.
 FORMAT = "fresnel-basis/basis@1"
@@ -34,11 +35,6 @@ FORMAT = "fresnel-basis/basis@1"
 
 class BasisFileError(ParameterError):
     """A basis file is missing, truncated, corrupt, foreign or fails its hash."""
-
-
-def _spline(theta: np.ndarray, curves: np.ndarray) -> CubicSpline:
-    """Cubic spline in θ of all curves at once, zero slope at θ = 0 (Fresnel curves are even in θ)."""
-    return CubicSpline(theta, curves.T, bc_type=((1, np.zeros(curves.shape[0])), "not-a-knot"))
 
 
 #: Largest accepted condition number of the four-point system: beyond it the coefficients amplify
@@ -101,7 +97,7 @@ class Basis:
         if fit_angles.shape != (curves.shape[0],):
             raise BasisFileError(f"fit_angles must have shape ({curves.shape[0]},), got {fit_angles.shape}")
         check_range("fit_angles", fit_angles, 0.0, 0.5 * np.pi)
-        spline = _spline(theta, curves)
+        spline = theta_spline(theta, curves.T, axis=0)
         _check_structure(curves, fit_angles, spline)
         self.__dict__["spline"] = spline  # the cached_property below, built once here
         object.__setattr__(self, "theta", theta)
@@ -116,7 +112,7 @@ class Basis:
     @functools.cached_property
     def spline(self) -> CubicSpline:
         """Cubic spline in θ of all curves at once, zero slope at θ = 0."""
-        return _spline(self.theta, self.curves)
+        return theta_spline(self.theta, self.curves.T, axis=0)
 
     @functools.cached_property
     def content_hash(self) -> str:
@@ -161,7 +157,7 @@ class Basis:
 
     def write(self, path) -> Path:
         """Write the basis as JSON atomically (temporary file in the same folder, then rename)."""
-        return write_text(path, json.dumps(self.to_dict(), indent=1) + "\n")
+        return write_json(path, self.to_dict())
 
     @classmethod
     def from_dict(cls, data) -> "Basis":
@@ -192,17 +188,7 @@ class Basis:
     @classmethod
     def read(cls, path) -> "Basis":
         """Read and verify a basis file written by :meth:`write`."""
-        path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise BasisFileError(f"basis file {path} does not exist") from None
-        except (OSError, UnicodeDecodeError) as error:
-            raise BasisFileError(f"cannot read basis file {path}: {error}") from None
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as error:
-            raise BasisFileError(f"basis file {path} is not valid JSON (truncated?): {error}") from None
+        data = read_json_document(path, "basis file", error=BasisFileError)
         try:
             return cls.from_dict(data)
         except BasisFileError as error:
@@ -210,15 +196,20 @@ class Basis:
 
 
 def shipped_basis_path() -> Path:
-    """Path of the basis shipped with the package (``luts/basis.json``).
-
-    Found beside this package (``luts`` is installed next to ``basis``), not by importing ``luts``: a
-    folder named ``luts`` in the working directory must not shadow the shipped data.
-    """
-    return Path(__file__).resolve().parent.parent / "luts" / "basis.json"
+    """Path of the basis shipped with the package (``luts/basis.json``)."""
+    return shipped_path("basis.json")
 
 
 @functools.lru_cache(maxsize=1)
 def default_basis() -> Basis:
     """The shipped basis, read once and cached."""
     return Basis.read(shipped_basis_path())
+
+
+def resolve_basis(basis: Basis | None) -> Basis:
+    """``basis``, or the shipped one when None; anything else is refused with one line."""
+    if basis is None:
+        return default_basis()
+    if not isinstance(basis, Basis):
+        raise ParameterError(f"basis must be a fresnel basis.Basis or None, got {type(basis).__name__}")
+    return basis

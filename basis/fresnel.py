@@ -1,6 +1,9 @@
 """Exact Fresnel reflectance of a planar interface, unpolarised, for a complex IOR η + iκ.
 
-Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``cos_theta``, ``ETA_RANGE``, ``KAPPA_RANGE``.
+Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``fresnel_kernel``, ``ETA_RANGE``, ``KAPPA_RANGE``.
+
+``fresnel_kernel`` is the same formula without validation, for callers whose inputs are already checked
+(the training set, the integrators' nodes).
 
 The incident medium has index 1 (divide η and κ by an external medium's index to change it).
 Dielectrics are κ = 0; η < 1 is internal reflection and gives F = 1 past the critical angle.
@@ -18,7 +21,7 @@ import numpy as np
 
 from .validation import check_range
 
-__all__ = ["ETA_RANGE", "KAPPA_RANGE", "cos_theta", "fresnel_conductor", "fresnel_dielectric"]
+__all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric", "fresnel_kernel"]
 
 #: Accepted η: [1e-8, 1e6] keeps every square and product of squares normal in float64 (below
 #: ~1e-81 they underflow and the formula degenerates); no material has η ≤ 0.
@@ -27,14 +30,8 @@ ETA_RANGE = (1e-8, 1e6)
 KAPPA_RANGE = (0.0, 1e6)
 
 
-def cos_theta(theta) -> np.ndarray:
-    """μ = cos θ with cos(π/2) exactly 0 (floating point gives 6e-17, which is not grazing)."""
-    mu = np.cos(np.asarray(theta, dtype=np.float64))
-    return np.where(np.asarray(theta) == 0.5 * np.pi, 0.0, mu)
-
-
-def _fresnel(mu: np.ndarray, eta: np.ndarray, kappa: np.ndarray) -> np.ndarray:
-    """Unchecked kernel of :func:`fresnel_conductor` (inputs already validated and broadcastable).
+def fresnel_kernel(mu, eta, kappa) -> np.ndarray:
+    """:func:`fresnel_conductor` without validation: μ in [0, 1], η, κ in range and broadcastable.
 
     Terms that depend on the material alone or on the angle alone are formed on their own (small)
     shapes; the full broadcast shape is touched by about thirty in-place passes, which is what a training
@@ -117,7 +114,7 @@ def fresnel_conductor(mu, eta, kappa) -> np.ndarray:
     mu = check_range("mu", mu, 0.0, 1.0)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
-    return _fresnel(mu, eta, kappa)
+    return fresnel_kernel(mu, eta, kappa)
 
 
 def fresnel_dielectric(mu, eta) -> np.ndarray:

@@ -34,8 +34,8 @@ from pathlib import Path
 import numpy as np
 
 from .colorimetry import WAVELENGTHS, spectral_to_rgb_weights
-from .files import write_text
-from .fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel
+from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
+from .storage import read_json_document, shipped_path, write_text
 from .validation import ParameterError, check_range
 
 __all__ = [
@@ -121,20 +121,17 @@ class SpectralIOR:
     def reflectance(self, mu) -> np.ndarray:
         """Spectral reflectance (..., N) at μ = cos θ (...) by the exact Fresnel equations."""
         mu = check_range("mu", mu, 0.0, 1.0)
-        return _fresnel(mu[..., None], self.eta, self.kappa)
+        return fresnel_kernel(mu[..., None], self.eta, self.kappa)
 
 
 def shipped_spectra_path() -> Path:
     """``luts/spectral_ior.json`` beside the package (as :func:`basis.eigenbasis.shipped_basis_path`)."""
-    return Path(__file__).resolve().parent.parent / "luts" / "spectral_ior.json"
+    return shipped_path("spectral_ior.json")
 
 
 @functools.cache
 def _read(path: str) -> dict[str, SpectralIOR]:
-    with open(path, encoding="utf-8") as stream:
-        document = json.load(stream)
-    if document.get("format") != FORMAT or document.get("version") != VERSION:
-        raise ParameterError(f"{path} is not a {FORMAT} v{VERSION} file")
+    document = read_json_document(path, "spectral data", FORMAT, VERSION)
     if not np.allclose(document["wavelengths_nm"], WAVELENGTHS):
         raise ParameterError(f"{path}: wavelengths differ from basis.colorimetry.WAVELENGTHS")
     materials = {}

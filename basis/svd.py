@@ -25,21 +25,13 @@ from collections.abc import Callable, Iterable
 
 import numpy as np
 
+from .angles import trapezoid_weights
 from .validation import ParameterError, check_positive_int
 
-__all__ = ["GramAccumulator", "build_curves", "trapezoid_weights"]
+__all__ = ["GramAccumulator", "build_curves"]
 
 #: Curves whose F(π/2) − F(0) is below this carry no shape information (e.g. η = 1) and are skipped.
 MIN_SPAN = 1e-9
-
-
-def trapezoid_weights(theta: np.ndarray) -> np.ndarray:
-    """Trapezoid-rule weights of the grid ``theta`` (the inner product of the SVD)."""
-    steps = np.diff(theta)
-    weights = np.zeros_like(theta)
-    weights[:-1] += 0.5 * steps
-    weights[1:] += 0.5 * steps
-    return weights
 
 
 class GramAccumulator:

@@ -1,6 +1,6 @@
 """The training set of the eigen-basis: a seeded random sample of complex IORs and their curves.
 
-Public objects: ``TrainingDomain``, ``DEFAULT_DOMAIN``, ``angle_grid``, ``GRID_KINDS``.
+Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``.
 
 A domain is a mixture of components, each a box in (η, κ) or in Gulbrandsen's (r, g), drawn with a
 given share of the curves. The sample is a pure function of (domain, count, seed), so a basis is
@@ -24,29 +24,12 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .fresnel import _fresnel, cos_theta
+from .angles import cos_theta
+from .fresnel import fresnel_kernel
 from .gulbrandsen import gulbrandsen_to_nk
 from .validation import ParameterError, check_positive_int
 
-__all__ = ["DEFAULT_DOMAIN", "GRID_KINDS", "Component", "TrainingDomain", "angle_grid"]
-
-#: θ sampling of the basis: uniform in θ, or uniform in μ = cos θ (denser near normal incidence).
-GRID_KINDS = ("theta", "mu")
-
-
-def angle_grid(size: int, kind: str = "theta") -> np.ndarray:
-    """θ samples in [0, π/2], both ends included, increasing.
-
-    ``kind="theta"`` is uniform in θ (resolves the grazing region as well as normal incidence);
-    ``kind="mu"`` is uniform in cos θ, as the authors' notebook does.
-    """
-    size = check_positive_int("size", size, low=16)
-    if kind == "theta":
-        return np.linspace(0.0, 0.5 * np.pi, size)
-    if kind == "mu":
-        return np.arccos(np.linspace(1.0, 0.0, size))
-    raise ParameterError(f"grid kind must be one of {GRID_KINDS}, got {kind!r}")
-
+__all__ = ["DEFAULT_DOMAIN", "Component", "TrainingDomain"]
 
 @dataclasses.dataclass(frozen=True)
 class Component:
@@ -112,7 +95,7 @@ class TrainingDomain:
 
         def evaluate(start: int) -> np.ndarray:
             stop = min(start + chunk, count)
-            return _fresnel(mu[None, :], eta[start:stop, None], kappa[start:stop, None])
+            return fresnel_kernel(mu[None, :], eta[start:stop, None], kappa[start:stop, None])
 
         starts = iter(range(0, count, chunk))
         with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:

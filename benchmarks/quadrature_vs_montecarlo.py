@@ -14,9 +14,9 @@ import time
 import numpy as np
 
 from preintegrate.channels import basis_channels, combine, schlick_channels
-from preintegrate.montecarlo import monte_carlo_albedo
+from preintegrate.estimators import monte_carlo_albedo
+from preintegrate.lut import build_table
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder, directional_albedo
-from preintegrate.table import build_table
 
 
 def main() -> None:

@@ -25,6 +25,8 @@ import OpenEXR
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
+from test_fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex  # noqa: E402
+
 from basis import (  # noqa: E402
     coefficients_from_curve,
     coefficients_from_gulbrandsen,
@@ -34,6 +36,7 @@ from basis import (  # noqa: E402
     fresnel_conductor,
     gulbrandsen_to_nk,
 )
+from basis.angles import cos_theta
 from basis.builder import NOTEBOOK_ANGLES, TALK_ANGLES  # noqa: E402
 from basis.coefficients import (  # noqa: E402
     coefficients_from_samples,
@@ -42,15 +45,13 @@ from basis.coefficients import (  # noqa: E402
     reconstruction_error,
 )
 from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path  # noqa: E402
-from basis.fresnel import cos_theta  # noqa: E402
 from basis.svd import MIN_SPAN, GramAccumulator  # noqa: E402
 from basis.validation import ParameterError  # noqa: E402
 from preintegrate import cli  # noqa: E402
 from preintegrate.channels import basis_channels, combine, schlick_channels  # noqa: E402
 from preintegrate.exr import read_lut, write_lut  # noqa: E402
+from preintegrate.lut import build_table
 from preintegrate.quadrature import QuadratureOrder, directional_albedo  # noqa: E402
-from preintegrate.table import build_table  # noqa: E402
-from test_fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex  # noqa: E402
 
 EPS = float(np.finfo(np.float64).eps)
 HIGH = QuadratureOrder.uniform(128)

@@ -22,8 +22,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from basis.approximations import APPROXIMATE_MODELS, approximate_model
-from basis.eigenbasis import Basis, default_basis
+from basis.eigenbasis import Basis, resolve_basis
+from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.validation import ParameterError
 
 __all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "combine", "model_channels", "schlick_channels"]
@@ -44,24 +44,14 @@ class ChannelSet:
         return len(self.channel_names)
 
 
-def _schlick_terms(x: np.ndarray) -> np.ndarray:
-    weight = (1.0 - x) ** 5
-    return np.stack([1.0 - weight, weight], axis=-1)
-
-
 def schlick_channels() -> ChannelSet:
-    """Karis's two channels: R = scale (f = 1 − (1 − x)^5), G = bias (f = (1 − x)^5)."""
-    return ChannelSet(
-        name="schlick",
-        functions=_schlick_terms,
-        channel_names=("R", "G"),
-        combination="Fbar = F0 * R + G (Karis 2013; R = scale, G = bias)",
-    )
+    """Karis's two channels: R = scale (f = 1 − (1 − x)^5), G = bias (f = (1 − x)^5): the ``schlick`` model's."""
+    return model_channels("schlick")
 
 
 def basis_channels(basis: Basis | None = None) -> ChannelSet:
     """One channel per basis element b_k(arccos x): R, G, B, A = b0 … b3 for K = 4."""
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     names = ("R", "G", "B", "A")[: basis.n_terms] if basis.n_terms <= 4 else tuple(f"b{k}" for k in range(basis.n_terms))
     return ChannelSet(
         name="basis",
@@ -86,19 +76,22 @@ def combine(*channel_sets: ChannelSet) -> ChannelSet:
 
 
 def model_channels(name: str, **shape) -> ChannelSet:
-    """The exact split-sum channels of a model of :data:`basis.approximations.APPROXIMATE_MODELS` that is
+    """The exact split-sum channels of a model of :data:`basis.models.FRESNEL_MODELS` that is
     linear in fixed functions t_n of cos θ (shape parameters such as ``exponent`` fix them)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     functions = model.channel_functions(**shape)
     count = functions(np.array([0.5])).shape[-1]
     names = ("R", "G", "B", "A")[:count]
     fixed = {key: float(value) for key, value in shape.items() if key in model.shape}
+    combination = model.combination or (
+        "Fbar = " + " + ".join(f"w{n} * {channel}" for n, channel in enumerate(names))
+        + f"; {model.name}: F = sum_n w_n t_n(cos theta), t = {model.terms_description}"
+    )
     return ChannelSet(
         name=name,
         functions=functions,
         channel_names=names,
-        combination="Fbar = " + " + ".join(f"w{n} * {channel}" for n, channel in enumerate(names))
-        + f"; {model.name}: F = sum_n w_n t_n(cos theta), t = {model.terms_description}",
+        combination=combination,
         provenance={"reference": model.reference, **{key: repr(value) for key, value in fixed.items()}},
     )
 
@@ -106,8 +99,7 @@ def model_channels(name: str, **shape) -> ChannelSet:
 #: Registry: name → factory. ``fresnel-lut build --model NAME`` is one lookup here.
 CHANNEL_SETS: dict[str, Callable[..., ChannelSet]] = {
     "basis": basis_channels,
-    "schlick": schlick_channels,
-    **{name: functools.partial(model_channels, name) for name, model in APPROXIMATE_MODELS.items() if model.linear},
+    **{name: functools.partial(model_channels, name) for name, model in FRESNEL_MODELS.items() if model.linear},
 }
 
 

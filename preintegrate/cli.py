@@ -21,14 +21,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from basis.approximations import APPROXIMATE_MODELS, approximate_model
+from basis.angles import cos_theta
 from basis.builder import build_basis
 from basis.coefficients import (
     coefficients_from_gulbrandsen,
@@ -37,28 +36,19 @@ from basis.coefficients import (
     coefficients_least_squares_from_table,
 )
 from basis.eigenbasis import Basis, default_basis
-from basis.files import write_text
-from basis.fresnel import cos_theta
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.materials import (
-    PRESET_SPACES,
-    build_presets,
-    material_coefficients,
-    material_preset,
-    shipped_presets_path,
-    write_presets,
-)
+from basis.material_fits import build_presets
+from basis.models import FRESNEL_MODELS, fresnel_model
+from basis.presets import PRESET_SPACES, material_coefficients, material_preset, shipped_presets_path, write_presets
 from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
+from basis.storage import write_text
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_channels
 from .exr import write_luts
-from .progress import Progress
+from .lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, build_table
+from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
-from .table import PIXEL_CONVENTION, build_table
-
-BASIS_LUT = "ggx_basis_rgba.exr"
-SCHLICK_LUT = "ggx_schlick_rg.exr"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -88,21 +78,6 @@ def _output_folder(option: str, folder) -> Path:
 
 def _load_basis(path) -> Basis:
     return default_basis() if path is None else Basis.read(path)
-
-
-def _peak_rss_mib() -> float:
-    """Peak resident memory of this process in MiB.
-
-    Linux's VmHWM belongs to the current program image; ``ru_maxrss`` would also count the memory of a
-    parent that forked this process (e.g. the report measuring a basis build in a child).
-    """
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 def _size_text(path: Path) -> str:
@@ -164,7 +139,7 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
     if arguments.basis is not None:
         raise ParameterError("--basis goes with the basis table, not with --model")
     shape = _shape_arguments(arguments)
-    model = approximate_model(arguments.model)
+    model = fresnel_model(arguments.model)
     unused = sorted(set(shape) - set(model.shape))
     if unused:
         raise ParameterError(f"--model {model.name} takes {['--' + n.replace('_', '-') for n in model.shape] or 'no shape options'}, "
@@ -209,7 +184,7 @@ def command_basis(arguments) -> int:
     progress.close()
     path = basis.write(arguments.out)
     elapsed = time.perf_counter() - started
-    peak = _peak_rss_mib()
+    peak = peak_rss_mib()
     print(f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
           f"(peak RSS {peak:.0f} MiB)")
     print(f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad")
@@ -313,7 +288,7 @@ _MODEL_SCALAR_OPTIONS = ("exponent", "alpha", "eta_prime", "kappa_prime", "eta_e
 
 
 def _coeffs_of_model(arguments, basis: Basis) -> int:
-    model = approximate_model(arguments.model)
+    model = fresnel_model(arguments.model)
     given = {name: getattr(arguments, name) for name in _MODEL_COLOUR_OPTIONS + _MODEL_SCALAR_OPTIONS
              if getattr(arguments, name, None) is not None}
     if arguments.material is not None or arguments.space is not None:
@@ -415,7 +390,7 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     build.add_argument("--model", default=None, help="instead: the exact split-sum table of one linear model "
-                       f"({', '.join(sorted(n for n, m in APPROXIMATE_MODELS.items() if m.linear))})")
+                       f"({', '.join(sorted(n for n, m in FRESNEL_MODELS.items() if m.linear))})")
     _add_shape_options(build)
     build.set_defaults(run=command_build)
 
@@ -435,7 +410,7 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"))
     coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
     coeffs.add_argument("--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)")
-    coeffs.add_argument("--model", default=None, help=f"an approximate model ({', '.join(sorted(APPROXIMATE_MODELS))}) "
+    coeffs.add_argument("--model", default=None, help=f"an approximate model ({', '.join(sorted(FRESNEL_MODELS))}) "
                         "with its parameters")
     for name in _MODEL_COLOUR_OPTIONS:
         if name not in ("eta", "kappa", "reflectivity", "edge_tint"):

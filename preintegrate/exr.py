@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-from basis.files import replace_together, temporary_sibling
+from basis.storage import replace_together, temporary_sibling
 from basis.validation import ParameterError
 
 __all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]

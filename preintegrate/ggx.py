@@ -1,7 +1,7 @@
 """The GGX (Trowbridge–Reitz) microfacet distribution with height-correlated Smith masking-shadowing.
 
-Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_height_correlated``, ``sample_vndf``,
-``roughness_to_alpha``.
+Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_denominator``, ``g2_height_correlated``,
+``ndf_inverse_cdf``, ``sample_vndf``, ``view_vector``, ``roughness_to_alpha``.
 
 Directions are unit vectors in the local frame (normal = +z), arrays with a trailing axis of 3; μ is
 the cosine to the normal. α is the distribution's width; LUTs index perceptual roughness r with
@@ -20,7 +20,17 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["g1", "g2_height_correlated", "ndf", "roughness_to_alpha", "sample_vndf", "smith_lambda"]
+__all__ = [
+    "g1",
+    "g2_denominator",
+    "g2_height_correlated",
+    "ndf",
+    "ndf_inverse_cdf",
+    "roughness_to_alpha",
+    "sample_vndf",
+    "smith_lambda",
+    "view_vector",
+]
 
 
 def roughness_to_alpha(roughness):
@@ -59,6 +69,12 @@ def g1(mu, alpha):
         return np.where(mu > 0.0, 2.0 * mu_pos / np.where(denominator > 0, denominator, 1.0), 0.0)
 
 
+def g2_denominator(mu_o, mu_i, alpha):
+    """μi √(μo² + α²(1 − μo²)) + μo √(μi² + α²(1 − μi²)), so that the height-correlated G2 is
+    2 μo μi / this (Heitz 2014, eq. 99); unchecked, μo, μi ≥ 0."""
+    return mu_i * _slope_root(mu_o, alpha) + mu_o * _slope_root(mu_i, alpha)
+
+
 def g2_height_correlated(mu_o, mu_i, alpha):
     """Height-correlated G2 = 1 / (1 + Λ(μo) + Λ(μi)) (Heitz 2014, eq. 99).
 
@@ -70,10 +86,24 @@ def g2_height_correlated(mu_o, mu_i, alpha):
     alpha = np.asarray(alpha, dtype=np.float64)
     o = np.maximum(mu_o, 0.0)
     i = np.maximum(mu_i, 0.0)
-    denominator = i * _slope_root(o, alpha) + o * _slope_root(i, alpha)
+    denominator = g2_denominator(o, i, alpha)
     with np.errstate(invalid="ignore", divide="ignore"):
         value = 2.0 * o * i / np.where(denominator > 0.0, denominator, 1.0)
     return np.where((mu_o > 0.0) & (mu_i > 0.0), value, 0.0)
+
+
+def view_vector(mu_o):
+    """ω_o = (sin θo, 0, μo) (..., 3): the view direction in the plane xz of the local frame."""
+    mu_o = np.asarray(mu_o, dtype=np.float64)
+    return np.stack([np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0)), np.zeros_like(mu_o), mu_o], axis=-1)
+
+
+def ndf_inverse_cdf(alpha, u):
+    """(sin θh, cos θh) of the half vector drawn from D(h) μh by the uniform number u ∈ [0, 1):
+    tan²θh = α² u / (1 − u) (Walter 2007, eq. 35; Karis 2013's ``ImportanceSampleGGX``)."""
+    tan2 = alpha * alpha * (u / (1.0 - u))
+    mu_h = 1.0 / np.sqrt(1.0 + tan2)
+    return np.sqrt(tan2) * mu_h, mu_h
 
 
 def sample_vndf(omega_o, alpha, u1, u2):

@@ -1,6 +1,6 @@
 """Progress on standard error for work that takes more than a second.
 
-Public objects: ``Progress``.
+Public objects: ``Progress``, ``peak_rss_mib``.
 
 On a terminal the line is redrawn in place; elsewhere (CI logs, pipes) a line is printed at most every
 few seconds. Nothing is printed for work that finishes within ``delay`` seconds.
@@ -8,10 +8,12 @@ few seconds. Nothing is printed for work that finishes within ``delay`` seconds.
 
 from __future__ import annotations
 
+import resource
 import sys
 import time
+from pathlib import Path
 
-__all__ = ["Progress"]
+__all__ = ["Progress", "peak_rss_mib"]
 
 
 class Progress:
@@ -42,3 +44,18 @@ class Progress:
         if self.shown and self.tty:
             self.stream.write("\n")
             self.stream.flush()
+
+
+def peak_rss_mib() -> float:
+    """Peak resident memory of this process in MiB.
+
+    Linux's VmHWM belongs to the current program image; ``ru_maxrss`` would also count the memory of a
+    parent that forked this process (e.g. the report measuring a basis build in a child).
+    """
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

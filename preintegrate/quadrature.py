@@ -1,6 +1,12 @@
 """Deterministic split-sum quadrature of any functions of cos θ_d = ω_o·h against GGX.
 
-Public objects: ``directional_albedo``, ``QuadratureOrder``, ``QuadratureSchedule``, ``DEFAULT_ORDER``.
+Public objects: ``directional_albedo``, ``texel_weights``, ``QuadratureOrder``, ``QuadratureSchedule``,
+``DEFAULT_ORDER``.
+
+Two methods side by side, as colour's ``sd_to_XYZ_integration`` beside its precomputed weighting factors:
+:func:`directional_albedo` integrates *given functions*; :func:`texel_weights` integrates once the
+cardinal functions of an interpolation on a θ grid, after which any curve *given by samples* on that grid
+costs one matrix product.
 
 For a set of functions f_k of x = ω_o·h,
 
@@ -46,9 +52,12 @@ from collections.abc import Callable
 
 import numpy as np
 
+from basis.angles import check_theta_grid
 from basis.validation import ParameterError, check_positive_int, check_range
 
-__all__ = ["DEFAULT_ORDER", "QuadratureOrder", "QuadratureSchedule", "directional_albedo"]
+from .ggx import g2_denominator
+
+__all__ = ["DEFAULT_ORDER", "QuadratureOrder", "QuadratureSchedule", "directional_albedo", "lagrange_cardinals", "texel_weights"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -206,12 +215,10 @@ def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
 
 
 def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray) -> np.ndarray:
-    """2 μ_i x / (μ_i Ro + μo Ri): the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …))."""
-    alpha2 = (alpha * alpha).reshape((-1,) + (1,) * (x.ndim - 1))
-    mu_o = mu_o.reshape(alpha2.shape)
+    """2 μ_i x / (μ_i Ro + μo Ri) = x G2 / μo: the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …))."""
+    alpha = alpha.reshape((-1,) + (1,) * (x.ndim - 1))
     mu_i = np.maximum(mu_i, 0.0)
-    denominator = mu_i * np.sqrt(mu_o * mu_o + alpha2 * (1.0 - mu_o * mu_o))
-    denominator = denominator + mu_o * np.sqrt(mu_i * mu_i + alpha2 * (1.0 - mu_i * mu_i))
+    denominator = g2_denominator(mu_o.reshape(alpha.shape), mu_i, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
 
@@ -295,3 +302,73 @@ def directional_albedo(
             if progress is not None:
                 progress(done, rough_count)
     return result.reshape(shape + (n_channels,))
+
+
+#: Values (quadrature nodes × θ grid points) in one batch of :func:`texel_weights`: 2^24 float64 = 128 MiB.
+_MAX_VALUES = 1 << 24
+
+
+def lagrange_cardinals(theta_grid: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """x ↦ (L_j(arccos x))_j, x.shape + (M,): cardinal functions of the four-point Lagrange interpolation.
+
+    Between θ_i and θ_{i+1} the interpolant is the cubic through θ_{i−1} … θ_{i+2} (the stencil is
+    shifted inwards at both ends), so Σ_j f(θ_j) L_j(θ) reproduces cubics in θ exactly and at most four
+    L_j are non-zero at any θ.
+    """
+    size = theta_grid.size
+    off_diagonal = ~np.eye(4, dtype=bool)
+
+    def cardinals(x: np.ndarray) -> np.ndarray:
+        theta = np.arccos(np.clip(x, 0.0, 1.0))
+        start = np.clip(np.searchsorted(theta_grid, theta, side="right") - 2, 0, size - 4)
+        stencil = start[..., None] + np.arange(4)
+        nodes = theta_grid[stencil]
+        # L_i(θ) = Π_{j ≠ i} (θ − θ_j) / (θ_i − θ_j) over the stencil
+        numerator = np.where(off_diagonal, (theta[..., None] - nodes)[..., None, :], 1.0)
+        denominator = np.where(off_diagonal, nodes[..., :, None] - nodes[..., None, :], 1.0)
+        values = np.zeros(np.shape(x) + (size,))
+        np.put_along_axis(values, stencil, np.prod(numerator / denominator, axis=-1), axis=-1)
+        return values
+
+    return cardinals
+
+
+def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
+    """Quadrature weights W of each texel on a θ grid: F̄[f](μo, α) ≈ Σ_j W_j f(θ_j) for any curve f.
+
+    Parameters
+    ----------
+    theta_grid : array_like
+        (M,) strictly increasing angles covering [0, π/2] (radians), M ≥ 4, e.g. ``basis.theta``.
+    mu_o : array_like
+        Cosine of the view angle, in [0, 1].
+    alpha : array_like
+        GGX width, in [0, 1]; broadcast against ``mu_o``.
+    order : QuadratureOrder or what :func:`directional_albedo` accepts
+        Node counts of the integrator.
+
+    Returns
+    -------
+    numpy.ndarray
+        broadcast(mu_o, alpha).shape + (M,): W_j = F̄[L_j], the split-sum integral of the j-th cardinal
+        function of the four-point Lagrange interpolation in θ on ``theta_grid``.
+
+    Notes
+    -----
+    F̄[f](μo, α) = ∫ f(ω_o·h) ρ(ω_o, ω_i) μ_i dω_i (Belcour et al. 2020, eq. 2) is linear in f, so
+    replacing f by its interpolant Σ_j f(θ_j) L_j gives F̄[f] ≈ Σ_j f(θ_j) F̄[L_j], exact for cubics
+    in θ and with error O(h⁴ f⁗) otherwise. Each call of the integrator returns all M channels; the
+    work is that of integrating M curves directly, after which any number of curves costs one matrix
+    product. Batches of nodes are bounded so that one holds at most 2^24 values (128 MiB).
+
+    Examples
+    --------
+    >>> theta = np.linspace(0.0, 0.5 * np.pi, 64)
+    >>> weights = texel_weights(theta, 0.5, 0.3)
+    >>> weights.shape
+    (64,)
+    """
+    theta_grid = check_theta_grid("theta_grid", theta_grid)
+    return directional_albedo(
+        lagrange_cardinals(theta_grid), mu_o, alpha, order=order, max_nodes=max(1, _MAX_VALUES // theta_grid.size)
+    )

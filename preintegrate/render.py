@@ -34,14 +34,14 @@ import numpy as np
 
 from basis.validation import check_positive_int, check_range
 
-from .ggx import g1, g2_height_correlated, sample_vndf
+from .estimators import contributions
+from .lut import lut_lookup, texel_centres
 
 __all__ = [
     "DEFAULT_SCENES",
     "STUDIO",
     "Environment",
     "RenderMaterial",
-    "lut_lookup",
     "render_reference",
     "render_split_sum",
     "sphere_geometry",
@@ -103,14 +103,14 @@ class RenderMaterial:
 
 def _figure2(space: str):
     from basis.coefficients import coefficients_from_gulbrandsen
-    from basis.fresnel import _fresnel
+    from basis.fresnel import fresnel_kernel
     from basis.gulbrandsen import gulbrandsen_to_nk
 
     reflectivity, edge_tint = np.full(3, 0.44), np.array([0.0, 1.0, 0.0])
     eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
     return RenderMaterial(
         "Figure 2 (r 0.44, g (0, 1, 0))",
-        lambda mu: _fresnel(np.asarray(mu)[..., None], eta, kappa),
+        lambda mu: fresnel_kernel(np.asarray(mu)[..., None], eta, kappa),
         coefficients_from_gulbrandsen(reflectivity, edge_tint),
         (float(np.sqrt(0.08)), 0.5),
     )
@@ -133,7 +133,8 @@ def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -
 
 
 def _preset(name: str, space: str):
-    from basis.materials import material_coefficients, material_curve
+    from basis.material_fits import material_curve
+    from basis.presets import material_coefficients
 
     return RenderMaterial(name, _tabulated(material_curve(name, space)), material_coefficients(name, space),
                           (0.15, 0.3, 0.6))
@@ -151,23 +152,12 @@ DEFAULT_SCENES: dict[str, Callable[[str], RenderMaterial]] = {
 def sphere_geometry(size: int) -> tuple[np.ndarray, np.ndarray]:
     """(normals (S, S, 3), mask (S, S)) of a unit sphere filling a square orthographic image, +y up."""
     size = check_positive_int("size", size, low=2, high=8192)
-    coordinate = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    coordinate = texel_centres(size) * 2.0 - 1.0
     x, y = np.meshgrid(coordinate, -coordinate)
     radius2 = x * x + y * y
     mask = radius2 < 1.0
     z = np.sqrt(np.clip(1.0 - radius2, 0.0, 1.0))
     return np.stack([x, y, z], axis=-1), mask
-
-
-def lut_lookup(table: np.ndarray, mu_o: np.ndarray, roughness) -> np.ndarray:
-    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) at (μo, r) with texel-centre convention."""
-    height, width = table.shape[:2]
-    x = np.clip(np.asarray(mu_o) * width - 0.5, 0.0, width - 1.0)
-    y = np.clip(np.broadcast_to(np.asarray(roughness, dtype=np.float64), x.shape) * height - 0.5, 0.0, height - 1.0)
-    x0, y0 = np.minimum(x.astype(int), width - 2), np.minimum(y.astype(int), height - 2)
-    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
-    return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
-            + fy * ((1 - fx) * table[y0 + 1, x0] + fx * table[y0 + 1, x0 + 1]))
 
 
 def render_split_sum(material: RenderMaterial, roughness: float, size: int, basis_lut: np.ndarray,
@@ -209,18 +199,13 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
     tangent = np.where(length > 1e-9, tangent / np.maximum(length, 1e-300), fallback - (fallback * n).sum(-1, keepdims=True) * n)
     tangent /= np.linalg.norm(tangent, axis=-1, keepdims=True)
     bitangent = np.cross(n, tangent)
-    omega_o = np.stack([np.sqrt(np.maximum(0.0, 1.0 - mu_o**2)), np.zeros_like(mu_o), mu_o], axis=-1)
     rng = np.random.default_rng(seed)
     total = np.zeros((n.shape[0], 3))
     total_sq = np.zeros_like(total)
     for start in range(0, samples, batch):
         count = min(batch, samples - start)
         u1, u2 = rng.random((count, n.shape[0])), rng.random((count, n.shape[0]))
-        h = sample_vndf(omega_o[None], alpha, u1, u2)  # (count, P, 3) local
-        cos_d = np.clip(np.sum(h * omega_o[None], axis=-1), 0.0, 1.0)
-        local_i = 2.0 * cos_d[..., None] * h - omega_o[None]
-        mu_i = local_i[..., 2]
-        weight = np.where(mu_i > 0.0, g2_height_correlated(mu_o[None], mu_i, alpha) / g1(mu_o[None], alpha), 0.0)
+        cos_d, local_i, weight = contributions(mu_o[None], alpha, u1, u2)  # (count, P), local frame
         world_i = local_i[..., :1] * tangent + local_i[..., 1:2] * bitangent + local_i[..., 2:] * n
         value = material.curve(cos_d) * weight[..., None] * environment.radiance(world_i)
         total += value.sum(axis=0)

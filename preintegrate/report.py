@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 from basis.eigenbasis import default_basis
-from basis.files import write_text
+from basis.storage import write_text
 
 from .progress import Progress
 from .studies.approximation_error import approximation_markdown, approximation_table

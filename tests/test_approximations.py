@@ -1,4 +1,4 @@
-"""Approximate Fresnel models (basis/approximations.py) against the references' closed forms and properties.
+"""Approximate Fresnel models (basis/models) against the references' closed forms and properties.
 
 Ground truth is written out here, independently of the module: Schlick 1994 eq. 15 (= Hoffman 2023 eq. 1),
 Hoffman 2023 eq. 2-6 (Lazanyi, Adobe, generalized Schlick, generalized Adobe), Hoffman 2020 "2019:
@@ -16,14 +16,9 @@ import re
 import numpy as np
 import pytest
 
-from basis.approximations import (
-    APPROXIMATE_MODELS,
-    approximate_model,
-    metal_external_f0,
-    schlick_external_f0,
-)
 from basis.fresnel import fresnel_conductor, fresnel_dielectric
 from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.models import FRESNEL_MODELS, fresnel_model, metal_external_f0, schlick_external_f0
 from basis.validation import ParameterError
 
 #: θ_max = arccos(1/(β + 1)) with β = 6 (Hoffman 2023, footnote 1): the extremum of the dip term.
@@ -122,9 +117,9 @@ ENDPOINTS = {
 
 def test_registry_matches_the_documented_table():
     """The registry holds the models of the module docstring's table; linear/clamped flags and sweeps as documented."""
-    assert set(APPROXIMATE_MODELS) == set(ENDPOINTS) == set(CHANNELS) | NON_LINEAR
-    for name, model in APPROXIMATE_MODELS.items():
-        assert approximate_model(name) is model and model.name == name
+    assert set(FRESNEL_MODELS) == set(ENDPOINTS) == set(CHANNELS) | NON_LINEAR
+    for name, model in FRESNEL_MODELS.items():
+        assert fresnel_model(name) is model and model.name == name
         assert model.linear == (name not in NON_LINEAR)
         assert model.clamp == (name in CLAMPED)
         assert len(model.sweep) > 0
@@ -133,7 +128,7 @@ def test_registry_matches_the_documented_table():
 @pytest.mark.parametrize("name", sorted(CHANNELS))
 def test_channel_count_matches_the_table(name):
     """channel_functions(**p)(μ) has the documented number of channels (the table's last column)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     for point in model.sweep:
         assert model.channel_functions(**point)(MU).shape == (MU.size, CHANNELS[name])
         assert model.channel_weights(**point).shape == (CHANNELS[name],)
@@ -142,7 +137,7 @@ def test_channel_count_matches_the_table(name):
 # --- end points and reference angle ---------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", sorted(APPROXIMATE_MODELS))
+@pytest.mark.parametrize("name", sorted(FRESNEL_MODELS))
 def test_normal_and_grazing_values(name):
     """F(μ = 1) and F(μ = 0) on every sweep point equal the references' values (ENDPOINTS; atol 1e-12).
 
@@ -150,7 +145,7 @@ def test_normal_and_grazing_values(name):
     r0 and r90; Cook-Torrance: F0 and 1; external media: the adjusted F0 and 1; exact-external: the
     closed-form normal reflectance of (η/η_E, κ/η_E); Gulbrandsen: r (eq. 7-9 are built for that).
     """
-    model = approximate_model(name)
+    model = fresnel_model(name)
     for point in model.sweep:
         normal, grazing = ENDPOINTS[name](point)
         np.testing.assert_allclose(model.evaluate(1.0, **point), normal, rtol=0, atol=1e-12, err_msg=str(point))
@@ -159,7 +154,7 @@ def test_normal_and_grazing_values(name):
 
 def test_f82_passes_through_f82_at_arccos_one_seventh():
     """Hoffman 2020 "2019: Reparameterized Lazanyi": F(μ = 1/7) = F82 on every sweep point (atol 1e-13)."""
-    model = approximate_model("f82")
+    model = fresnel_model("f82")
     for point in model.sweep:
         np.testing.assert_allclose(model.evaluate(MU_82, **point), point["f82"], rtol=0, atol=1e-13,
                                    err_msg=str(point))
@@ -167,7 +162,7 @@ def test_f82_passes_through_f82_at_arccos_one_seventh():
 
 def test_f82_matches_the_closed_form_where_unclamped():
     """The F82 model equals Hoffman 2020's formula (a from F0 and F82), clipped to [0, 1], on the μ grid (1e-14)."""
-    model = approximate_model("f82")
+    model = fresnel_model("f82")
     for point in model.sweep:
         np.testing.assert_allclose(model.evaluate(MU, **point), np.clip(f82_curve(MU, **point), 0.0, 1.0),
                                    rtol=0, atol=1e-14, err_msg=str(point))
@@ -175,7 +170,7 @@ def test_f82_matches_the_closed_form_where_unclamped():
 
 def test_adobe_at_theta_max_is_tint_times_schlick():
     """Hoffman 2023 eq. 3 chooses a so that F(θ_max) = t · Schlick(θ_max), μ = 1/7 (atol 1e-14)."""
-    model = approximate_model("adobe")
+    model = fresnel_model("adobe")
     for point in model.sweep:
         np.testing.assert_allclose(model.evaluate(MU_82, **point), point["tint"] * schlick(MU_82, point["f0"]),
                                    rtol=0, atol=1e-14, err_msg=str(point))
@@ -186,8 +181,8 @@ def test_adobe_with_white_tint_is_schlick_exactly():
     closed form of eq. 1 within 1e-15."""
     f0 = np.array([0.0, 0.02, 0.04, 0.3, 0.6, 0.9, 1.0])
     mu = MU[:, None]
-    adobe = approximate_model("adobe").evaluate(mu, f0=f0, tint=1.0)
-    np.testing.assert_array_equal(adobe, approximate_model("schlick").evaluate(mu, f0=f0))
+    adobe = fresnel_model("adobe").evaluate(mu, f0=f0, tint=1.0)
+    np.testing.assert_array_equal(adobe, fresnel_model("schlick").evaluate(mu, f0=f0))
     np.testing.assert_allclose(adobe, schlick(mu, f0), rtol=0, atol=1e-15)
 
 
@@ -196,7 +191,7 @@ def test_adobe_matches_eq_2_and_3():
     f0, tint = np.meshgrid([0.0, 0.04, 0.3, 0.6, 0.9, 1.0], [0.0, 0.1, 0.5, 0.9, 1.0], indexing="ij")
     mu = MU[:, None, None]
     expected = np.clip(generalized_adobe_curve(mu, f0, 1.0, 5.0, tint), 0.0, 1.0)
-    np.testing.assert_allclose(approximate_model("adobe").evaluate(mu, f0=f0, tint=tint), expected,
+    np.testing.assert_allclose(fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), expected,
                                rtol=0, atol=1e-14)
 
 
@@ -208,13 +203,13 @@ def test_adobe_and_f82_are_the_same_family():
     f0, tint = np.meshgrid([0.04, 0.3, 0.6, 0.9], [0.0, 0.3, 0.7, 1.0], indexing="ij")
     mu = MU[:, None, None]
     f82 = tint * schlick(MU_82, f0)
-    np.testing.assert_allclose(approximate_model("f82").evaluate(mu, f0=f0, f82=f82),
-                               approximate_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(fresnel_model("f82").evaluate(mu, f0=f0, f82=f82),
+                               fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-13)
 
 
 def test_generalized_adobe_at_theta_max_is_tint_times_generalized_schlick():
     """Hoffman 2023 eq. 6 makes F(θ_max) = t · (r0 + (r90 - r0)(6/7)^p) on every sweep point (atol 1e-14)."""
-    model = approximate_model("generalized-adobe")
+    model = fresnel_model("generalized-adobe")
     for point in model.sweep:
         expected = point["tint"] * generalized_schlick(MU_82, point["r0"], point["r90"], point["exponent"])
         np.testing.assert_allclose(model.evaluate(MU_82, **point), expected, rtol=0, atol=1e-14, err_msg=str(point))
@@ -222,7 +217,7 @@ def test_generalized_adobe_at_theta_max_is_tint_times_generalized_schlick():
 
 def test_generalized_adobe_matches_eq_5_and_6():
     """The generalized Adobe model equals eq. 5 with a from eq. 6, clipped, on every sweep point (1e-14)."""
-    model = approximate_model("generalized-adobe")
+    model = fresnel_model("generalized-adobe")
     for point in model.sweep:
         np.testing.assert_allclose(model.evaluate(MU, **point), np.clip(generalized_adobe_curve(MU, **point), 0, 1),
                                    rtol=0, atol=1e-14, err_msg=str(point))
@@ -234,9 +229,9 @@ def test_generalized_adobe_with_white_tint_is_generalized_schlick(exponent):
     r0 = np.array([0.0, 0.04, 0.6, 0.9])
     r90 = np.array([1.0, 0.5, 0.8, 0.2])
     mu = MU[:, None]
-    adobe = approximate_model("generalized-adobe").evaluate(mu, r0=r0, r90=r90, exponent=exponent, tint=1.0)
+    adobe = fresnel_model("generalized-adobe").evaluate(mu, r0=r0, r90=r90, exponent=exponent, tint=1.0)
     np.testing.assert_array_equal(
-        adobe, approximate_model("generalized-schlick").evaluate(mu, r0=r0, r90=r90, exponent=exponent))
+        adobe, fresnel_model("generalized-schlick").evaluate(mu, r0=r0, r90=r90, exponent=exponent))
     np.testing.assert_allclose(adobe, generalized_schlick(mu, r0, r90, exponent), rtol=0, atol=1e-15)
 
 
@@ -245,28 +240,28 @@ def test_generalized_adobe_with_r90_one_and_exponent_five_is_adobe():
     f0, tint = np.meshgrid([0.04, 0.3, 0.9], [0.0, 0.5, 1.0], indexing="ij")
     mu = MU[:, None, None]
     np.testing.assert_allclose(
-        approximate_model("generalized-adobe").evaluate(mu, r0=f0, r90=1.0, exponent=5.0, tint=tint),
-        approximate_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-15)
+        fresnel_model("generalized-adobe").evaluate(mu, r0=f0, r90=1.0, exponent=5.0, tint=tint),
+        fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-15)
 
 
 def test_generalized_schlick_with_white_r90_and_exponent_five_is_schlick():
     """Eq. 4 with r90 = 1, α = 5 is eq. 1 (atol 1e-15: a float exponent 5.0 against an integer 5)."""
     f0 = np.array([0.0, 0.02, 0.04, 0.5, 0.98, 1.0])
     mu = MU[:, None]
-    np.testing.assert_allclose(approximate_model("generalized-schlick").evaluate(mu, r0=f0, r90=1.0, exponent=5.0),
+    np.testing.assert_allclose(fresnel_model("generalized-schlick").evaluate(mu, r0=f0, r90=1.0, exponent=5.0),
                                schlick(mu, f0), rtol=0, atol=1e-15)
 
 
 def test_generalized_schlick_default_exponent_is_five():
     """The exponent defaults to Schlick's 5 (its Parameter.default); omitted and explicit agree exactly."""
-    model = approximate_model("generalized-schlick")
+    model = fresnel_model("generalized-schlick")
     np.testing.assert_array_equal(model.evaluate(MU, r0=0.3, r90=0.8), model.evaluate(MU, r0=0.3, r90=0.8, exponent=5.0))
 
 
 @pytest.mark.parametrize("name", ["schlick", "fresnel-blend"])
 def test_schlick_and_fresnel_blend_are_eq_1(name):
     """Schlick and pbrt's FresnelBlend SchlickFresnel are eq. 1 (atol 1e-15) on every sweep point."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     for point in model.sweep:
         (value,) = point.values()
         np.testing.assert_allclose(model.evaluate(MU, **point), schlick(MU, value), rtol=0, atol=1e-15)
@@ -274,7 +269,7 @@ def test_schlick_and_fresnel_blend_are_eq_1(name):
 
 def test_lazanyi_matches_eq_2():
     """The Lazanyi model is eq. 2 (with α as the dip exponent β), clipped to [0, 1]; a = 0 is Schlick (1e-14)."""
-    model = approximate_model("lazanyi")
+    model = fresnel_model("lazanyi")
     for point in model.sweep:
         expected = schlick(MU, point["f0"]) - point["a"] * dip(MU, point["alpha"])
         np.testing.assert_allclose(model.evaluate(MU, **point), np.clip(expected, 0.0, 1.0), rtol=0, atol=1e-14)
@@ -298,7 +293,7 @@ def test_cook_torrance_with_a_matching_dielectric_is_that_dielectric(eta):
     f0 = ((eta - 1.0) / (eta + 1.0)) ** 2
     exact = dielectric(MU, eta)
     assert np.all(exact >= f0 - 1e-15)
-    curve = approximate_model("cook-torrance").evaluate(MU, f0=f0, eta_prime=eta, kappa_prime=0.0)
+    curve = fresnel_model("cook-torrance").evaluate(MU, f0=f0, eta_prime=eta, kappa_prime=0.0)
     np.testing.assert_allclose(curve, exact, rtol=0, atol=1e-12)
     np.testing.assert_allclose(curve, fresnel_dielectric(MU, eta), rtol=0, atol=1e-12)
 
@@ -311,7 +306,7 @@ def test_cook_torrance_with_a_high_index_dielectric_clips_the_dip(eta):
     exact = dielectric(MU, eta)
     below = exact < f0
     assert below.any() and not below.all()
-    curve = approximate_model("cook-torrance").evaluate(MU, f0=f0, eta_prime=eta, kappa_prime=0.0)
+    curve = fresnel_model("cook-torrance").evaluate(MU, f0=f0, eta_prime=eta, kappa_prime=0.0)
     np.testing.assert_allclose(curve[~below], exact[~below], rtol=0, atol=1e-12)
     np.testing.assert_allclose(curve[below], f0, rtol=0, atol=1e-12)
 
@@ -319,7 +314,7 @@ def test_cook_torrance_with_a_high_index_dielectric_clips_the_dip(eta):
 def test_cook_torrance_matches_the_interpolation_formula():
     """On every sweep point and for RGB F0: F = F0 + (1 - F0) max(0, F' - F'(0°)) / (1 - F'(0°)) with F' the
     exact Fresnel equations of (η', κ') (Hoffman 2020; atol 1e-12)."""
-    model = approximate_model("cook-torrance")
+    model = fresnel_model("cook-torrance")
     f0 = np.array([0.9, 0.6, 0.3])  # gold-like RGB
     for point in model.sweep:
         eta, kappa = point["eta_prime"], point["kappa_prime"]
@@ -385,7 +380,7 @@ def test_metal_external_f0_branches(eta_e):
                                               ("schlick-external-metal", metal_external)])
 def test_external_models_are_schlick_with_the_adjusted_f0(name, adjust):
     """schlick-external(-metal) = eq. 1 with F0' from Hoffman 2020's formula, every sweep point and RGB (1e-15)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     for point in model.sweep:
         np.testing.assert_allclose(model.evaluate(MU, **point), schlick(MU, adjust(point["f0"], point["eta_e"])),
                                    rtol=0, atol=1e-15, err_msg=str(point))
@@ -396,7 +391,7 @@ def test_external_models_are_schlick_with_the_adjusted_f0(name, adjust):
 
 def test_exact_external_divides_eta_and_kappa_by_the_external_index():
     """Hoffman 2020: the exact curve in a medium η_E is the Fresnel equations of (η/η_E, κ/η_E) (atol 1e-15)."""
-    model = approximate_model("exact-external")
+    model = fresnel_model("exact-external")
     for point in model.sweep:
         expected = fresnel_conductor(MU, point["eta"] / point["eta_e"], point["kappa"] / point["eta_e"])
         np.testing.assert_allclose(model.evaluate(MU, **point), expected, rtol=0, atol=1e-15, err_msg=str(point))
@@ -407,7 +402,7 @@ def test_exact_external_dielectric_agrees_with_textbook_and_schlick_external(eta
     """A dielectric η = 2.5 under η_E: exact-external equals the textbook Fresnel equations of η/η_E (1e-12),
     and its F(0°) is the dielectric adjustment of F0 = ((η-1)/(η+1))² (Hoffman 2020: exact for dielectrics; 1e-14)."""
     eta = 2.5
-    curve = approximate_model("exact-external").evaluate(MU, eta=eta, kappa=0.0, eta_e=eta_e)
+    curve = fresnel_model("exact-external").evaluate(MU, eta=eta, kappa=0.0, eta_e=eta_e)
     np.testing.assert_allclose(curve, dielectric(MU, eta / eta_e), rtol=0, atol=1e-12)
     f0 = ((eta - 1.0) / (eta + 1.0)) ** 2
     np.testing.assert_allclose(curve[MU == 1.0], schlick_external_f0(f0, eta_e), rtol=0, atol=1e-14)
@@ -419,7 +414,7 @@ def test_exact_external_dielectric_agrees_with_textbook_and_schlick_external(eta
 def test_gulbrandsen_model_is_fresnel_of_gulbrandsen_to_nk():
     """The gulbrandsen model is fresnel_conductor(μ, *gulbrandsen_to_nk(r, g)) (Gulbrandsen 2014 eq. 7-9) on every
     sweep point and for RGB (r, g) (atol 1e-15)."""
-    model = approximate_model("gulbrandsen")
+    model = fresnel_model("gulbrandsen")
     for point in model.sweep:
         expected = fresnel_conductor(MU, *gulbrandsen_to_nk(point["reflectivity"], point["edge_tint"]))
         np.testing.assert_allclose(model.evaluate(MU, **point), expected, rtol=0, atol=1e-15, err_msg=str(point))
@@ -432,7 +427,7 @@ def test_gulbrandsen_model_is_fresnel_of_gulbrandsen_to_nk():
 def test_gulbrandsen_zero_edge_tint_is_the_dielectric_with_that_f0(r):
     """g = 0 gives n_max = (1 + √r)/(1 - √r), κ = 0 (Gulbrandsen 2014 eq. 8): the textbook dielectric (1e-12)."""
     eta = (1.0 + np.sqrt(r)) / (1.0 - np.sqrt(r))
-    np.testing.assert_allclose(approximate_model("gulbrandsen").evaluate(MU, reflectivity=r, edge_tint=0.0),
+    np.testing.assert_allclose(fresnel_model("gulbrandsen").evaluate(MU, reflectivity=r, edge_tint=0.0),
                                dielectric(MU, eta), rtol=0, atol=1e-12)
 
 
@@ -443,7 +438,7 @@ def test_gulbrandsen_zero_edge_tint_is_the_dielectric_with_that_f0(r):
 def test_channels_times_weights_reproduce_the_curve(name):
     """F = Σ w_n t_n(μ): channel_functions(**p)(μ) @ channel_weights(**p) equals the unclamped curve on every sweep
     point (atol 1e-14), which is what makes the split sums exact with one LUT channel per t_n."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     for point in model.sweep:
         linear = model.channel_functions(**point)(MU) @ model.channel_weights(**point)
         np.testing.assert_allclose(linear, model.curve(MU, model.check(**point)), rtol=0, atol=1e-14,
@@ -453,7 +448,7 @@ def test_channels_times_weights_reproduce_the_curve(name):
 @pytest.mark.parametrize("name", sorted(CHANNELS))
 def test_channels_with_rgb_weights(name):
     """RGB parameters give (3, n) weights; t(μ) @ wᵀ is the (M, 3) unclamped curve (atol 1e-14)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     params = rgb_parameters(model)
     weights = model.channel_weights(**params)
     assert weights.shape == (3, CHANNELS[name])
@@ -461,12 +456,12 @@ def test_channels_with_rgb_weights(name):
     np.testing.assert_allclose(linear, model.curve(MU[:, None], model.check(**params)), rtol=0, atol=1e-14)
 
 
-@pytest.mark.parametrize("name", sorted(APPROXIMATE_MODELS))
+@pytest.mark.parametrize("name", sorted(FRESNEL_MODELS))
 def test_evaluate_is_the_curve_unless_clamped(name):
     """Where clamp_is_inactive(**p) holds, evaluate equals the unclamped curve exactly; where it does not (clamped
     models only), the unclamped curve leaves [0, 1] and evaluate is its clip to [0, 1]. The flag is checked against
     a denser μ grid (20001 points) than the module's."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     dense = np.linspace(0.0, 1.0, 20001)
     for point in model.sweep:
         checked = model.check(**point)
@@ -485,7 +480,7 @@ def test_evaluate_is_the_curve_unless_clamped(name):
 def test_f82_clamp_is_active_for_a_dark_f82():
     """F0 = 0.2, F82 = 0: Hoffman 2020 warns such extremes leave [0, 1]; the closed form goes below 0, the flag is
     False, and evaluate stays in [0, 1], equal to the clipped closed form (atol 1e-14) and still F82 at μ = 1/7."""
-    model = approximate_model("f82")
+    model = fresnel_model("f82")
     closed = f82_curve(MU, 0.2, 0.0)
     assert closed.min() < -0.05
     assert not model.clamp_is_inactive(f0=0.2, f82=0.0)
@@ -514,10 +509,10 @@ def scalar_at(params, index):
     return {name: (value[index] if np.ndim(value) else value) for name, value in params.items()}
 
 
-@pytest.mark.parametrize("name", sorted(APPROXIMATE_MODELS))
+@pytest.mark.parametrize("name", sorted(FRESNEL_MODELS))
 def test_rgb_parameters_broadcast_against_mu(name):
     """(3,) colour parameters with μ of shape (5, 1) give (5, 3); each column is the scalar evaluation (1e-15)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     params = rgb_parameters(model)
     mu = np.linspace(0.0, 1.0, 5)[:, None]
     values = model.evaluate(mu, **params)
@@ -527,11 +522,11 @@ def test_rgb_parameters_broadcast_against_mu(name):
     assert np.shape(model.clamp_is_inactive(**params)) == (3,)
 
 
-@pytest.mark.parametrize("name", sorted(APPROXIMATE_MODELS))
+@pytest.mark.parametrize("name", sorted(FRESNEL_MODELS))
 def test_matrix_parameters_broadcast_against_scalar_and_array_mu(name):
     """(2, 3) colour parameters: scalar μ gives (2, 3), μ of shape (4, 1, 1) gives (4, 2, 3); elementwise equal to
     scalar evaluations (atol 1e-15)."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     params = rgb_parameters(model, (2, 3))
     at_scalar = model.evaluate(0.3, **params)
     assert at_scalar.shape == (2, 3)
@@ -549,10 +544,10 @@ def test_matrix_parameters_broadcast_against_scalar_and_array_mu(name):
 
 @pytest.mark.parametrize("name", ["nope", "Schlick", "", None, ["schlick"]])
 def test_unknown_model_name_lists_the_valid_names(name):
-    """approximate_model raises ParameterError naming every registered model."""
+    """fresnel_model raises ParameterError naming every registered model."""
     with pytest.raises(ParameterError) as error:
-        approximate_model(name)
-    for valid in APPROXIMATE_MODELS:
+        fresnel_model(name)
+    for valid in FRESNEL_MODELS:
         assert repr(valid) in str(error.value)
 
 
@@ -574,7 +569,7 @@ def test_unknown_model_name_lists_the_valid_names(name):
 ])
 def test_out_of_range_parameter_names_it_and_its_range(name, values, message):
     """evaluate, check and (for linear models) channel_weights raise ParameterError '<name> must be in [lo, hi]'."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     pattern = re.escape(message)
     with pytest.raises(ParameterError, match=pattern):
         model.evaluate(0.5, **values)
@@ -588,21 +583,21 @@ def test_out_of_range_parameter_names_it_and_its_range(name, values, message):
 def test_gulbrandsen_rejects_unit_reflectivity():
     """r = 1 has no finite (η, κ) (η ≈ 4/(1 - r) at g = 0): ParameterError naming reflectivity."""
     with pytest.raises(ParameterError, match="reflectivity must be in"):
-        approximate_model("gulbrandsen").evaluate(0.5, reflectivity=1.0, edge_tint=0.5)
+        fresnel_model("gulbrandsen").evaluate(0.5, reflectivity=1.0, edge_tint=0.5)
 
 
 @pytest.mark.parametrize("mu", [1.5, -0.1, float("nan")])
 def test_out_of_range_mu(mu):
     """μ outside [0, 1] (or NaN) raises ParameterError naming mu."""
     with pytest.raises(ParameterError, match=re.escape("mu must be in [0, 1]")):
-        approximate_model("schlick").evaluate(mu, f0=0.5)
+        fresnel_model("schlick").evaluate(mu, f0=0.5)
 
 
 @pytest.mark.parametrize("value", [True, "0.5", None, 0.5 + 0.1j])
 def test_malformed_parameter(value):
     """Booleans, strings, complex numbers are refused with a ParameterError naming the parameter (None = missing)."""
     with pytest.raises(ParameterError, match="f0"):
-        approximate_model("schlick").evaluate(0.5, f0=value)
+        fresnel_model("schlick").evaluate(0.5, f0=value)
 
 
 @pytest.mark.parametrize(("name", "values", "missing"), [
@@ -616,14 +611,14 @@ def test_malformed_parameter(value):
 def test_missing_parameter_is_named(name, values, missing):
     """A parameter without default raises ParameterError 'model NAME needs PARAM'."""
     with pytest.raises(ParameterError, match=re.escape(f"model {name!r} needs {missing}")):
-        approximate_model(name).evaluate(0.5, **values)
+        fresnel_model(name).evaluate(0.5, **values)
 
 
 def test_missing_shape_parameter_in_channel_functions():
     """channel_functions needs the shape parameters without default (η' of Cook-Torrance); κ' defaults to 0."""
     with pytest.raises(ParameterError, match="needs eta_prime"):
-        approximate_model("cook-torrance").channel_functions()
-    model = approximate_model("cook-torrance")
+        fresnel_model("cook-torrance").channel_functions()
+    model = fresnel_model("cook-torrance")
     np.testing.assert_array_equal(model.channel_functions(eta_prime=1.5)(MU),
                                   model.channel_functions(eta_prime=1.5, kappa_prime=0.0)(MU))
 
@@ -631,9 +626,9 @@ def test_missing_shape_parameter_in_channel_functions():
 def test_unknown_keyword_is_refused():
     """An unknown keyword raises ParameterError naming it and the accepted ones (no silent typo such as f90)."""
     with pytest.raises(ParameterError, match=re.escape("takes ['f0'], got unknown ['f90']")):
-        approximate_model("schlick").evaluate(0.5, f0=0.1, f90=1.0)
+        fresnel_model("schlick").evaluate(0.5, f0=0.1, f90=1.0)
     with pytest.raises(ParameterError, match="unknown"):
-        approximate_model("adobe").check(f0=0.1, tint=1.0, exponent=5.0)
+        fresnel_model("adobe").check(f0=0.1, tint=1.0, exponent=5.0)
 
 
 @pytest.mark.parametrize(("name", "values"), [
@@ -644,7 +639,7 @@ def test_unknown_keyword_is_refused():
 ])
 def test_array_shape_parameter_is_refused_by_check(name, values):
     """A shape parameter fixes the LUT channels and must be one number: check/evaluate raise ParameterError."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     (shape_name,) = (key for key in values if key in model.shape)
     with pytest.raises(ParameterError, match=f"{shape_name} fixes the LUT channels and must be one number"):
         model.check(**values)
@@ -658,22 +653,22 @@ def test_array_shape_parameter_is_refused_by_check(name, values):
 def test_array_shape_parameter_is_refused_by_channel_functions(exponent):
     """channel_functions(exponent=array) should raise ParameterError naming exponent, like check()."""
     with pytest.raises(ParameterError, match="exponent"):
-        approximate_model("generalized-schlick").channel_functions(exponent=exponent)
+        fresnel_model("generalized-schlick").channel_functions(exponent=exponent)
 
 
 def test_out_of_range_shape_parameter_in_channel_functions():
     """channel_functions validates the range of the shape parameter: ParameterError naming it and its range."""
     with pytest.raises(ParameterError, match=re.escape("exponent must be in [0.1, 50], got 0.0")):
-        approximate_model("generalized-schlick").channel_functions(exponent=0.0)
+        fresnel_model("generalized-schlick").channel_functions(exponent=0.0)
     with pytest.raises(ParameterError, match="alpha must be in"):
-        approximate_model("lazanyi").channel_functions(alpha=float("nan"))
+        fresnel_model("lazanyi").channel_functions(alpha=float("nan"))
 
 
 @pytest.mark.parametrize("name", sorted(NON_LINEAR))
 def test_channel_functions_of_a_non_linear_model_lists_the_linear_ones(name):
     """channel_functions / channel_weights of a model without fixed channels raise ParameterError whose list of
     linear models is exactly the models with a channel count in the docstring table."""
-    model = approximate_model(name)
+    model = fresnel_model(name)
     point = model.sweep[0]
     for call in (lambda: model.channel_functions(**point), lambda: model.channel_weights(**point)):
         with pytest.raises(ParameterError, match="not linear") as error:

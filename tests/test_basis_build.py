@@ -8,10 +8,11 @@ Gram matrix and uses closed forms for the residuals).
 import numpy as np
 import pytest
 
+from basis.angles import angle_grid, trapezoid_weights
 from basis.builder import TALK_ANGLES, build_basis
 from basis.eigenbasis import Basis
-from basis.svd import GramAccumulator, build_curves, trapezoid_weights
-from basis.training import DEFAULT_DOMAIN, angle_grid
+from basis.svd import GramAccumulator, build_curves
+from basis.training import DEFAULT_DOMAIN
 from basis.validation import ParameterError
 
 COUNT = 3000

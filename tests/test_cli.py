@@ -18,15 +18,15 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 import pytest
+from reference_integration import reference_albedo, reference_albedo_half_vector
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficients_from_samples, default_basis
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
 from preintegrate.channels import basis_channels, schlick_channels
 from preintegrate.exr import read_lut
+from preintegrate.lut import PIXEL_CONVENTION
 from preintegrate.progress import Progress
-from preintegrate.table import PIXEL_CONVENTION
-from reference_integration import reference_albedo, reference_albedo_half_vector
 
 BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 SIZE = 32
@@ -234,7 +234,7 @@ def test_coeffs_gulbrandsen(capsys):
 
 def test_coeffs_material_preset(capsys):
     """coeffs --material Gold --json equals luts/materials.json (exact); --space sRGB; the text form names F0."""
-    from basis.materials import material_preset
+    from basis.presets import material_preset
 
     assert run(["coeffs", "--material", "gold", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
@@ -264,7 +264,7 @@ def test_coeffs_material_errors(argv, message, capsys):
 def test_build_model_table(tmp_path, capsys):
     """build --model f82 writes a 3-channel table whose texels equal the integrator's (float32), with the
     combination rule in the header; build --model generalized-schlick --exponent 2 records p."""
-    from basis.approximations import approximate_model
+    from basis.models import fresnel_model
     from preintegrate.channels import channel_set
     from preintegrate.exr import read_lut
     from preintegrate.quadrature import directional_albedo
@@ -277,7 +277,7 @@ def test_build_model_table(tmp_path, capsys):
     np.testing.assert_allclose(table[2, 5], expected, rtol=1e-6, atol=1e-7)
     assert run(["build", "--model", "generalized-schlick", "--exponent", 2, "--size", 4, "--out", tmp_path]) == 0
     assert read_lut(tmp_path / "ggx_generalized-schlick.exr")[1]["model_exponent"] == "2.0"
-    assert approximate_model("f82").linear
+    assert fresnel_model("f82").linear
 
 
 @pytest.mark.parametrize(
@@ -299,14 +299,14 @@ def test_build_model_errors_write_nothing(argv, message, tmp_path, capsys):
 
 def test_coeffs_model(capsys):
     """coeffs --model f82 --json: four-point coefficients of the model's curve, its own LUT weights (f0, 1, -a)."""
-    from basis.approximations import approximate_model
-    from basis.fresnel import cos_theta
+    from basis.angles import cos_theta
+    from basis.models import fresnel_model
 
     f0, f82 = [0.9, 0.6, 0.3], [0.85, 0.55, 0.35]
     assert run(["coeffs", "--model", "f82", "--f0", *f0, "--f82", *f82, "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     basis = default_basis()
-    samples = approximate_model("f82").evaluate(cos_theta(basis.fit_angles)[:, None], f0=f0, f82=f82)
+    samples = fresnel_model("f82").evaluate(cos_theta(basis.fit_angles)[:, None], f0=f0, f82=f82)
     np.testing.assert_allclose(np.array(data["coefficients"]), coefficients_from_samples(samples.T), atol=1e-15)
     a = 823543 / 46656 * (np.array(f0) - f82) + 49 / 6 * (1 - np.array(f0))
     np.testing.assert_allclose(np.array(data["own_split_sum"]["weights"])[:, 2], -a, atol=1e-12)

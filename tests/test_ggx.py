@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_integration import ggx_d, smith_lambda_tan
 from scipy.integrate import cubature, quad
 
 from preintegrate import ggx
-from reference_integration import ggx_d, smith_lambda_tan
 
 ALPHAS = [0.001, 0.01, 0.05, 0.3, 0.7, 1.0]
 

@@ -1,10 +1,10 @@
-"""The engines' Hammersley Monte-Carlo LUT estimator (preintegrate.hammersley) and report study 1
+"""The engines' Hammersley Monte-Carlo LUT estimator (preintegrate.estimators) and report study 1
 (preintegrate.studies.lut_error).
 
 References: (1) the base-2 radical inverse written digit by digit with exact fractions; (2) a literal,
 one-sample-at-a-time transcription of Karis 2013's ``IntegrateBRDF`` (3-vectors, ``ImportanceSampleGGX``'s
 cos θ formula, reflect, N·L test) with the tan-form G2 of tests/reference_integration.py, and the same loop
-with Heitz 2018's VNDF weight; (3) the deterministic quadrature table (preintegrate.table.build_table at
+with Heitz 2018's VNDF weight; (3) the deterministic quadrature table (preintegrate.lut.build_table at
 order 64, itself checked against Monte Carlo and scipy cubature in test_quadrature.py).
 """
 
@@ -14,15 +14,15 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from reference_integration import g2_reference
 
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels, combine, schlick_channels
+from preintegrate.estimators import hammersley_points, hammersley_table, radical_inverse_base2
 from preintegrate.ggx import g1, sample_vndf
-from preintegrate.hammersley import hammersley_points, hammersley_table, radical_inverse_base2
+from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import QuadratureOrder
 from preintegrate.studies.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
-from preintegrate.table import build_table, lut_axes
-from reference_integration import g2_reference
 
 SIX = combine(basis_channels(), schlick_channels())
 

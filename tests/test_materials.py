@@ -1,4 +1,4 @@
-"""Measured materials as coefficients: fits, presets, Hoffman's tables (basis/materials.py and the study).
+"""Measured materials as coefficients: fits, presets, Hoffman's tables (basis/presets.py, basis/material_fits.py and the study).
 
 Ground truth for the independent checks: the RGB curve through colour-science's own ``sd_to_XYZ`` and
 ``XYZ_to_RGB`` (sharing nothing with our weight matrix but the CIE tables); published values: Hoffman
@@ -11,21 +11,13 @@ import colour
 import numpy as np
 import pytest
 
+from basis.angles import cos_theta
 from basis.colorimetry import WAVELENGTHS, WORKING_SPACES, delta_E_2000, rgb_to_rgb_matrix
 from basis.eigenbasis import default_basis
-from basis.fresnel import cos_theta, fresnel_conductor
-from basis.materials import (
-    ANGLES_DEGREES,
-    PRESET_SPACES,
-    PresetFileError,
-    fit_material,
-    material_coefficients,
-    material_curve,
-    material_preset,
-    material_presets,
-    rms_delta_E_2000,
-)
+from basis.fresnel import fresnel_conductor
+from basis.material_fits import ANGLES_DEGREES, fit_material, material_curve, rms_delta_E_2000
 from basis.models import F82_MU, fresnel_Hoffman2019
+from basis.presets import PRESET_SPACES, PresetFileError, material_coefficients, material_preset, material_presets
 from basis.spectral import spectral_ior, spectral_iors
 from basis.validation import ParameterError
 from preintegrate.studies.material_error import (
@@ -162,7 +154,7 @@ def test_lookup_errors_and_case():
 
 
 def test_presets_for_another_basis_are_refused(tmp_path, monkeypatch):
-    import basis.materials as materials
+    import basis.presets as materials
 
     document = json.loads(materials.shipped_presets_path().read_text(encoding="utf-8"))
     document["basis_hash"] = "0" * 16

@@ -8,10 +8,10 @@ equal the split sum of the model's own curve, estimated independently by VNDF Mo
 import numpy as np
 import pytest
 
-from basis.approximations import APPROXIMATE_MODELS, approximate_model
+from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.validation import ParameterError
-from preintegrate.channels import CHANNEL_SETS, channel_set
-from preintegrate.montecarlo import monte_carlo_albedo
+from preintegrate.channels import CHANNEL_SETS, channel_set, schlick_channels
+from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.quadrature import directional_albedo
 
 # One material per linear model, away from the clamp (checked below), RGB where the model has colours.
@@ -31,14 +31,14 @@ TEXELS = [(0.9, 0.2), (0.35, 0.5), (0.08, 0.8)]  # (μo, α)
 
 
 def test_every_linear_model_has_a_case_and_a_channel_set():
-    linear = {name for name, model in APPROXIMATE_MODELS.items() if model.linear}
+    linear = {name for name, model in FRESNEL_MODELS.items() if model.linear}
     assert set(CASES) == linear
     assert linear <= set(CHANNEL_SETS)
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_weighted_channels_equal_monte_carlo_of_the_curve(name):
-    model = approximate_model(name)
+    model = fresnel_model(name)
     parameters = CASES[name]
     assert np.all(model.clamp_is_inactive(**parameters))
     channels = channel_set(name, **parameters)
@@ -55,13 +55,24 @@ def test_schlick_model_channels_are_the_shipped_schlick_channels():
     np.testing.assert_array_equal(channel_set("fresnel-blend").functions(x), channel_set("schlick").functions(x))
 
 
+def test_the_schlick_channel_set_is_schlicks():
+    """One registry: ``channel_set("schlick")`` is the set of the shipped Schlick table (Karis's scale and bias,
+    his combination rule), and its functions are 1 - (1 - x)^5 and (1 - x)^5 (Schlick 1994, eq. 15)."""
+    x = np.linspace(0.0, 1.0, 11)
+    registered, shipped = channel_set("schlick"), schlick_channels()
+    assert (registered.name, registered.channel_names, registered.combination) == (
+        shipped.name, shipped.channel_names, shipped.combination)
+    assert shipped.combination == "Fbar = F0 * R + G (Karis 2013; R = scale, G = bias)"
+    np.testing.assert_array_equal(registered.functions(x), np.stack([1.0 - (1.0 - x) ** 5, (1.0 - x) ** 5], axis=-1))
+
+
 def test_shape_parameters_fix_the_channels():
     x = np.linspace(0.0, 1.0, 11)
     two = channel_set("generalized-schlick", exponent=2.0).functions(x)
     np.testing.assert_allclose(two[:, 1], (1.0 - x) ** 2, atol=1e-15)
     assert channel_set("f82").n_channels == 3 and channel_set("generalized-schlick").n_channels == 2
     with pytest.raises(ParameterError, match="not linear"):
-        approximate_model("gulbrandsen").channel_functions()
+        fresnel_model("gulbrandsen").channel_functions()
     with pytest.raises(ParameterError, match=r"exponent must be in \[0.1, 50\]"):
         channel_set("generalized-schlick", exponent=0.0)
 
@@ -78,13 +89,13 @@ ALL_CASES = {
 
 @pytest.mark.parametrize("name", sorted(ALL_CASES))
 def test_basis_projection_of_every_model_against_monte_carlo(name):
+    from basis.angles import cos_theta
     from basis.coefficients import coefficients_from_samples
     from basis.eigenbasis import default_basis
-    from basis.fresnel import cos_theta
     from preintegrate.channels import basis_channels
 
-    assert set(ALL_CASES) == set(APPROXIMATE_MODELS)
-    model, parameters, basis = approximate_model(name), ALL_CASES[name], default_basis()
+    assert set(ALL_CASES) == set(FRESNEL_MODELS)
+    model, parameters, basis = fresnel_model(name), ALL_CASES[name], default_basis()
     coefficients = coefficients_from_samples(model.evaluate(cos_theta(basis.fit_angles)[:, None], **parameters).T)
     theta = np.linspace(0.0, 0.5 * np.pi, 4001)
     exact = model.evaluate(cos_theta(theta)[:, None], **parameters)

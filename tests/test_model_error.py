@@ -1,7 +1,7 @@
 """Studies 2 and 3 (preintegrate.studies.model_error): texel weights and a quick run of both studies.
 
 References: direct integration of the exact Fresnel curve with the one integrator
-(preintegrate.quadrature.directional_albedo) and the engine's LUT channels (preintegrate.table.build_table);
+(preintegrate.quadrature.directional_albedo) and the engine's LUT channels (preintegrate.lut.build_table);
 polynomials in theta, which the four-point Lagrange cardinal functions reproduce exactly.
 """
 
@@ -13,15 +13,9 @@ import pytest
 from basis import default_basis, fresnel_conductor
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels
-from preintegrate.quadrature import directional_albedo
-from preintegrate.studies.model_error import (
-    _lagrange_cardinals,
-    model_error_markdown,
-    model_error_study,
-    plot_model_error,
-    texel_weights,
-)
-from preintegrate.table import build_table, lut_axes
+from preintegrate.lut import build_table, lut_axes
+from preintegrate.quadrature import directional_albedo, lagrange_cardinals, texel_weights
+from preintegrate.studies.model_error import model_error_markdown, model_error_study, plot_model_error
 
 BASIS = default_basis()
 MU_O, ROUGHNESS = lut_axes(8)
@@ -48,7 +42,7 @@ def test_cardinal_functions_reproduce_cubics_in_theta():
         return 0.3 - theta + 0.7 * theta**2 - 0.25 * theta**3
 
     x = np.linspace(0.0, 1.0, 101)
-    np.testing.assert_allclose(_lagrange_cardinals(grid)(x) @ cubic(grid), cubic(np.arccos(x)), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(lagrange_cardinals(grid)(x) @ cubic(grid), cubic(np.arccos(x)), rtol=0, atol=1e-12)
 
 
 def test_weights_match_direct_integration_of_exact_fresnel(weights):

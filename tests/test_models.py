@@ -1,4 +1,4 @@
-"""Least-squares coefficients (basis.coefficients) and the Fresnel model registry (basis.models).
+"""Least-squares coefficients (basis.coefficients) and the report's registry of material representations.
 
 References: curves built in the span of the shipped basis (known coefficients), the exact Fresnel curve
 (basis.fresnel), the four-point scheme (the L2 fit must not be worse in its own norm), the exact discrete
@@ -11,15 +11,16 @@ import pytest
 from scipy.optimize import linprog
 
 from basis import coefficients_from_nk, default_basis, fresnel_conductor
+from basis.angles import trapezoid_weights
 from basis.coefficients import (
     LEAST_SQUARES_WEIGHTS,
     coefficients_least_squares,
     coefficients_least_squares_from_table,
 )
 from basis.holdout import holdout_materials
-from basis.models import FRESNEL_MODELS, fresnel_model, fresnel_Schlick1994
-from basis.svd import trapezoid_weights
+from basis.models import fresnel_Schlick1994
 from basis.validation import ParameterError
+from preintegrate.studies.model_error import REPRESENTATIONS, representation
 
 BASIS = default_basis()
 WEIGHTS = sorted(LEAST_SQUARES_WEIGHTS)
@@ -148,47 +149,47 @@ def test_raise_exception_least_squares():
 
 # ----------------------------------------------------------------------------- model registry
 def test_registry_names_and_shader_terms():
-    assert list(FRESNEL_MODELS) == ["exact", "schlick", "basis-4point", "basis-lsq", "basis-minimax"]
-    assert fresnel_model("exact").shader_terms() is None
-    assert fresnel_model("schlick").shader_terms() == 2
-    assert all(fresnel_model(name).shader_terms() == BASIS.n_terms for name in FRESNEL_MODELS if name.startswith("basis"))
+    assert list(REPRESENTATIONS) == ["exact", "schlick", "basis-4point", "basis-lsq", "basis-minimax"]
+    assert representation("exact").shader_terms() is None
+    assert representation("schlick").shader_terms() == 2
+    assert all(representation(name).shader_terms() == BASIS.n_terms for name in REPRESENTATIONS if name.startswith("basis"))
 
 
 def test_raise_exception_unknown_model_lists_the_names():
     with pytest.raises(ParameterError) as error:
-        fresnel_model("cook-torrance")
+        representation("cook-torrance")
     message = str(error.value)
     assert "'cook-torrance'" in message
-    assert all(name in message for name in FRESNEL_MODELS)
+    assert all(name in message for name in REPRESENTATIONS)
     with pytest.raises(ParameterError, match="material must be a pair"):
-        fresnel_model("exact").evaluate(0.5, 1.5)
+        representation("exact").evaluate(0.5, 1.5)
     with pytest.raises(ParameterError, match="mu"):
-        fresnel_model("schlick").evaluate(1.5, (1.5, 0.0))
+        representation("schlick").evaluate(1.5, (1.5, 0.0))
 
 
 def test_schlick_values():
     """Schlick 1994 eq. 15 by hand: F0 + (1 - F0)(1 - mu)^5."""
     np.testing.assert_allclose(fresnel_Schlick1994([1.0, 0.5, 0.0], 0.04), [0.04, 0.04 + 0.96 / 32.0, 1.0], atol=1e-15)
     # the model takes F0 from the exact curve: eta = 1.5 gives F0 = 0.04 (Hecht, normal incidence)
-    np.testing.assert_allclose(fresnel_model("schlick").evaluate(0.5, (1.5, 0.0)), 0.04 + 0.96 / 32.0, atol=1e-12)
+    np.testing.assert_allclose(representation("schlick").evaluate(0.5, (1.5, 0.0)), 0.04 + 0.96 / 32.0, atol=1e-12)
 
 
-@pytest.mark.parametrize("name", list(FRESNEL_MODELS))
+@pytest.mark.parametrize("name", list(REPRESENTATIONS))
 def test_models_are_exact_at_normal_and_grazing_incidence(name):
     """F0 and F90 of every model equal the exact curve's (atol 1e-12) for metals and dielectrics."""
     eta, kappa = np.array([0.2, 1.5, 1.1, 2.4]), np.array([3.5, 0.0, 6.0, 0.0])
     for mu in (1.0, 0.0):
         np.testing.assert_allclose(
-            fresnel_model(name).evaluate(mu, (eta, kappa)), fresnel_conductor(mu, eta, kappa), rtol=0, atol=1e-12
+            representation(name).evaluate(mu, (eta, kappa)), fresnel_conductor(mu, eta, kappa), rtol=0, atol=1e-12
         )
 
 
-@pytest.mark.parametrize("name", list(FRESNEL_MODELS))
+@pytest.mark.parametrize("name", list(REPRESENTATIONS))
 def test_models_n_dimensional(name):
     """mu (5,) against materials (3, 1) gives (3, 5), equal to evaluating each material alone."""
     mu = np.linspace(0.0, 1.0, 5)
     eta, kappa = np.array([[0.2], [1.5], [1.1]]), np.array([[3.5], [0.0], [6.0]])
-    model = fresnel_model(name)
+    model = representation(name)
     grid = model.evaluate(mu, (eta, kappa))
     assert grid.shape == (3, 5)
     for row in range(3):

@@ -1,6 +1,6 @@
 """Split-sum quadrature (preintegrate.quadrature.directional_albedo) against independent references.
 
-References: (1) the VNDF Monte-Carlo estimator of preintegrate.montecarlo (separate code path, checked
+References: (1) the VNDF Monte-Carlo estimator of preintegrate.estimators (separate code path, checked
 itself in test_ggx.py), (2) Monte Carlo of the exact Fresnel curve, (3) adaptive scipy cubature
 directly over ω_i (tests/reference_integration.py), (4) closed-form limits.
 """
@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_integration import g2_reference, ggx_d, reference_albedo
 from scipy.integrate import quad
 
 from basis import coefficients_from_nk, fresnel_conductor, gulbrandsen_to_nk, reconstruct
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels, schlick_channels
-from preintegrate.montecarlo import monte_carlo_albedo
+from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder, QuadratureSchedule, directional_albedo
-from reference_integration import g2_reference, ggx_d, reference_albedo
 
 _BASIS = basis_channels().functions
 _SCHLICK = schlick_channels().functions

@@ -8,7 +8,7 @@ reference with the exact Fresnel curve, with tolerances stated from the measured
 import numpy as np
 import pytest
 
-from basis.materials import material_curve
+from basis.material_fits import material_curve
 from basis.validation import ParameterError
 from preintegrate.render import (
     DEFAULT_SCENES,

@@ -10,14 +10,14 @@ import json
 import numpy as np
 import pytest
 
-from basis.approximations import approximate_model
+from basis.models import fresnel_model
 from preintegrate import cli
 from preintegrate.channels import basis_channels
+from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
-from preintegrate.montecarlo import monte_carlo_albedo
+from preintegrate.lut import build_table
 from preintegrate.quadrature import directional_albedo
 from preintegrate.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
-from preintegrate.table import build_table
 
 SIZE = 16
 
@@ -52,6 +52,22 @@ roughness = [0.25, 0.5]
 """
 
 
+@pytest.mark.parametrize("material", [
+    'model = "schlick-external"\nf0 = [0.9, 0.6, 0.3]\neta_e = 1.33',
+    'model = "schlick-external-metal"\nf0 = 0.5\neta_e = 2.0',
+    'model = "fresnel-blend"\nrs = 0.04',
+    'model = "generalized-schlick"\nr0 = 0.04\nr90 = 1.0\nexponent = 5.0',
+])
+def test_models_with_schlicks_functions_get_the_schlick_table(tmp_path, material):
+    """A model whose fixed functions are Schlick's (1 - (1-x)^5, (1-x)^5) reads the Schlick table, not a
+    second copy of it under its own name."""
+    path = tmp_path / "scene.toml"
+    path.write_text(f"[[material]]\nname = \"m\"\n{material}\nroughness = [0.2, 0.5]\n", encoding="utf-8")
+    plan = plan_scene(read_scene(path))
+    assert plan.tables == ("schlick",) and plan.layouts == {"m": "schlick"}
+    assert plan.errors["m"] <= plan.scene.tolerance
+
+
 def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     plan = plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY)))
     assert plan.tables == ("schlick",) and set(plan.layouts.values()) == {"schlick"}
@@ -65,7 +81,7 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     j, i = 1, 11
     mu_o = (i + 0.5) / SIZE
     fbar = table[j, i] @ np.array([0.04, 1.0])
-    mean, error = monte_carlo_albedo(lambda x: approximate_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2,
+    mean, error = monte_carlo_albedo(lambda x: fresnel_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2,
                                      samples=400_000, seed=3)
     assert abs(fbar - mean) < 4.0 * error + 1e-6
     assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
@@ -163,10 +179,10 @@ def test_json_scene_and_coefficients_file(tmp_path):
 def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
     """The tables, scene_coefficients.json and scene_report.md are renamed together: a failure at the
     last rename rolls the others back, and no temporary is left."""
-    import basis.files
+    import basis.storage
 
     plan = plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS)))
-    original, calls = basis.files.os.replace, []
+    original, calls = basis.storage.os.replace, []
 
     def failing(source, target):
         calls.append(target)
@@ -174,7 +190,7 @@ def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return original(source, target)
 
-    monkeypatch.setattr(basis.files.os, "replace", failing)
+    monkeypatch.setattr(basis.storage.os, "replace", failing)
     with pytest.raises(KeyboardInterrupt):
         write_scene(plan, tmp_path / "out")
     assert len(calls) >= 3
@@ -201,7 +217,7 @@ roughness = [0.3, 0.6]
     weights = np.array(plan.coefficients["old copper"])
     rows = np.linspace(0.3, 0.6, plan.rows)
     j, i = 0, 9
-    model = approximate_model("f82")
+    model = fresnel_model("f82")
     f0, f82 = np.array([0.95, 0.64, 0.54]), np.array([0.93, 0.60, 0.50])
     mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64,
                                      rows[j] ** 2, samples=400_000, seed=8)

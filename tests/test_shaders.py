@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from basis import coefficients_from_nk, default_basis
-from basis.fresnel import cos_theta, fresnel_conductor
+from basis.angles import cos_theta
+from basis.fresnel import fresnel_conductor
 from basis.gulbrandsen import gulbrandsen_to_nk
 from preintegrate.channels import basis_channels, schlick_channels
 from preintegrate.exr import read_lut

@@ -10,9 +10,10 @@ import json
 import numpy as np
 import pytest
 
+from basis.angles import cos_theta
 from basis.colorimetry import WAVELENGTHS, spectral_to_rgb_weights
-from basis.fresnel import cos_theta, fresnel_conductor
-from basis.materials import ANGLES_DEGREES, rms_delta_E_2000
+from basis.fresnel import fresnel_conductor
+from basis.material_fits import ANGLES_DEGREES, rms_delta_E_2000
 from basis.models import fresnel_Schlick1994
 from basis.spectral import MEASURED_SOURCES, rgb_fresnel, shipped_spectra_path, spectral_ior, spectral_iors
 from basis.validation import ParameterError

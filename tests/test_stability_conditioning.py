@@ -16,6 +16,7 @@ import pytest
 from scipy.interpolate import CubicSpline
 
 from basis import Basis, coefficients_from_curve, coefficients_from_nk, coefficients_from_table, default_basis
+from basis.angles import cos_theta
 from basis.coefficients import (
     coefficients_from_samples,
     fit_condition_number,
@@ -24,7 +25,6 @@ from basis.coefficients import (
     reconstruction_error,
 )
 from basis.eigenbasis import shipped_basis_path
-from basis.fresnel import cos_theta
 from basis.validation import ParameterError
 
 #: Bound on the 2-norm condition number at the shipped fit angles (measured 4.77; the talk's angles give

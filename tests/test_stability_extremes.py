@@ -19,16 +19,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_integration import reference_albedo_half_vector
+from test_fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, default_basis, fresnel_conductor, gulbrandsen_to_nk
+from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples, fit_matrix, reconstruct, reconstruction_error
-from basis.fresnel import cos_theta
 from basis.svd import MIN_SPAN, GramAccumulator
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels
 from preintegrate.quadrature import QuadratureOrder, directional_albedo
-from reference_integration import reference_albedo_half_vector
-from test_fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex
 
 EPS = float(np.finfo(np.float64).eps)
 SCHEDULE_TOLERANCE = 1e-6

@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_cli import assert_one_line_error, fail_on_call, run, run_subprocess
 
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
-from test_cli import assert_one_line_error, fail_on_call, run, run_subprocess
 
 BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 #: Values of the wrong type or form: argparse refuses them ("invalid int value", "expected one argument").

@@ -27,8 +27,8 @@ from basis import (
     fresnel_dielectric,
     gulbrandsen_to_nk,
 )
+from basis.angles import cos_theta
 from basis.coefficients import fit_matrix, reconstruct, reconstruction_error
-from basis.fresnel import cos_theta
 from preintegrate.channels import basis_channels
 from preintegrate.quadrature import directional_albedo
 

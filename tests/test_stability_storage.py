@@ -2,7 +2,7 @@
 
 References: IEEE 754 round-to-nearest bounds (float32: |δ| ≤ 2^-24 |x| for normal x, ≤ 2^-150 below 2^-126; half:
 |δ| ≤ 2^-11 |x| for |x| ≥ 2^-14, the smallest normal half), the raw half bits as OpenEXR stores them, and a fresh
-float64 build of the 128 × 128 table (preintegrate.table.build_table, the six channels of ``fresnel-lut build``).
+float64 build of the 128 × 128 table (preintegrate.lut.build_table, the six channels of ``fresnel-lut build``).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from basis.eigenbasis import shipped_basis_path
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.exr import read_lut, write_lut
-from preintegrate.table import build_table
+from preintegrate.lut import build_table
 
 SIZE = 128
 NAMES = ("R", "G", "B", "A", "S", "T")  # four basis channels, Schlick scale and bias

@@ -2,7 +2,7 @@
 
 Public objects: ``approximation_table``, ``approximation_markdown``.
 
-For each model of :data:`basis.approximations.APPROXIMATE_MODELS` and each point of its documented
+For each model of :data:`basis.approximations.FRESNEL_MODELS` and each point of its documented
 parameter sweep (``model.sweep``), the curve is projected onto the basis by the four-point scheme and
 by least squares (c0, c1 exact), and the projection error is measured as
 
@@ -24,16 +24,16 @@ import time
 
 import numpy as np
 
-from basis.approximations import APPROXIMATE_MODELS
+from basis.angles import cos_theta
 from basis.coefficients import (
     coefficients_from_samples,
     coefficients_least_squares_from_table,
 )
-from basis.eigenbasis import Basis, default_basis
-from basis.fresnel import cos_theta
+from basis.eigenbasis import Basis, resolve_basis
+from basis.models import FRESNEL_MODELS
 
-from ..table import lut_axes
-from .model_error import texel_weights
+from ..lut import lut_axes
+from ..quadrature import texel_weights
 
 __all__ = ["approximation_markdown", "approximation_table"]
 
@@ -55,14 +55,14 @@ def _sweep_description(sweep: tuple[dict, ...]) -> str:
 
 def approximation_table(basis: Basis | None = None, size: int = 32, names=None) -> dict:
     """Rows (one per model) of the projection error on the model's sweep; see the module docstring."""
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     started = time.perf_counter()
     mu_o, roughness = lut_axes(size)
     weights = texel_weights(basis.theta, mu_o[None, :], (roughness**2)[:, None]).reshape(-1, basis.theta.size)
     mu_grid, mu_fit = cos_theta(basis.theta), cos_theta(basis.fit_angles)
     curves = basis.curves  # (K, M) on basis.theta
     rows = []
-    for name, model in APPROXIMATE_MODELS.items():
+    for name, model in FRESNEL_MODELS.items():
         if names is not None and name not in names:
             continue
         targets = np.stack([model.evaluate(mu_grid, **point) for point in model.sweep])  # (S, M)

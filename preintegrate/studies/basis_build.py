@@ -2,15 +2,16 @@
 
 Public objects: ``basis_build_cost``, ``basis_convergence``, ``basis_build_markdown``.
 
-The build cost is measured in a child process (``fresnel-lut basis``), so its peak resident memory is
-its own and not that of the report. Convergence: bases from N, 2N, 4N, … curves (same domain and θ grid);
+The build cost is measured in a child process that calls :func:`basis.builder.build_basis` (what
+``fresnel-lut basis`` runs) and reports its time and peak resident memory as JSON, so the memory is its
+own and not that of the report. Convergence: bases from N, 2N, 4N, … curves (same domain and θ grid);
 for each doubling, max over θ of |b_k(2N) − b_k(N)| for every element, and the held-out four-point
 error of each basis.
 """
 
 from __future__ import annotations
 
-import re
+import json
 import subprocess
 import sys
 import tempfile
@@ -19,28 +20,38 @@ from pathlib import Path
 
 import numpy as np
 
+from basis.angles import angle_grid
 from basis.builder import holdout_fit_errors
 from basis.eigenbasis import Basis
 from basis.svd import build_curves
-from basis.training import DEFAULT_DOMAIN, angle_grid
+from basis.training import DEFAULT_DOMAIN
 
 __all__ = ["basis_build_cost", "basis_build_markdown", "basis_convergence"]
 
 
+#: The child of :func:`basis_build_cost`: build and write a basis, print the time and the peak memory.
+_CHILD = """
+import json, sys, time
+from basis.builder import build_basis
+from preintegrate.progress import peak_rss_mib
+started = time.perf_counter()
+build_basis(count=int(sys.argv[1])).write(sys.argv[2])
+print(json.dumps({"seconds": time.perf_counter() - started, "peak_rss_mib": peak_rss_mib()}))
+"""
+
+
 def basis_build_cost(counts=(100_000, 1_000_000)) -> list[dict]:
-    """Wall time and peak RSS of ``fresnel-lut basis --count N`` in a fresh process, per N."""
+    """Wall time and peak RSS of a basis build from N curves in a fresh process, per N."""
     rows = []
     for count in counts:
         with tempfile.TemporaryDirectory() as folder:
             started = time.perf_counter()
-            completed = subprocess.run(
-                [sys.executable, "-m", "preintegrate.cli", "basis", "--count", str(count), "--out", str(Path(folder) / "b.json")],
-                capture_output=True, text=True, check=True,
-            )
+            completed = subprocess.run([sys.executable, "-c", _CHILD, str(count), str(Path(folder) / "b.json")],
+                                       capture_output=True, text=True, check=True)
             wall = time.perf_counter() - started
-        match = re.search(r"in ([\d.]+) s \(peak RSS (\d+) MiB\)", completed.stdout)
-        rows.append({"count": count, "angles": 512, "build_seconds": float(match.group(1)),
-                     "process_seconds": wall, "peak_rss_mib": int(match.group(2))})
+        measured = json.loads(completed.stdout)
+        rows.append({"count": count, "angles": 512, "build_seconds": measured["seconds"],
+                     "process_seconds": wall, "peak_rss_mib": round(measured["peak_rss_mib"])})
     return rows
 
 

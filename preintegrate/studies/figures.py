@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from basis.files import replace_together, temporary_sibling
+from basis.storage import replace_together, temporary_sibling
 from basis.validation import ParameterError
 
 __all__ = ["pyplot", "save_figure"]

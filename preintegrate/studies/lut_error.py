@@ -3,13 +3,13 @@
 Public objects: ``lut_error_vs_time``, ``plot_lut_error``, ``lut_error_table_markdown``, ``QUICK``.
 
 For one table of the six channels an engine ships (4 basis + 2 Schlick,
-``combine(basis_channels(), schlick_channels())``) on the texel grid of :func:`preintegrate.table.lut_axes`:
+``combine(basis_channels(), schlick_channels())``) on the texel grid of :func:`preintegrate.lut.lut_axes`:
 
-* our deterministic quadrature (:func:`preintegrate.table.build_table`): the shipped schedule scaled by
+* our deterministic quadrature (:func:`preintegrate.lut.build_table`): the shipped schedule scaled by
   several factors (``method="quadrature-schedule"``, setting = factor, 1 = what ``fresnel-lut build``
   uses) and several uniform orders n (``method="quadrature"``, ``QuadratureOrder.uniform(n)``, 2n² nodes
   per texel);
-* the engine practice (:func:`preintegrate.hammersley.hammersley_table`): N Hammersley points per texel
+* the engine practice (:func:`preintegrate.estimators.hammersley_table`): N Hammersley points per texel
   with GGX NDF importance sampling (Karis 2013; UE4, Filament, glTF IBL Sampler), and the same points with
   VNDF sampling (Heitz 2018);
 
@@ -39,9 +39,9 @@ import numpy as np
 from basis.validation import ParameterError, check_positive_int, check_range
 
 from ..channels import basis_channels, combine, schlick_channels
-from ..hammersley import hammersley_table
+from ..estimators import hammersley_table
+from ..lut import build_table
 from ..quadrature import DEFAULT_ORDER, QuadratureOrder
-from ..table import build_table
 from .figures import pyplot, save_figure
 
 __all__ = ["QUICK", "lut_error_table_markdown", "lut_error_vs_time", "plot_lut_error"]

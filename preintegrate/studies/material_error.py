@@ -6,11 +6,11 @@ Public objects: ``material_error_table``, ``blending_table``, ``gamut_table``, `
 
 The ground truth of a material is its RGB curve by Hoffman's spectral procedure
 (:func:`basis.spectral.rgb_fresnel`); every error is the RMS over θ = 0°, 1°, …, 90° of CIEDE2000
-(:func:`basis.materials.rms_delta_E_2000`), Hoffman's measure. Columns of :func:`material_error_table`:
+(:func:`basis.material_fits.rms_delta_E_2000`), Hoffman's measure. Columns of :func:`material_error_table`:
 
 * ``schlick``: F0 from the curve, Schlick 1994 eq. 15 per channel;
 * ``four-point``, ``least-squares``, ``delta-e``: the basis with the fits of
-  :data:`basis.materials.MATERIAL_FITS` (the presets use ``delta-e``);
+  :data:`basis.material_fits.MATERIAL_FITS` (the presets use ``delta-e``);
 * ``gulbrandsen``: exact Fresnel of Gulbrandsen's (r, g) per channel, both fitted numerically to the
   ground truth (ΔE2000, bounded to r ∈ [0, 0.999], g ∈ [0, 1]): Hoffman's "fitted η, κ" column;
 * ``f82``: Hoffman 2019's reparameterised Lazányi model with F0 and F82 taken from the curve (not
@@ -40,22 +40,16 @@ from collections.abc import Callable
 
 import numpy as np
 
+from basis.angles import cos_theta
 from basis.builder import build_basis
 from basis.colorimetry import delta_E_2000, rgb_to_Lab, rgb_to_rgb_matrix
-from basis.eigenbasis import Basis, default_basis
-from basis.fresnel import _fresnel, cos_theta
+from basis.eigenbasis import Basis, resolve_basis
+from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.materials import (
-    ANGLES_DEGREES,
-    MATERIAL_FITS,
-    fit_material,
-    material_curve,
-    minimise_delta_e,
-    rms_delta_E_2000,
-)
+from basis.material_fits import ANGLES_DEGREES, MATERIAL_FITS, fit_material, material_curve, minimise_delta_e, rms_delta_E_2000
 
 # the unchecked kernels: an RGB F0 of a saturated metal lies outside [0, 1] in a small gamut (sRGB)
-from basis.models import F82_MU, _hoffman2019, _schlick
+from basis.models.formulas import F82_MU, hoffman2019_curve, schlick_curve
 from basis.spectral import spectral_iors
 from basis.training import DEFAULT_DOMAIN, TrainingDomain
 
@@ -117,7 +111,7 @@ _FIT_THETA = np.deg2rad(np.linspace(0.0, 90.0, 361))
 def _gulbrandsen_curve(mu: np.ndarray, reflectivity: np.ndarray, edge_tint: np.ndarray) -> np.ndarray:
     """(A, 3) exact Fresnel of per-channel (r, g); r, g are clipped into Gulbrandsen's domain first."""
     eta, kappa = gulbrandsen_to_nk(np.clip(reflectivity, 0.0, _R_MAX), np.clip(edge_tint, 0.0, 1.0))
-    return _fresnel(mu[:, None], eta, kappa)
+    return fresnel_kernel(mu[:, None], eta, kappa)
 
 
 @functools.cache
@@ -134,12 +128,12 @@ def fit_gulbrandsen(curve: Callable[[np.ndarray], np.ndarray], space: str) -> tu
     truth = curve(mu)
     f0 = np.clip(truth[0], 0.0, _R_MAX)
     grid = np.linspace(0.0, 1.0, 101)
-    trial = _fresnel(mu[:, None, None], *gulbrandsen_to_nk(f0[None, :], grid[:, None]))  # (A, G, 3)
+    trial = fresnel_kernel(mu[:, None, None], *gulbrandsen_to_nk(f0[None, :], grid[:, None]))  # (A, G, 3)
     start_g = grid[np.argmin(np.sum((trial - truth[:, None, :]) ** 2, axis=0), axis=0)]
 
     def rgb_of(parameters: np.ndarray) -> np.ndarray:
         eta, kappa = gulbrandsen_to_nk(parameters[..., None, :3], parameters[..., None, 3:])
-        return _fresnel(mu[:, None], eta, kappa)
+        return fresnel_kernel(mu[:, None], eta, kappa)
 
     bounds = (np.zeros(6), np.array([_R_MAX] * 3 + [1.0] * 3))
     solution = minimise_delta_e(rgb_to_Lab(truth, space), rgb_of, np.concatenate([f0, start_g]), space, bounds)
@@ -148,7 +142,7 @@ def fit_gulbrandsen(curve: Callable[[np.ndarray], np.ndarray], space: str) -> tu
 
 def material_error_table(space: str = "ACEScg", basis: Basis | None = None, names=None) -> list[dict]:
     """One row per measured material: RMS ΔE2000 of each model (see the module docstring)."""
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     mu = cos_theta(_THETA)
     curves = basis.evaluate(_THETA)
     rows = []
@@ -158,7 +152,7 @@ def material_error_table(space: str = "ACEScg", basis: Basis | None = None, name
         curve = material_curve(name, space)
         truth = curve(mu)
         row = {"material": name, "kind": material.kind, "hoffman_schlick": HOFFMAN_SCHLICK.get(name)}
-        row["schlick"] = float(rms_delta_E_2000(truth, _schlick(mu[:, None], truth[0]), space))
+        row["schlick"] = float(rms_delta_E_2000(truth, schlick_curve(mu[:, None], truth[0]), space))
         for fit in MATERIAL_FITS:
             coefficients = fit_material(name, space, fit, basis)
             row[fit] = float(rms_delta_E_2000(truth, (coefficients @ curves.T).T, space))
@@ -166,7 +160,7 @@ def material_error_table(space: str = "ACEScg", basis: Basis | None = None, name
         reflectivity, edge_tint = _gulbrandsen_of(name, space)
         row["gulbrandsen"] = float(rms_delta_E_2000(truth, _gulbrandsen_curve(mu, reflectivity, edge_tint), space))
         f82 = curve(np.array(F82_MU))
-        row["f82"] = float(rms_delta_E_2000(truth, _hoffman2019(mu[:, None], truth[0], f82), space))
+        row["f82"] = float(rms_delta_E_2000(truth, hoffman2019_curve(mu[:, None], truth[0], f82), space))
         row["hoffman_fitted"] = HOFFMAN_FITTED.get(name)
         row["f0_out_of_range"] = bool(np.any((truth[0] < 0.0) | (truth[0] > 1.0)))
         rows.append(row)
@@ -178,7 +172,7 @@ def blending_table(space: str = "ACEScg", basis: Basis | None = None) -> list[di
 
     Gulbrandsen: (r, g) fitted per material (:func:`fit_gulbrandsen`). Basis: the preset fit.
     """
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     mu = cos_theta(_THETA)
     curves = basis.evaluate(_THETA)
     names = sorted({name for pair in HOFFMAN_BLENDING for name in pair})
@@ -207,7 +201,7 @@ def gamut_table(basis: Basis | None = None, targets=("sRGB", "AP0")) -> list[dic
     Gulbrandsen: F0 and g converted as colours by the 3 × 3 matrix and clipped into the model's domain.
     Basis: every coefficient column converted by the same matrix (exact: the model is linear).
     """
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     mu = cos_theta(_THETA)
     curves = basis.evaluate(_THETA)
     rows = []

@@ -1,10 +1,11 @@
 """Studies 2 and 3 of the report: Fresnel models' curve error against cost, and their preintegrated error.
 
-Public objects: ``curve_error_vs_cost``, ``preintegrated_error``, ``texel_weights``, ``model_error_study``,
+Public objects: ``Representation``, ``REPRESENTATIONS``, ``representation``, ``curve_error_vs_cost``,
+``preintegrated_error``, ``model_error_study``,
 ``plot_model_error``, ``model_error_markdown``, ``QUICK``.
 
-The models are the entries of :data:`basis.models.FRESNEL_MODELS` (exact, Schlick, the eigen-basis with
-four-point, L2 least-squares and minimax coefficients); the materials are the held-out groups of
+The models are the ways a renderer represents a material (η, κ), :data:`REPRESENTATIONS`: the exact curve,
+Schlick with F0 = F(0), and the eigen-basis with four-point, L2 least-squares and minimax coefficients; the materials are the held-out groups of
 :func:`basis.holdout.holdout_materials`, none of them used in training.
 
 * **Study 2, curve error vs cost** (:func:`curve_error_vs_cost`): max and RMS over θ of
@@ -15,7 +16,7 @@ four-point, L2 least-squares and minimax coefficients); the materials are the he
   runs over ``evaluations`` evaluations, ``time.perf_counter``); the per-material set-up (parameters);
   and the LUT channels a shader fetches for F̄.
 * **Study 3, preintegrated error** (:func:`preintegrated_error`): max over the texel grid of
-  :func:`preintegrate.table.lut_axes` (μo, r; α = r²) of |F̄_model − F̄_exact|, per material, then
+  :func:`preintegrate.lut.lut_axes` (μo, r; α = r²) of |F̄_model − F̄_exact|, per material, then
   worst and mean over the group and the number of materials above 1/255 (one 8-bit step).
 
 Every model is a function of x = ω_o·h alone, so each texel is a linear functional of the curve
@@ -23,7 +24,7 @@ Every model is a function of x = ω_o·h alone, so each texel is a linear functi
 a θ grid by integrating, with the one integrator :func:`preintegrate.quadrature.directional_albedo`, the
 cardinal functions of a local cubic (four-point Lagrange) interpolation in θ; every model's table, for
 every material at once, is then a matrix product. Two checks travel with the result: W against the LUT
-channels the engine ships (basis and Schlick, :func:`preintegrate.table.build_table`), and W against
+channels the engine ships (basis and Schlick, :func:`preintegrate.lut.build_table`), and W against
 direct integration of the exact curve for the worst materials of each group.
 
 Run: ``python -m preintegrate.studies.model_error [--quick] [--size N] [--png FILE] [--markdown FILE]``.
@@ -37,34 +38,38 @@ References
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from basis.eigenbasis import Basis, default_basis
-from basis.files import write_text
-from basis.fresnel import ETA_RANGE, KAPPA_RANGE, cos_theta, fresnel_conductor
+from basis.angles import check_theta_grid, cos_theta, trapezoid_weights
+from basis.coefficients import coefficients_from_nk, coefficients_least_squares
+from basis.eigenbasis import Basis, resolve_basis
+from basis.fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_conductor, fresnel_kernel
 from basis.holdout import holdout_materials
-from basis.models import FRESNEL_MODELS, FresnelModel, fresnel_model
-from basis.svd import trapezoid_weights
-from basis.validation import ParameterError, as_float_array, check_positive_int, check_range
+from basis.models.formulas import schlick_curve
+from basis.storage import write_text
+from basis.validation import ParameterError, check_positive_int, check_range
 
 from ..channels import basis_channels, combine, schlick_channels
 from ..ggx import roughness_to_alpha
-from ..quadrature import DEFAULT_ORDER, directional_albedo
-from ..table import build_table, lut_axes
+from ..lut import build_table, lut_axes
+from ..quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
 from .figures import pyplot, save_figure
 
 __all__ = [
     "QUICK",
+    "REPRESENTATIONS",
+    "Representation",
+    "representation",
     "curve_error_vs_cost",
     "model_error_markdown",
     "model_error_study",
     "plot_model_error",
     "preintegrated_error",
-    "texel_weights",
 ]
 
 #: Settings of ``quick=True`` (replacing the arguments): a few materials per group, a 32 × 32 table.
@@ -73,83 +78,136 @@ QUICK = {"materials_per_group": 12, "size": 32, "evaluations": 100_000, "repeats
 #: One 8-bit step: the report's target for F̄ of every metal with the basis.
 EIGHT_BIT_STEP = 1.0 / 255.0
 
-#: Values (quadrature nodes × θ grid points) in one batch of :func:`texel_weights`: 2^24 float64 = 128 MiB.
-_MAX_VALUES = 1 << 24
+def _checked_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
+    eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
+    kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
+    return np.broadcast_arrays(eta, kappa)
 
 
-def _check_theta_grid(theta_grid) -> np.ndarray:
-    theta_grid = check_range("theta_grid", theta_grid, 0.0, 0.5 * np.pi)
-    if theta_grid.ndim != 1 or theta_grid.size < 4 or np.any(np.diff(theta_grid) <= 0):
-        raise ParameterError("theta_grid must be a strictly increasing 1-D array of at least 4 angles")
-    if theta_grid[0] > 1e-12 or theta_grid[-1] < 0.5 * np.pi - 1e-12:
-        raise ParameterError(f"theta_grid must cover [0, pi/2], got [{theta_grid[0]}, {theta_grid[-1]}]")
-    return theta_grid
+def _exact_parameters(eta, kappa, basis: Basis) -> np.ndarray:
+    return np.stack(_checked_nk(eta, kappa), axis=-1)
 
 
-def _lagrange_cardinals(theta_grid: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
-    """x ↦ (L_j(arccos x))_j, x.shape + (M,): cardinal functions of the four-point Lagrange interpolation.
-
-    Between θ_i and θ_{i+1} the interpolant is the cubic through θ_{i−1} … θ_{i+2} (the stencil is
-    shifted inwards at both ends), so Σ_j f(θ_j) L_j(θ) reproduces cubics in θ exactly and at most four
-    L_j are non-zero at any θ.
-    """
-    size = theta_grid.size
-    off_diagonal = ~np.eye(4, dtype=bool)
-
-    def cardinals(x: np.ndarray) -> np.ndarray:
-        theta = np.arccos(np.clip(x, 0.0, 1.0))
-        start = np.clip(np.searchsorted(theta_grid, theta, side="right") - 2, 0, size - 4)
-        stencil = start[..., None] + np.arange(4)
-        nodes = theta_grid[stencil]
-        # L_i(θ) = Π_{j ≠ i} (θ − θ_j) / (θ_i − θ_j) over the stencil
-        numerator = np.where(off_diagonal, (theta[..., None] - nodes)[..., None, :], 1.0)
-        denominator = np.where(off_diagonal, nodes[..., :, None] - nodes[..., None, :], 1.0)
-        values = np.zeros(np.shape(x) + (size,))
-        np.put_along_axis(values, stencil, np.prod(numerator / denominator, axis=-1), axis=-1)
-        return values
-
-    return cardinals
+def _exact_curve(mu: np.ndarray, parameters: np.ndarray, basis: Basis) -> np.ndarray:
+    return fresnel_kernel(mu, parameters[..., 0], parameters[..., 1])
 
 
-def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
-    """Quadrature weights W of each texel on a θ grid: F̄[f](μo, α) ≈ Σ_j W_j f(θ_j) for any curve f.
+def _schlick_parameters(eta, kappa, basis: Basis) -> np.ndarray:
+    eta, kappa = _checked_nk(eta, kappa)
+    return fresnel_kernel(np.ones_like(eta), eta, kappa)[..., None]
 
-    Parameters
+
+def _schlick_curve(mu: np.ndarray, parameters: np.ndarray, basis: Basis) -> np.ndarray:
+    return schlick_curve(mu, parameters[..., 0])
+
+
+def _basis_curve(mu: np.ndarray, parameters: np.ndarray, basis: Basis) -> np.ndarray:
+    """Σ_k c_k b_k(arccos μ), the cubic spline of the basis in θ (what a 1-D texture holds)."""
+    return np.einsum("...k,...k->...", parameters, basis.spline(np.arccos(mu)))
+
+
+def _four_point_parameters(eta, kappa, basis: Basis) -> np.ndarray:
+    return coefficients_from_nk(eta, kappa, basis)
+
+
+def _least_squares(weight: str) -> Callable[[np.ndarray, np.ndarray, Basis], np.ndarray]:
+    def parameters(eta, kappa, basis: Basis) -> np.ndarray:
+        return coefficients_least_squares(eta, kappa, basis, weight=weight)
+
+    return parameters
+
+
+@dataclasses.dataclass(frozen=True)
+class Representation:
+    """How a renderer represents a material (η, κ): per-material parameters, the per-sample curve and its
+    shader cost.
+
+    Attributes
     ----------
-    theta_grid : array_like
-        (M,) strictly increasing angles covering [0, π/2] (radians), M ≥ 4, e.g. ``basis.theta``.
-    mu_o : array_like
-        Cosine of the view angle, in [0, 1].
-    alpha : array_like
-        GGX width, in [0, 1]; broadcast against ``mu_o``.
-    order : QuadratureOrder or what :func:`directional_albedo` accepts
-        Node counts of the integrator.
+    name : str
+        Registry key.
+    description : str
+        The formula in words, for tables and legends.
+    parameters : callable
+        (eta, kappa, basis) → (..., P) what a renderer stores per material and colour channel.
+    curve : callable
+        (mu, parameters, basis) → (...) F(μ); unchecked, μ in [0, 1] broadcast against the materials.
+    lut_channels : int, "basis" or None
+        LUT channels a shader fetches for F̄: a count, "basis" for ``basis.n_terms``, ``None`` if the
+        model has no shared split-sum LUT.
+    """
 
-    Returns
-    -------
-    numpy.ndarray
-        broadcast(mu_o, alpha).shape + (M,): W_j = F̄[L_j], the split-sum integral of the j-th cardinal
-        function of the four-point Lagrange interpolation in θ on ``theta_grid``.
+    name: str
+    description: str
+    parameters: Callable[[np.ndarray, np.ndarray, Basis], np.ndarray]
+    curve: Callable[[np.ndarray, np.ndarray, Basis], np.ndarray]
+    lut_channels: int | str | None
 
-    Notes
-    -----
-    F̄[f](μo, α) = ∫ f(ω_o·h) ρ(ω_o, ω_i) μ_i dω_i (Belcour et al. 2020, eq. 2) is linear in f, so
-    replacing f by its interpolant Σ_j f(θ_j) L_j gives F̄[f] ≈ Σ_j f(θ_j) F̄[L_j], exact for cubics
-    in θ and with error O(h⁴ f⁗) otherwise. Each call of the integrator returns all M channels; the
-    work is that of integrating M curves directly, after which any number of curves costs one matrix
-    product. Batches of nodes are bounded so that one holds at most 2^24 values (128 MiB).
+    def shader_terms(self, basis: Basis | None = None) -> int | None:
+        """Number of LUT channels (multiply-adds per colour channel) a shader needs for F̄."""
+        if self.lut_channels == "basis":
+            return resolve_basis(basis).n_terms
+        return self.lut_channels
+
+    def evaluate(self, mu, material, basis: Basis | None = None) -> np.ndarray:
+        """F(μ) of ``material = (eta, kappa)``; μ broadcast against the material arrays.
+
+        Parameters
+        ----------
+        mu : array_like
+            Cosine of the angle of incidence, in [0, 1].
+        material : tuple of array_like
+            (η, κ), η in [1e-8, 1e6], κ in [0, 1e6], broadcast against each other.
+        basis : Basis, optional
+            Basis of the ``basis-*`` models; default the shipped one.
+
+        Examples
+        --------
+        >>> round(float(REPRESENTATIONS["schlick"].evaluate(1.0, (1.5, 0.0))), 12)
+        0.04
+        """
+        basis = resolve_basis(basis)
+        if not isinstance(material, (tuple, list)) or len(material) != 2:
+            raise ParameterError(f"material must be a pair (eta, kappa), got {type(material).__name__}")
+        mu = check_range("mu", mu, 0.0, 1.0)
+        return self.curve(mu, self.parameters(material[0], material[1], basis), basis)
+
+
+#: Registry: name → representation; the report's rows are one lookup here.
+REPRESENTATIONS: dict[str, Representation] = {
+    "exact": Representation(
+        "exact", "Fresnel equations of eta + i kappa (Hoffman 2020)", _exact_parameters, _exact_curve, None
+    ),
+    "schlick": Representation(
+        "schlick", "Schlick 1994, F0 from the exact curve", _schlick_parameters, _schlick_curve, 2
+    ),
+    "basis-4point": Representation(
+        "basis-4point", "eigen-basis, four-point coefficients (Belcour 2020)",
+        _four_point_parameters, _basis_curve, "basis",
+    ),
+    "basis-lsq": Representation(
+        "basis-lsq", "eigen-basis, L2 least squares over theta, F0 and F90 exact",
+        _least_squares("uniform"), _basis_curve, "basis",
+    ),
+    "basis-minimax": Representation(
+        "basis-minimax", "eigen-basis, Lawson-reweighted least squares (max norm), F0 and F90 exact",
+        _least_squares("minimax"), _basis_curve, "basis",
+    ),
+}
+
+
+def representation(name: str) -> Representation:
+    """Look up a model by name; the error lists the valid names.
 
     Examples
     --------
-    >>> theta = np.linspace(0.0, 0.5 * np.pi, 64)
-    >>> weights = texel_weights(theta, 0.5, 0.3)
-    >>> weights.shape
-    (64,)
+    >>> representation("schlick").shader_terms()
+    2
     """
-    theta_grid = _check_theta_grid(theta_grid)
-    return directional_albedo(
-        _lagrange_cardinals(theta_grid), mu_o, alpha, order=order, max_nodes=max(1, _MAX_VALUES // theta_grid.size)
-    )
+    try:
+        return REPRESENTATIONS[name]
+    except (KeyError, TypeError):
+        raise ParameterError(f"representation must be one of {sorted(REPRESENTATIONS)}, got {name!r}") from None
 
 
 # ---------------------------------------------------------------------------------------- inputs
@@ -172,18 +230,11 @@ def _groups(groups, quick: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     return checked
 
 
-def _models(models) -> dict[str, FresnelModel]:
-    names = list(FRESNEL_MODELS) if models is None else models
+def _models(models) -> dict[str, Representation]:
+    names = list(REPRESENTATIONS) if models is None else models
     if isinstance(names, str) or not isinstance(names, Sequence) or not names:
-        raise ParameterError(f"models must be a non-empty sequence of names from {sorted(FRESNEL_MODELS)}")
-    return {name: fresnel_model(name) for name in names}
-
-
-def _basis(basis) -> Basis:
-    basis = default_basis() if basis is None else basis
-    if not isinstance(basis, Basis):
-        raise ParameterError(f"basis must be a fresnel basis.Basis or None, got {type(basis).__name__}")
-    return basis
+        raise ParameterError(f"models must be a non-empty sequence of names from {sorted(REPRESENTATIONS)}")
+    return {name: representation(name) for name in names}
 
 
 def _dense_theta(samples: int) -> np.ndarray:
@@ -224,7 +275,7 @@ def curve_error_vs_cost(
     groups : dict, optional
         name → (η, κ) arrays; default :func:`basis.holdout.holdout_materials`.
     models : sequence of str, optional
-        Names from :data:`basis.models.FRESNEL_MODELS`; default all.
+        Names from :data:`REPRESENTATIONS`; default all.
     basis : Basis, optional
         Basis of the ``basis-*`` models; default the shipped one.
     theta_samples : int
@@ -252,7 +303,7 @@ def curve_error_vs_cost(
         theta_samples, evaluations, repeats = QUICK["theta_samples"], QUICK["evaluations"], QUICK["repeats"]
     groups = _groups(groups, quick)
     models = _models(models)
-    basis = _basis(basis)
+    basis = resolve_basis(basis)
     evaluations = check_positive_int("evaluations", evaluations, low=1000, high=10**8)
     repeats = check_positive_int("repeats", repeats, low=1, high=100)
     theta = _dense_theta(theta_samples)
@@ -266,7 +317,7 @@ def curve_error_vs_cost(
     timing_mu = rng.uniform(0.0, 1.0, evaluations)
 
     result_models = {}
-    exact = FRESNEL_MODELS["exact"]
+    exact = REPRESENTATIONS["exact"]
     for name, model in models.items():
         entry = {"description": model.description, "shader_terms": model.shader_terms(basis), "groups": {}}
         for group, (eta, kappa) in groups.items():
@@ -324,7 +375,7 @@ def preintegrated_error(
     groups, models, basis
         As in :func:`curve_error_vs_cost`; the ``exact`` model, the reference, is skipped.
     size : int
-        Table width = height on the LUT texel grid (:func:`preintegrate.table.lut_axes`), in [2, 1024].
+        Table width = height on the LUT texel grid (:func:`preintegrate.lut.lut_axes`), in [2, 1024].
     order : QuadratureOrder, optional
         Integrator node counts (default: the LUT build's).
     theta_grid : array_like, optional
@@ -352,8 +403,8 @@ def preintegrated_error(
     reference_materials = check_positive_int("reference_materials", reference_materials, low=0, high=32)
     groups = _groups(groups, quick)
     models = {name: model for name, model in _models(models).items() if name != "exact"}
-    basis = _basis(basis)
-    theta_grid = basis.theta if theta_grid is None else _check_theta_grid(as_float_array("theta_grid", theta_grid))
+    basis = resolve_basis(basis)
+    theta_grid = basis.theta if theta_grid is None else check_theta_grid("theta_grid", theta_grid)
     mu_grid = cos_theta(theta_grid)
     mu_o, roughness = lut_axes(size)
     alpha = roughness_to_alpha(roughness)
@@ -372,7 +423,7 @@ def preintegrated_error(
         "seconds": time.perf_counter() - start,
     }
 
-    exact = FRESNEL_MODELS["exact"]
+    exact = REPRESENTATIONS["exact"]
     result_models: dict[str, dict] = {name: {} for name in models}
     reference_check = {}
     for group, (eta, kappa) in groups.items():

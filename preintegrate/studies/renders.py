@@ -19,11 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
+from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000
-from basis.fresnel import cos_theta
-from basis.models import _schlick  # unchecked: an sRGB F0 may leave [0, 1]
+from basis.models.formulas import schlick_curve  # unchecked: an sRGB F0 may leave [0, 1]
+from basis.storage import shipped_path
 
 from ..exr import read_lut, write_luts
+from ..lut import BASIS_LUT, SCHLICK_LUT
 from ..render import (
     DEFAULT_SCENES,
     render_reference,
@@ -41,8 +43,7 @@ EXPOSURE = 1.0
 
 
 def _luts() -> tuple[np.ndarray, np.ndarray]:
-    folder = Path(__file__).resolve().parent.parent.parent / "luts"
-    return read_lut(folder / "ggx_basis_rgba.exr")[0], read_lut(folder / "ggx_schlick_rg.exr")[0]
+    return read_lut(shipped_path(BASIS_LUT))[0], read_lut(shipped_path(SCHLICK_LUT))[0]
 
 
 def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
@@ -90,7 +91,7 @@ def _curves_figure(scene: str, path: Path) -> Path:
     f0 = truth[0]
     curves = {
         "ground truth": truth,
-        "Schlick": _schlick(cos_theta(theta)[:, None], f0),
+        "Schlick": schlick_curve(cos_theta(theta)[:, None], f0),
         "basis": (material.coefficients @ basis.evaluate(theta).T).T,
     }
     figure, axes = plt.subplots(2, 2, figsize=(11, 6), gridspec_kw={"height_ratios": [3, 1.4]})

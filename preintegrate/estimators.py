@@ -1,31 +1,34 @@
-"""The engines' split-sum LUT estimator: importance-sampled Monte Carlo over a Hammersley point set.
+"""Estimators of the split-sum directional albedo over a point set: Monte Carlo and the engines' Hammersley.
 
-Public objects: ``hammersley_table``, ``hammersley_points``, ``radical_inverse_base2``, ``SAMPLINGS``.
+Public objects: ``contributions``, ``SAMPLINGS``, ``monte_carlo_albedo``, ``hammersley_table``,
+``hammersley_points``, ``radical_inverse_base2``.
 
-This is the "engine practice" that :mod:`preintegrate.quadrature` is measured against (the report's
-LUT error against generation time). It reproduces ``IntegrateBRDF`` of Karis 2013 (and the same loop in
-Filament's ``DFG`` and the glTF-Sample-Viewer / IBL Sampler): every texel uses the same N points of the
-Hammersley set x_i = (i/N, Φ₂(i)), Φ₂ the base-2 radical inverse, and
+One routine, :func:`contributions`, turns a view cosine and a caller's uniform points (random numbers, a
+Hammersley set) into half vectors and sample weights; every estimate of this project goes through it:
 
-* ``sampling="ndf"`` (Karis 2013): h from GGX's distribution of normals D(h) μ_h,
-  θ_h = atan(α √(ξ/(1 − ξ))) with ξ = Φ₂(i) (Karis's cos θ_h = √((1 − ξ)/(1 + (α² − 1) ξ)), the same
-  thing) and φ_h = 2π i/N — the engines feed the radical inverse to θ_h and i/N to φ_h; ω_i = reflect(ω_o, h);
-  samples with μ_i = N·L > 0 contribute f_k(V·H) G2 (V·H) / ((N·H)(N·V));
 * ``sampling="vndf"`` (Heitz 2018): h from the distribution of visible normals D_ωo(h)
-  (:func:`preintegrate.ggx.sample_vndf` with u1 = Φ₂(i) for the disk radius, u2 = i/N for its angle);
-  samples with μ_i > 0 contribute f_k(V·H) G2 / G1(ω_o).
+  (:func:`preintegrate.ggx.sample_vndf`, u1 for the disk radius, u2 for its angle); ω_i = reflect(ω_o, h);
+  samples with μ_i > 0 contribute f(ω_o·h) G2 / G1(ω_o) (Heitz 2018, eq. 19 with the pdf D_ωo(h) / (4 ω_o·h));
+* ``sampling="ndf"`` (Karis 2013): h from GGX's distribution of normals D(h) μ_h,
+  θ_h = atan(α √(ξ/(1 − ξ))) with ξ = u1 (:func:`preintegrate.ggx.ndf_inverse_cdf`) and φ_h = 2π u2;
+  samples with μ_i > 0 contribute f(V·H) G2 (V·H) / ((N·H)(N·V)).
 
-The sum is divided by N (rejected samples count as zero), as the engines do. G2 is the height-correlated
-Smith term (:func:`preintegrate.ggx.g2_height_correlated`), matching the quadrature's integrand, so the
-only difference from :func:`preintegrate.table.build_table` is the estimator's error. Unlike the
-shaders, which compute Φ₂ in float32, everything here is float64 (Φ₂(i) for i < 2³² is exact in float64).
+:func:`monte_carlo_albedo` is the unbiased reference of the tests (random points, VNDF, standard error
+returned with the mean); it shares only the GGX formulas with :mod:`preintegrate.quadrature`.
+:func:`hammersley_table` is the "engine practice" the quadrature is measured against: ``IntegrateBRDF`` of
+Karis 2013 (and the same loop in Filament's ``DFG`` and the glTF IBL Sampler), every texel with the same N
+points of the Hammersley set x_i = (i/N, Φ₂(i)), Φ₂ the base-2 radical inverse — the engines feed the
+radical inverse to θ_h and i/N to φ_h. The sum is divided by N (rejected samples count as zero), as the
+engines do. G2 is the height-correlated Smith term, matching the quadrature's integrand, so the only
+difference from :func:`preintegrate.lut.build_table` is the estimator's error. Unlike the shaders, which
+compute Φ₂ in float32, everything here is float64 (Φ₂(i) for i < 2³² is exact in float64).
 
 References
 ----------
 :cite:`Karis2013` B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes
     (``Hammersley``, ``ImportanceSampleGGX``, ``IntegrateBRDF``).
 :cite:`Heitz2018` E. Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018
-    (listing 1; estimator eq. 19 with pdf D_ωo(h) / (4 ω_o·h), weight G2 / G1).
+    (listing 1; estimator eq. 19, weight G2 / G1).
 :cite:`Heitz2014` JCGT 3(2), 2014, eq. 99 (height-correlated G2).
 """
 
@@ -35,19 +38,44 @@ from collections.abc import Callable
 
 import numpy as np
 
-from basis.validation import ParameterError, as_float_array, check_positive_int
+from basis.validation import ParameterError, as_float_array, check_positive_int, check_range
 
 from .channels import ChannelSet
-from .ggx import g1, g2_height_correlated, roughness_to_alpha, sample_vndf
-from .table import lut_axes
+from .ggx import g1, g2_height_correlated, ndf_inverse_cdf, roughness_to_alpha, sample_vndf, view_vector
+from .lut import lut_axes
 
-__all__ = ["SAMPLINGS", "hammersley_points", "hammersley_table", "radical_inverse_base2"]
+__all__ = ["SAMPLINGS", "contributions", "hammersley_points", "hammersley_table", "monte_carlo_albedo",
+           "radical_inverse_base2"]
 
-#: Importance-sampling strategies of :func:`hammersley_table`.
+#: Importance-sampling strategies of :func:`contributions`.
 SAMPLINGS = ("ndf", "vndf")
 
 #: Largest sample count: Φ₂ is computed on 32-bit indices, as in the shaders.
 MAX_SAMPLES = 1 << 24
+
+
+def contributions(mu_o, alpha, u1, u2, sampling: str = "vndf"):
+    """(ω_o·h, local ω_i (..., 3), weight) of the samples drawn by the uniform points (u1, u2).
+
+    ``mu_o`` and ``alpha`` broadcast against the points (e.g. texels (T, 1) against points (1, S)); ω_o
+    lies in the plane xz. The weight is 0 where ω_i is at or below the horizon. Unchecked.
+    """
+    omega_o = view_vector(mu_o)
+    if sampling == "vndf":
+        h = sample_vndf(omega_o, alpha, u1, u2)
+        v_dot_h = omega_o[..., 0] * h[..., 0] + mu_o * h[..., 2]
+        omega_i = 2.0 * v_dot_h[..., None] * h - omega_o
+        weight = g2_height_correlated(mu_o, omega_i[..., 2], alpha) / g1(mu_o, alpha)
+        v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
+    else:
+        sin_h, mu_h = ndf_inverse_cdf(alpha, u1)
+        phi = 2.0 * np.pi * u2
+        h = np.stack(np.broadcast_arrays(sin_h * np.cos(phi), sin_h * np.sin(phi), mu_h), axis=-1)
+        v_dot_h = omega_o[..., 0] * h[..., 0] + mu_o * mu_h
+        omega_i = 2.0 * v_dot_h[..., None] * h - omega_o
+        v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
+        weight = g2_height_correlated(mu_o, omega_i[..., 2], alpha) * v_dot_h / (mu_h * mu_o)
+    return v_dot_h, omega_i, np.where(omega_i[..., 2] > 0.0, weight, 0.0)
 
 
 def radical_inverse_base2(indices) -> np.ndarray:
@@ -74,33 +102,6 @@ def hammersley_points(samples: int) -> tuple[np.ndarray, np.ndarray]:
     samples = check_positive_int("samples", samples, low=1, high=MAX_SAMPLES)
     index = np.arange(samples)
     return index / samples, radical_inverse_base2(index)
-
-
-def _ndf_contributions(mu_o, alpha, fraction, radical):
-    """(V·H, weight) of Karis's IntegrateBRDF for texels (T, 1) and points (1, S), weight 0 where N·L ≤ 0."""
-    # θ_h = atan(α √(ξ/(1 − ξ))): tan²θ_h = α² ξ / (1 − ξ), ξ = Φ₂(i) < 1.
-    tan2 = alpha * alpha * (radical / (1.0 - radical))
-    mu_h = 1.0 / np.sqrt(1.0 + tan2)
-    sin_h = np.sqrt(tan2) * mu_h
-    cos_phi = np.cos(2.0 * np.pi * fraction)
-    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
-    v_dot_h = sin_o * sin_h * cos_phi + mu_o * mu_h  # V = (sin θo, 0, μo)
-    mu_i = 2.0 * v_dot_h * mu_h - mu_o  # N·L of L = 2 (V·H) H − V
-    v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
-    weight = g2_height_correlated(mu_o, mu_i, alpha) * v_dot_h / (mu_h * mu_o)
-    return v_dot_h, np.where(mu_i > 0.0, weight, 0.0)
-
-
-def _vndf_contributions(mu_o, alpha, fraction, radical):
-    """(V·H, weight) of Heitz 2018's VNDF estimator: G2 / G1(V) where N·L > 0."""
-    sin_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
-    omega_o = np.stack([sin_o, np.zeros_like(mu_o), mu_o], axis=-1)  # (T, 1, 3)
-    h = sample_vndf(omega_o, alpha, radical, fraction)  # (T, S, 3)
-    v_dot_h = sin_o * h[..., 0] + mu_o * h[..., 2]
-    mu_i = 2.0 * v_dot_h * h[..., 2] - mu_o
-    v_dot_h = np.clip(v_dot_h, 0.0, 1.0)
-    weight = g2_height_correlated(mu_o, mu_i, alpha) / g1(mu_o, alpha)
-    return v_dot_h, np.where(mu_i > 0.0, weight, 0.0)
 
 
 def hammersley_table(
@@ -149,7 +150,6 @@ def hammersley_table(
         raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
     if progress is not None and not callable(progress):
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
-    contributions = _ndf_contributions if sampling == "ndf" else _vndf_contributions
 
     mu_axis, roughness = lut_axes(width, height)
     alpha_axis = roughness_to_alpha(roughness)
@@ -168,9 +168,58 @@ def hammersley_table(
         total = np.zeros((stop - start, n_channels))
         for first in range(0, samples, sample_chunk):
             points = slice(first, first + sample_chunk)
-            v_dot_h, weight = contributions(mu_chunk, alpha_chunk, fraction[None, points], radical[None, points])
+            # the engines feed Φ₂(i) to θ_h (NDF) or to the disk radius (VNDF), i/N to the angle
+            v_dot_h, _, weight = contributions(mu_chunk, alpha_chunk, radical[None, points], fraction[None, points],
+                                               sampling)
             total += np.einsum("ts,tsk->tk", weight, channels.functions(v_dot_h))
         result[start:stop] = total / samples
         if progress is not None:
             progress(stop, mu_o.size)
     return result.reshape(height, width, n_channels)
+
+
+def monte_carlo_albedo(
+    function: Callable[[np.ndarray], np.ndarray],
+    mu_o: float,
+    alpha: float,
+    samples: int = 200_000,
+    seed: int = 0,
+    batch: int = 1_000_000,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Estimate F̄[f](μo, α) = ∫ f(ω_o·h) ρ(ω_o, ω_i) μ_i dω_i for one texel.
+
+    Parameters
+    ----------
+    function : callable
+        f(x) for x = ω_o·h in [0, 1]; returns x.shape or x.shape + (K,).
+    mu_o : float
+        View cosine in (0, 1].
+    alpha : float
+        GGX width in (0, 1].
+    samples : int
+        Number of VNDF samples.
+    seed : int
+        Seed of the generator (results are reproducible).
+
+    Returns
+    -------
+    (mean, standard_error) : tuple of numpy.ndarray
+        Shape () or (K,).
+    """
+    mu_o = float(check_range("mu_o", mu_o, 0.0, 1.0, low_open=True))
+    alpha = float(check_range("alpha", alpha, 0.0, 1.0, low_open=True))
+    samples = check_positive_int("samples", samples, low=2)
+    if not callable(function):
+        raise ParameterError(f"function must be callable, got {type(function).__name__}")
+    rng = np.random.default_rng(seed)
+    total = total_sq = 0.0
+    for start in range(0, samples, batch):
+        count = min(batch, samples - start)
+        cos_d, _, weight = contributions(mu_o, alpha, rng.random(count), rng.random(count))
+        values = np.asarray(function(cos_d), dtype=np.float64)
+        contribution = values * (weight if values.ndim == 1 else weight[:, None])
+        total = total + contribution.sum(axis=0)
+        total_sq = total_sq + (contribution**2).sum(axis=0)
+    mean = total / samples
+    variance = np.maximum(total_sq / samples - mean**2, 0.0) * samples / (samples - 1)
+    return np.asarray(mean), np.sqrt(variance / samples)

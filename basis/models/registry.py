@@ -1,41 +1,17 @@
-"""The approximate Fresnel models of the references, with their parameters and their linear structure.
+"""One registry of approximate Fresnel models, each with its parameters and, where it has one, its
+linear form.
 
-Public objects: ``Parameter``, ``ApproximateModel``, ``APPROXIMATE_MODELS``, ``approximate_model``,
-``schlick_external_f0``, ``metal_external_f0``.
+Public objects: ``Parameter``, ``LinearTerms``, ``FresnelModel``, ``FRESNEL_MODELS``, ``fresnel_model``.
 
 Every model is a vectorised evaluator with validated parameters. Most are linear in a fixed set of
 functions of μ = cos θ once their *shape* parameters (an exponent, a representative IOR) are fixed:
 F = Σ_n w_n(parameters) t_n(μ). Their GGX split sums are then exact with one LUT channel per t_n
-(``fresnel-lut build --model NAME``), as Schlick's two channels are (Karis 2013). A model whose curve
-leaves [0, 1] is clamped there; the split-sum channels are exact only while the clamp is inactive
-(:meth:`ApproximateModel.clamp_is_inactive`).
-
-==========================  ============================================================  ===========
-name                        F(μ)                                                          channels
-==========================  ============================================================  ===========
-``schlick``                 F0 + (1 − F0)(1 − μ)^5 (Schlick 1994, eq. 15)                   2
-``generalized-schlick``     r0 + (r90 − r0)(1 − μ)^p (Hoffman 2023, eq. 4; GLSL tutorial)   2 per p
-``lazanyi``                 F0 + (1 − F0)(1 − μ)^5 − a μ (1 − μ)^α (Hoffman 2023, eq. 2)    3 per α
-``f82``                     Lazányi with α = 6, a from F82 (Hoffman 2020, "2019: Reparam.") 3
-``adobe``                   Lazányi with α = 6, a from the tint t (Hoffman 2023, eq. 3)     3
-``generalized-adobe``       r0 + (r90 − r0)(1 − μ)^p − a μ (1 − μ)^6 (Hoffman 2023, 5–6)    3 per p
-``cook-torrance``           F0 + (1 − F0) max(0, F′ − F′(1))/(1 − F′(1)) (Hoffman 2020)     2 per η′, κ′
-``schlick-external``        Schlick with F0 adjusted for an external medium η_E            2
-``schlick-external-metal``  Schlick with Hoffman's metal variant of the adjustment         2
-``exact-external``          Fresnel equations of (η/η_E, κ/η_E) (Hoffman 2020)              –
-``gulbrandsen``             Fresnel equations of Gulbrandsen's (r, g) (JCGT 2014)           –
-``fresnel-blend``           pbrt's FresnelBlend specular Fresnel: Schlick with Rs           2
-==========================  ============================================================  ===========
-
-References
-----------
-:cite:`Schlick1994` Computer Graphics Forum 13(3), eq. 15.
-:cite:`Lazanyi2005` I. Lazányi, L. Szirmay-Kalos, "Fresnel term approximations for metals", WSCG 2005.
-:cite:`Hoffman2020` SIGGRAPH 2020 course notes: "2019: Reparameterized Lazányi", the corrected
-    Cook–Torrance interpolation, "External Media Adjustment".
-:cite:`Hoffman2023` N. Hoffman, "Generalization of Adobe's Fresnel Model", 2023, eq. 1–6.
-:cite:`Kutz2021` P. Kutz, M. Hašan, P. Edmondson, "Novel aspects of the Adobe Standard Material", 2021.
-:cite:`Pharr2016` pbrt 3rd ed., section 8.5 "Fresnel Incidence Effects" (FresnelBlend).
+(``fresnel-lut build --model NAME``), as Schlick's two channels are (Karis 2013). Two models with the
+same fixed functions (:class:`LinearTerms` compare by family and shape) share one table: Schlick's
+serves ``schlick``, the external-media variants and pbrt's ``fresnel-blend``. A model whose curve leaves
+[0, 1] is clamped there; the split-sum channels are exact only while the clamp is inactive
+(:meth:`FresnelModel.clamp_is_inactive`). Channel sets, ``build --model``, scene layouts and the CLI's
+options are all derived from this registry; adding a model is adding one entry.
 """
 
 from __future__ import annotations
@@ -45,24 +21,27 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .fresnel import ETA_RANGE, KAPPA_RANGE, _fresnel
-from .gulbrandsen import gulbrandsen_to_nk
-from .validation import ParameterError, check_range
+from ..fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
+from ..gulbrandsen import gulbrandsen_to_nk
+from ..validation import ParameterError, check_range
+from .formulas import (
+    ETA_E_RANGE,
+    F82_MU,
+    adobe_dip_weight,
+    f82_dip_weight,
+    hoffman2019_curve,
+    lazanyi_curve,
+    lazanyi_dip,
+    metal_external_f0,
+    schlick_curve,
+    schlick_external_f0,
+    schlick_weight,
+)
 
-__all__ = [
-    "APPROXIMATE_MODELS",
-    "ApproximateModel",
-    "Parameter",
-    "approximate_model",
-    "metal_external_f0",
-    "schlick_external_f0",
-]
+__all__ = ["FRESNEL_MODELS", "FresnelModel", "LinearTerms", "Parameter", "fresnel_model"]
 
-#: μ at the extremum of the Lazányi term with β = 6: θ_max = arccos(1/7) ≈ 81.8° (Hoffman 2023, note 1).
-MU_MAX = 1.0 / 7.0
-_LAZANYI_82 = MU_MAX * (1.0 - MU_MAX) ** 6  # μ (1 − μ)^6 at θ_max = 46656/823543
-#: μ samples on which :meth:`ApproximateModel.clamp_is_inactive` checks the unclamped curve.
-_CHECK_MU = np.concatenate([np.linspace(0.0, 1.0, 2001), [MU_MAX]])
+#: μ samples on which :meth:`FresnelModel.clamp_is_inactive` checks the unclamped curve.
+_CHECK_MU = np.concatenate([np.linspace(0.0, 1.0, 2001), [F82_MU]])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,69 +56,57 @@ class Parameter:
     default: float | None = None
 
 
-def _power_terms(exponent: float) -> Callable[[np.ndarray], np.ndarray]:
+@dataclasses.dataclass(frozen=True)
+class LinearTerms:
+    """The fixed functions t_n(μ) of a linear model, called as t(μ) → (..., n).
+
+    Two instances are equal when their ``family`` and ``shape`` are: they are then the same functions and
+    need the same LUT channels.
+    """
+
+    family: str
+    shape: tuple[float, ...]
+    functions: Callable[[np.ndarray], np.ndarray] = dataclasses.field(compare=False, repr=False)
+
+    def __call__(self, mu: np.ndarray) -> np.ndarray:
+        return self.functions(mu)
+
+
+def _power_terms(exponent: float) -> LinearTerms:
+    """(1 − (1 − μ)^p, (1 − μ)^p): Schlick's scale and bias channels for p = 5 (Karis 2013)."""
     def terms(mu: np.ndarray) -> np.ndarray:
-        weight = (1.0 - mu) ** exponent
+        weight = schlick_weight(mu, exponent)
         return np.stack([1.0 - weight, weight], axis=-1)
 
-    return terms
+    return LinearTerms("power", (float(exponent),), terms)
 
 
-def _dip_terms(exponent: float, dip_exponent: float = 6.0) -> Callable[[np.ndarray], np.ndarray]:
+def _dip_terms(exponent: float, dip_exponent: float = 6.0) -> LinearTerms:
+    """The power terms and the Lazányi dip μ (1 − μ)^α."""
     def terms(mu: np.ndarray) -> np.ndarray:
-        weight = (1.0 - mu) ** exponent
-        return np.stack([1.0 - weight, weight, mu * (1.0 - mu) ** dip_exponent], axis=-1)
+        weight = schlick_weight(mu, exponent)
+        return np.stack([1.0 - weight, weight, lazanyi_dip(mu, dip_exponent)], axis=-1)
 
-    return terms
+    return LinearTerms("dip", (float(exponent), float(dip_exponent)), terms)
 
 
-def _cook_torrance_terms(eta_prime: float, kappa_prime: float) -> Callable[[np.ndarray], np.ndarray]:
+def _cook_torrance_terms(eta_prime: float, kappa_prime: float) -> LinearTerms:
     # Hoffman 2020's corrected interpolation: g = max(0, F′(θ) − F′(0)) / (1 − F′(0)), F = F0 (1 − g) + g
-    f_normal = float(_fresnel(np.array(1.0), np.array(eta_prime), np.array(kappa_prime)))
+    f_normal = float(fresnel_kernel(np.array(1.0), np.array(eta_prime), np.array(kappa_prime)))
     if f_normal >= 1.0:
         raise ParameterError(f"eta_prime, kappa_prime = {eta_prime}, {kappa_prime} reflect everything (F'(0) = 1)")
     if eta_prime == 1.0 and kappa_prime == 0.0:
         raise ParameterError("eta_prime = 1, kappa_prime = 0 is no interface (F' = 0): the interpolation is undefined")
 
     def terms(mu: np.ndarray) -> np.ndarray:
-        g = np.maximum(0.0, _fresnel(mu, np.array(eta_prime), np.array(kappa_prime)) - f_normal) / (1.0 - f_normal)
+        g = np.maximum(0.0, fresnel_kernel(mu, np.array(eta_prime), np.array(kappa_prime)) - f_normal) / (1.0 - f_normal)
         return np.stack([1.0 - g, g], axis=-1)
 
-    return terms
-
-
-def schlick_external_f0(f0, eta_external) -> np.ndarray:
-    """F0 seen from an external medium of index η_E (Hoffman 2020, "External Media Adjustment"):
-
-    F0′ = ((√F0 − √F0E) / (1 − √F0 √F0E))²,  √F0E = (η_E − 1)/(η_E + 1). Exact for dielectrics.
-    """
-    f0 = check_range("f0", f0, 0.0, 1.0)
-    root_e = _external_root(eta_external)
-    root = np.sqrt(f0)
-    return ((root - root_e) / (1.0 - root * root_e)) ** 2
-
-
-def metal_external_f0(f0, eta_external) -> np.ndarray:
-    """Hoffman 2020's asymmetric variant for metals in high-index media:
-
-    F0′ = (√F0 − √F0E)² if F0 < F0E, else ((√F0 − √F0E) / (1 − √F0E))².
-    """
-    f0 = check_range("f0", f0, 0.0, 1.0)
-    root_e = _external_root(eta_external)
-    root = np.sqrt(f0)
-    return np.where(root < root_e, (root - root_e) ** 2, ((root - root_e) / (1.0 - root_e)) ** 2)
-
-
-def _external_root(eta_external) -> np.ndarray:
-    eta_external = check_range("eta_e", eta_external, *_ETA_E_RANGE)
-    return (eta_external - 1.0) / (eta_external + 1.0)
-
-
-_ETA_E_RANGE = (1.0, 10.0)
+    return LinearTerms("cook-torrance", (float(eta_prime), float(kappa_prime)), terms)
 
 
 @dataclasses.dataclass(frozen=True)
-class ApproximateModel:
+class FresnelModel:
     """One model of the references.
 
     Attributes
@@ -159,6 +126,9 @@ class ApproximateModel:
         Whether the curve is clamped to [0, 1] (models with a dip term).
     terms_description : str
         The fixed functions t_n in words (EXR headers).
+    combination : str
+        How an engine combines the model's LUT channels into F̄, where it differs from the generic
+        ``Fbar = w0 * R + w1 * G …`` (Schlick's scale and bias).
     sweep : tuple of dict
         The documented parameter sweep of the projection-error table (scalars, one curve each).
     """
@@ -174,6 +144,7 @@ class ApproximateModel:
     clamp: bool = False
     sweep: tuple[dict, ...] = ()
     terms_description: str = ""
+    combination: str = ""
 
     @property
     def linear(self) -> bool:
@@ -204,11 +175,11 @@ class ApproximateModel:
         curve = self.curve(mu, self.check(**values))
         return np.clip(curve, 0.0, 1.0) if self.clamp else curve
 
-    def channel_functions(self, **values) -> Callable[[np.ndarray], np.ndarray]:
+    def channel_functions(self, **values) -> LinearTerms:
         """t(μ) → (..., n) for the shape parameters in ``values`` (others ignored)."""
         if not self.linear:
             raise ParameterError(f"model {self.name!r} is not linear in fixed functions of cos theta; "
-                                 f"linear models: {sorted(n for n, m in APPROXIMATE_MODELS.items() if m.linear)}")
+                                 f"linear models: {sorted(n for n, m in FRESNEL_MODELS.items() if m.linear)}")
         shape = {}
         for parameter in self.parameters:
             if parameter.name in self.shape:
@@ -236,19 +207,8 @@ class ApproximateModel:
         return np.all((curve >= -tolerance) & (curve <= 1.0 + tolerance), axis=0)
 
 
-def _lazanyi_curve(mu: np.ndarray, f0: np.ndarray, a: np.ndarray, exponent) -> np.ndarray:
-    return f0 + (1.0 - f0) * (1.0 - mu) ** 5 - a * mu * (1.0 - mu) ** exponent
-
-
-def _f82_a(p: dict) -> np.ndarray:
-    # Hoffman 2020: a = 823543/46656 (F0 − F82) + 49/6 (1 − F0), so that F(θ_max) = F82
-    return 823543.0 / 46656.0 * (p["f0"] - p["f82"]) + 49.0 / 6.0 * (1.0 - p["f0"])
-
-
-def _adobe_a(p: dict, exponent: float = 5.0, r90=1.0) -> np.ndarray:
-    # Hoffman 2023 eq. 3 (r90 = 1, exponent 5) and eq. 6
-    r0 = p.get("r0", p.get("f0"))
-    return (r0 + (r90 - r0) * (1.0 - MU_MAX) ** exponent) * (1.0 - p["tint"]) / _LAZANYI_82
+def _generalized_adobe_a(p: dict) -> np.ndarray:
+    return adobe_dip_weight(p["r0"], p["tint"], p["r90"], p["exponent"])
 
 
 _F0 = Parameter("f0", 0.0, 1.0, "reflectance at normal incidence")
@@ -258,7 +218,7 @@ _EXPONENT = Parameter("exponent", 0.1, 50.0, "exponent p of (1 - cos theta)", co
 _TINT = Parameter("tint", 0.0, 1.0, "tint of the reflectance at arccos(1/7) (1 = no dip)")
 _ETA_PRIME = Parameter("eta_prime", *ETA_RANGE, "representative (scalar) eta", colour=False)
 _KAPPA_PRIME = Parameter("kappa_prime", *KAPPA_RANGE, "representative (scalar) kappa", colour=False, default=0.0)
-_ETA_E = Parameter("eta_e", *_ETA_E_RANGE, "index of the external medium", colour=False)
+_ETA_E = Parameter("eta_e", *ETA_E_RANGE, "index of the external medium", colour=False)
 
 _F0_SWEEP = (0.02, 0.04, 0.1, 0.3, 0.5, 0.7, 0.9, 0.98)
 
@@ -270,76 +230,77 @@ def _grid(**axes) -> tuple[dict, ...]:
 
 
 #: Registry: name → model. ``--model NAME`` of ``build`` and ``coeffs`` is one lookup here.
-APPROXIMATE_MODELS: dict[str, ApproximateModel] = {}
+FRESNEL_MODELS: dict[str, FresnelModel] = {}
 
 
-def _register(model: ApproximateModel) -> None:
-    APPROXIMATE_MODELS[model.name] = model
+def _register(model: FresnelModel) -> None:
+    FRESNEL_MODELS[model.name] = model
 
 
-_register(ApproximateModel(
+_register(FresnelModel(
     "schlick", "Schlick 1994, eq. 15", "F0 + (1 - F0)(1 - mu)^5", (_F0,),
-    curve=lambda mu, p: p["f0"] + (1.0 - p["f0"]) * (1.0 - mu) ** 5,
+    curve=lambda mu, p: schlick_curve(mu, p["f0"]),
     terms=lambda: _power_terms(5.0), terms_description="(1 - (1-x)^5, (1-x)^5), w = (f0, 1)",
+    combination="Fbar = F0 * R + G (Karis 2013; R = scale, G = bias)",
     weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0), axis=-1),
     sweep=_grid(f0=_F0_SWEEP),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "generalized-schlick", "Hoffman 2023, eq. 4 (F90 and exponent); the GLSL tutorial's artistic exponent",
     "r0 + (r90 - r0)(1 - mu)^p", (_R0, _R90, _EXPONENT),
-    curve=lambda mu, p: p["r0"] + (p["r90"] - p["r0"]) * (1.0 - mu) ** p["exponent"],
+    curve=lambda mu, p: schlick_curve(mu, p["r0"], p["r90"], p["exponent"]),
     terms=lambda exponent: _power_terms(exponent), terms_description="(1 - (1-x)^p, (1-x)^p), w = (r0, r90)",
     weights=lambda p: np.stack(np.broadcast_arrays(p["r0"], p["r90"]), axis=-1),
     shape=("exponent",),
     sweep=_grid(r0=(0.04, 0.5, 0.9), r90=(0.5, 1.0), exponent=(0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 15.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "lazanyi", "Lazanyi and Szirmay-Kalos 2005; Hoffman 2023, eq. 2",
     "F0 + (1 - F0)(1 - mu)^5 - a mu (1 - mu)^alpha",
     (_F0, Parameter("a", -20.0, 20.0, "weight of the dip term"),
      Parameter("alpha", 1.0, 30.0, "exponent of the dip term", colour=False, default=6.0)),
-    curve=lambda mu, p: _lazanyi_curve(mu, p["f0"], p["a"], p["alpha"]),
+    curve=lambda mu, p: lazanyi_curve(mu, p["f0"], p["a"], p["alpha"]),
     terms=lambda alpha: _dip_terms(5.0, alpha),
     terms_description="(1 - (1-x)^5, (1-x)^5, x (1-x)^alpha), w = (f0, 1, -a)",
     weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0, -p["a"]), axis=-1),
     shape=("alpha",), clamp=True,
     sweep=_grid(f0=(0.04, 0.5, 0.9), a=(0.0, 0.5, 1.0, 2.0), alpha=(3.0, 6.0, 10.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "f82", "Hoffman 2020, '2019: Reparameterized Lazanyi' (beta = 6, theta_max = arccos 1/7)",
     "F0 + (1 - F0)(1 - mu)^5 - a mu (1 - mu)^6, a = 823543/46656 (F0 - F82) + 49/6 (1 - F0), clamped",
     (_F0, Parameter("f82", 0.0, 1.0, "reflectance at arccos(1/7), about 82 degrees")),
-    curve=lambda mu, p: _lazanyi_curve(mu, p["f0"], _f82_a(p), 6.0),
+    curve=lambda mu, p: hoffman2019_curve(mu, p["f0"], p["f82"]),
     terms=lambda: _dip_terms(5.0),
     terms_description="(1 - (1-x)^5, (1-x)^5, x (1-x)^6), w = (f0, 1, -a), a = 823543/46656 (f0 - f82) + 49/6 (1 - f0)",
-    weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0, -_f82_a(p)), axis=-1),
+    weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0, -f82_dip_weight(p["f0"], p["f82"])), axis=-1),
     clamp=True,
     sweep=_grid(f0=(0.04, 0.3, 0.6, 0.9), f82=(0.0, 0.2, 0.4, 0.6, 0.8, 1.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "adobe", "Kutz et al. 2021 (Adobe Standard Material); Hoffman 2023, eq. 2-3",
     "F0 + (1 - F0)(1 - mu)^5 - a mu (1 - mu)^6, a from the tint t at arccos(1/7)",
     (_F0, _TINT),
-    curve=lambda mu, p: _lazanyi_curve(mu, p["f0"], _adobe_a(p), 6.0),
+    curve=lambda mu, p: lazanyi_curve(mu, p["f0"], adobe_dip_weight(p["f0"], p["tint"])),
     terms=lambda: _dip_terms(5.0),
     terms_description="(1 - (1-x)^5, (1-x)^5, x (1-x)^6), w = (f0, 1, -a), a from the tint (Hoffman 2023 eq. 3)",
-    weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0, -_adobe_a(p)), axis=-1),
+    weights=lambda p: np.stack(np.broadcast_arrays(p["f0"], 1.0, -adobe_dip_weight(p["f0"], p["tint"])), axis=-1),
     clamp=True,
     sweep=_grid(f0=(0.04, 0.3, 0.6, 0.9), tint=(0.0, 0.25, 0.5, 0.75, 1.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "generalized-adobe", "Hoffman 2023, eq. 5-6",
     "r0 + (r90 - r0)(1 - mu)^p - a mu (1 - mu)^6, a from the tint t at arccos(1/7)",
     (_R0, _R90, _EXPONENT, _TINT),
-    curve=lambda mu, p: (p["r0"] + (p["r90"] - p["r0"]) * (1.0 - mu) ** p["exponent"]
-                         - _adobe_a(p, p["exponent"], p["r90"]) * mu * (1.0 - mu) ** 6),
+    curve=lambda mu, p: (schlick_curve(mu, p["r0"], p["r90"], p["exponent"])
+                         - _generalized_adobe_a(p) * lazanyi_dip(mu)),
     terms=lambda exponent: _dip_terms(exponent),
     terms_description="(1 - (1-x)^p, (1-x)^p, x (1-x)^6), w = (r0, r90, -a), a from the tint (Hoffman 2023 eq. 6)",
-    weights=lambda p: np.stack(np.broadcast_arrays(p["r0"], p["r90"], -_adobe_a(p, p["exponent"], p["r90"])), axis=-1),
+    weights=lambda p: np.stack(np.broadcast_arrays(p["r0"], p["r90"], -_generalized_adobe_a(p)), axis=-1),
     shape=("exponent",), clamp=True,
     sweep=_grid(r0=(0.04, 0.6, 0.9), r90=(0.6, 1.0), exponent=(2.0, 5.0, 8.0), tint=(0.0, 0.5, 1.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "cook-torrance", "Hoffman 2020, Cook-Torrance colour interpolation (corrected form)",
     "F0 + (1 - F0) max(0, F'(mu) - F'(1)) / (1 - F'(1)), F' = Fresnel of (eta', kappa')",
     (_F0, _ETA_PRIME, _KAPPA_PRIME),
@@ -361,8 +322,7 @@ def _cook_torrance_curve(mu: np.ndarray, p: dict) -> np.ndarray:
 
 def _external_curve(adjust) -> Callable[[np.ndarray, dict], np.ndarray]:
     def curve(mu: np.ndarray, p: dict) -> np.ndarray:
-        f0 = adjust(p["f0"], p["eta_e"])
-        return f0 + (1.0 - f0) * (1.0 - mu) ** 5
+        return schlick_curve(mu, adjust(p["f0"], p["eta_e"]))
 
     return curve
 
@@ -378,7 +338,7 @@ for _name, _adjust, _reference in (
     ("schlick-external", schlick_external_f0, "Hoffman 2020, 'External Media Adjustment' (dielectric formula)"),
     ("schlick-external-metal", metal_external_f0, "Hoffman 2020, 'External Media Adjustment' (metal variant)"),
 ):
-    _register(ApproximateModel(
+    _register(FresnelModel(
         _name, _reference, "Schlick with F0' = adjusted F0 for an external medium of index eta_e",
         (_F0, _ETA_E),
         curve=_external_curve(_adjust),
@@ -387,35 +347,41 @@ for _name, _adjust, _reference in (
         sweep=_grid(f0=(0.04, 0.3, 0.6, 0.9), eta_e=(1.0, 1.33, 1.6, 2.0, 2.42)),
     ))
 
-_register(ApproximateModel(
+_register(FresnelModel(
     "exact-external", "Hoffman 2020: divide eta and kappa by the external medium's eta",
     "Fresnel equations of (eta / eta_e, kappa / eta_e)",
     (Parameter("eta", *ETA_RANGE, "real part of the IOR"), Parameter("kappa", *KAPPA_RANGE, "extinction"), _ETA_E),
-    curve=lambda mu, p: _fresnel(mu, p["eta"] / p["eta_e"], p["kappa"] / p["eta_e"]),
+    curve=lambda mu, p: fresnel_kernel(mu, p["eta"] / p["eta_e"], p["kappa"] / p["eta_e"]),
     sweep=_grid(eta=(0.2, 1.5, 2.5), kappa=(0.0, 3.0), eta_e=(1.0, 1.33, 2.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "gulbrandsen", "Gulbrandsen 2014, eq. 7-9, then the Fresnel equations",
     "Fresnel equations of gulbrandsen_to_nk(r, g)",
     # r = 1 is refused by gulbrandsen_to_nk itself, with the reason (η, κ out of range)
     (Parameter("reflectivity", 0.0, 1.0, "reflectivity r"), Parameter("edge_tint", 0.0, 1.0, "edge tint g")),
-    curve=lambda mu, p: _fresnel(mu, *gulbrandsen_to_nk(p["reflectivity"], p["edge_tint"])),
+    curve=lambda mu, p: fresnel_kernel(mu, *gulbrandsen_to_nk(p["reflectivity"], p["edge_tint"])),
     sweep=_grid(reflectivity=(0.04, 0.3, 0.6, 0.9), edge_tint=(0.0, 0.5, 1.0)),
 ))
-_register(ApproximateModel(
+_register(FresnelModel(
     "fresnel-blend", "pbrt 3rd ed. 8.5, FresnelBlend (Ashikhmin and Shirley 2000): its SchlickFresnel",
     "Rs + (1 - Rs)(1 - cos theta_d)^5 (the diffuse term is in preintegrate.fresnel_blend)",
     (Parameter("rs", 0.0, 1.0, "specular reflectance Rs"),),
-    curve=lambda mu, p: p["rs"] + (1.0 - p["rs"]) * (1.0 - mu) ** 5,
+    curve=lambda mu, p: schlick_curve(mu, p["rs"]),
     terms=lambda: _power_terms(5.0), terms_description="(1 - (1-x)^5, (1-x)^5), w = (rs, 1)",
     weights=lambda p: np.stack(np.broadcast_arrays(p["rs"], 1.0), axis=-1),
     sweep=_grid(rs=_F0_SWEEP),
 ))
 
 
-def approximate_model(name: str) -> ApproximateModel:
-    """Look up a model; the error lists the valid names."""
+def fresnel_model(name: str) -> FresnelModel:
+    """Look up a model; the error lists the valid names.
+
+    Examples
+    --------
+    >>> fresnel_model("schlick").channel_functions()(np.array(1.0)).tolist()
+    [1.0, 0.0]
+    """
     try:
-        return APPROXIMATE_MODELS[name]
+        return FRESNEL_MODELS[name]
     except (KeyError, TypeError):
-        raise ParameterError(f"model must be one of {sorted(APPROXIMATE_MODELS)}, got {name!r}") from None
+        raise ParameterError(f"model must be one of {sorted(FRESNEL_MODELS)}, got {name!r}") from None

@@ -1,9 +1,8 @@
 """Measured materials as basis coefficients: fitting RGB Fresnel curves, and the shipped presets.
 
 Public objects: ``ANGLES_DEGREES``, ``rms_delta_E_2000``, ``MATERIAL_FITS``, ``material_fit``,
-``fit_rgb_curve``, ``fit_material``, ``material_curve``, ``build_presets``, ``write_presets``, ``material_presets``,
-``material_preset``, ``material_coefficients``, ``shipped_presets_path``, ``PresetFileError``,
-``minimise_delta_e``.
+``fit_rgb_curve``, ``fit_material``, ``material_curve``, ``build_presets``, ``minimise_delta_e``.
+The presets themselves are read by :mod:`basis.presets`, which needs none of this.
 
 A material's ground truth is its RGB Fresnel curve by Hoffman's spectral procedure
 (:func:`basis.spectral.rgb_fresnel`). Its error is Hoffman's measure: the RMS over θ = 0°, 1°, …, 90° of
@@ -36,59 +35,41 @@ References
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 import scipy.optimize
 
+from .angles import cos_theta
 from .coefficients import (
     coefficients_from_samples,
     coefficients_least_squares_from_table,
 )
 from .colorimetry import delta_E_2000, delta_E_2000_Lab, rgb_to_Lab, working_space
-from .eigenbasis import Basis, default_basis
-from .files import write_text
-from .fresnel import cos_theta
-from .models import F82_MU
+from .eigenbasis import Basis, resolve_basis
+from .models.formulas import F82_MU, schlick_curve
+from .presets import FORMAT, PRESET_SPACES, VERSION
 from .spectral import rgb_fresnel, spectral_ior, spectral_iors
 from .validation import ParameterError
 
 __all__ = [
     "ANGLES_DEGREES",
     "MATERIAL_FITS",
-    "PRESET_SPACES",
-    "PresetFileError",
     "build_presets",
     "fit_material",
     "fit_rgb_curve",
-    "material_coefficients",
     "material_curve",
     "material_fit",
-    "material_preset",
-    "material_presets",
     "minimise_delta_e",
     "rms_delta_E_2000",
-    "shipped_presets_path",
-    "write_presets",
 ]
 
 #: Hoffman's angle sampling of "ΔE2000 averaged over all incidence angles": 0°, 1°, …, 90°.
 ANGLES_DEGREES = np.arange(0.0, 91.0)
 #: The finer grid the ``delta-e`` fit minimises on (0.25°), so that it is not fitted to the scoring samples.
 _FIT_DEGREES = np.linspace(0.0, 90.0, 361)
-#: Working spaces the presets are written for.
-PRESET_SPACES = ("ACEScg", "sRGB")
-
-FORMAT = "fresnel-basis/material-presets"
-VERSION = 1
 
 Curve = Callable[[np.ndarray], np.ndarray]
-
-
-class PresetFileError(ParameterError):
-    """``luts/materials.json`` is missing, malformed or made for another basis."""
 
 
 def rms_delta_E_2000(reference, approximation, space: str) -> float | np.ndarray:
@@ -183,7 +164,7 @@ def material_fit(name: str) -> Callable[[Curve, str, Basis], np.ndarray]:
 def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
     """(3, K) coefficients of an RGB curve μ → (..., 3) by one of :data:`MATERIAL_FITS`."""
     working_space(space)
-    return material_fit(fit)(curve, space, default_basis() if basis is None else basis)
+    return material_fit(fit)(curve, space, resolve_basis(basis))
 
 
 _FITS: dict[tuple, np.ndarray] = {}
@@ -195,16 +176,11 @@ def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: 
     Unlike :func:`material_coefficients` this always fits; the presets, the tables and the report share
     the fits through the memo.
     """
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     key = (name, space, fit, basis.content_hash)
     if key not in _FITS:
         _FITS[key] = fit_rgb_curve(material_curve(name, space), space, fit, basis)
     return _FITS[key].copy()
-
-
-def shipped_presets_path() -> Path:
-    """``luts/materials.json`` beside the package."""
-    return Path(__file__).resolve().parent.parent / "luts" / "materials.json"
 
 
 def build_presets(
@@ -214,7 +190,7 @@ def build_presets(
 
     ``progress(done, total)`` is called after each material.
     """
-    basis = default_basis() if basis is None else basis
+    basis = resolve_basis(basis)
     theta = np.deg2rad(ANGLES_DEGREES)
     materials = {}
     measured = spectral_iors()
@@ -225,7 +201,7 @@ def build_presets(
             truth = curve(cos_theta(theta))
             coefficients = fit_material(name, space, fit, basis)
             f0 = truth[0]
-            schlick = f0 + (1.0 - f0) * (1.0 - cos_theta(theta))[:, None] ** 5
+            schlick = schlick_curve(cos_theta(theta)[:, None], f0)
             spaces[space] = {
                 "f0": [round(float(v), 8) for v in f0],
                 "f82": [round(float(v), 8) for v in curve(np.array(F82_MU))],
@@ -261,81 +237,3 @@ def build_presets(
     }
 
 
-def write_presets(document: dict, path=None) -> Path:
-    """Write :func:`build_presets`' document atomically (default: the shipped file)."""
-    target = shipped_presets_path() if path is None else Path(path)
-    written = write_text(target, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
-    _read.cache_clear()
-    return written
-
-
-@functools.cache
-def _read(path: str) -> dict:
-    try:
-        with open(path, encoding="utf-8") as stream:
-            document = json.load(stream)
-    except (OSError, json.JSONDecodeError) as error:
-        raise PresetFileError(f"cannot read material presets {path}: {error}") from None
-    if not isinstance(document, dict) or document.get("format") != FORMAT or document.get("version") != VERSION:
-        raise PresetFileError(f"{path} is not a {FORMAT} v{VERSION} file")
-    return document
-
-
-def material_presets(path=None) -> dict:
-    """The presets document (default: the shipped ``luts/materials.json``)."""
-    return _read(str(shipped_presets_path() if path is None else Path(path)))
-
-
-def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
-    """One material's preset in ``space``: ``f0``, ``f82``, ``coefficients`` (3, K), errors, ``source``.
-
-    Examples
-    --------
-    >>> material_preset("Gold")["coefficients"].shape
-    (3, 4)
-    """
-    document = material_presets(path)
-    if space not in PRESET_SPACES:
-        raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {space!r}")
-    materials = document["materials"]
-    if name not in materials:
-        by_case = {key.lower(): key for key in materials}
-        if not isinstance(name, str) or name.lower() not in by_case:
-            raise ParameterError(f"material must be one of {list(materials)}, got {name!r}")
-        name = by_case[name.lower()]
-    entry = materials[name][space]
-    return {
-        "name": name,
-        "space": space,
-        "kind": materials[name]["kind"],
-        "source": materials[name]["source"],
-        "basis_hash": document["basis_hash"],
-        "f0": np.array(entry["f0"]),
-        "f82": np.array(entry["f82"]),
-        "coefficients": np.array(entry["coefficients"]),
-        "rms_delta_e2000": dict(entry["rms_delta_e2000"]),
-        "delta_e2000_at_0": entry["delta_e2000_at_0"],
-    }
-
-
-def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None = None) -> np.ndarray:
-    """(3, K) basis coefficients of a measured material (``Gold``, ``Chromium``, ``Glass BK7``, …).
-
-    With the shipped basis they come from ``luts/materials.json``; with another ``basis`` they are
-    fitted afresh (``delta-e`` fit), since coefficients only mean something for the basis they fit.
-
-    Examples
-    --------
-    >>> material_coefficients("Gold")[:, 0].round(3)  # F0 in ACEScg
-    array([ 0.903,  0.746,  0.418])
-    """
-    if basis is not None and basis.content_hash != default_basis().content_hash:
-        # the preset lookup validates name and space with the usual messages
-        return fit_material(material_preset(name, space)["name"], space, "delta-e", basis)
-    preset = material_preset(name, space)
-    if preset["basis_hash"] != default_basis().content_hash:
-        raise PresetFileError(
-            f"{shipped_presets_path()} was made for basis {preset['basis_hash']}, the shipped basis is "
-            f"{default_basis().content_hash}; rebuild it with `fresnel-lut materials`"
-        )
-    return preset["coefficients"]

@@ -1,6 +1,11 @@
-"""Atomic file output: write to a temporary sibling, then rename into place, as one transaction.
+"""Files: the shipped data's paths, atomic output, and versioned JSON documents.
 
-Public objects: ``temporary_sibling``, ``replace_together``, ``write_text``.
+Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_text``,
+``write_json``, ``read_json_document``.
+
+Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
+found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
+directory must not shadow it.
 
 A reader (or a crash, Ctrl-C or kill) never sees a half-written file: the data go to a temporary
 file in the destination folder, which is renamed over the target only when complete. Several files
@@ -10,13 +15,19 @@ is interrupted part-way, the files already replaced are rolled back to their pre
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from pathlib import Path
 
 from .validation import ParameterError
 
-__all__ = ["replace_together", "temporary_sibling", "write_text"]
+__all__ = ["read_json_document", "replace_together", "shipped_path", "temporary_sibling", "write_json", "write_text"]
+
+
+def shipped_path(name: str) -> Path:
+    """Path of a file shipped in ``luts/`` (``luts`` is installed next to ``basis``)."""
+    return Path(__file__).resolve().parent.parent / "luts" / name
 
 
 def _default_mode() -> int:
@@ -94,3 +105,31 @@ def write_text(path, text: str) -> Path:
         raise
     replace_together([(temporary, path)])
     return path
+
+
+def write_json(path, document: dict) -> Path:
+    """Write a JSON document atomically: one space of indent, UTF-8 text kept as is, a final newline."""
+    return write_text(path, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
+
+
+def read_json_document(path, what: str, format_tag: str | None = None, version: int | None = None,
+                       error=ParameterError) -> dict:
+    """Read the JSON document ``what`` (e.g. "basis file") and check its ``format`` tag and ``version``
+    where given; every failure raises ``error`` with one line that names the file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise error(f"{what} {path} does not exist") from None
+    except (OSError, UnicodeDecodeError) as cause:
+        raise error(f"cannot read {what} {path}: {cause}") from None
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as cause:
+        raise error(f"cannot read {what} {path}: not valid JSON (truncated?): {cause}") from None
+    if format_tag is not None:
+        found = document.get("format") if isinstance(document, dict) else type(document).__name__
+        if found != format_tag or (version is not None and document.get("version") != version):
+            expected = format_tag if version is None else f"{format_tag} v{version}"
+            raise error(f"{what} {path} is not a {expected} file (format {found!r})")
+    return document

@@ -1,0 +1,118 @@
+"""Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
+
+Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``texel_centres``, ``lut_axes``,
+``build_table``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+
+Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
+first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
+interpolation between texel centres and clamps to the edge texels outside them; :func:`lut_lookup`
+and :func:`interpolation_weights` are that rule, once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from basis.validation import check_positive_int
+
+from .channels import ChannelSet
+from .ggx import roughness_to_alpha
+from .quadrature import DEFAULT_ORDER, QuadratureOrder, QuadratureSchedule, directional_albedo
+
+__all__ = [
+    "BASIS_LUT",
+    "PIXEL_CONVENTION",
+    "SCHLICK_LUT",
+    "build_table",
+    "interpolation_weights",
+    "lut_attributes",
+    "lut_axes",
+    "lut_lookup",
+    "texel_centres",
+]
+
+#: File names of the default build's tables (``luts/``).
+BASIS_LUT = "ggx_basis_rgba.exr"
+SCHLICK_LUT = "ggx_schlick_rg.exr"
+#: Written into every header: what produced the file.
+GENERATOR = "fresnel-basis 0.1.0"
+
+PIXEL_CONVENTION = (
+    "column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; row j <-> perceptual roughness r = (j + 0.5) / height, "
+    "GGX alpha = r^2; row 0 first in the file (top); texel centres; values are directional albedos "
+    "Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
+    "GGX with height-correlated Smith G2"
+)
+
+
+def texel_centres(count: int) -> np.ndarray:
+    """(i + 0.5) / count, i = 0 … count − 1: the texel centres of one axis (unchecked)."""
+    return (np.arange(count) + 0.5) / count
+
+
+def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(μo of each column, perceptual roughness of each row) at texel centres."""
+    width = check_positive_int("size", width, low=2, high=8192)
+    height = width if height is None else check_positive_int("height", height, low=2, high=8192)
+    return texel_centres(width), texel_centres(height)
+
+
+def build_table(
+    channels: ChannelSet,
+    width: int,
+    height: int | None = None,
+    order: QuadratureOrder | QuadratureSchedule = DEFAULT_ORDER,
+    progress: Callable[[int, int], None] | None = None,
+) -> np.ndarray:
+    """(H, W, K) float64 table of the channel set on the texel grid."""
+    mu_o, roughness = lut_axes(width, height)
+    alpha = roughness_to_alpha(roughness)
+    table = directional_albedo(channels.functions, mu_o[None, :], alpha[:, None], order=order, progress=progress)
+    return table
+
+
+def lut_attributes(channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION,
+                   **extra) -> dict[str, str]:
+    """The header of a table of ``channels``: convention, size, channel names, the engine's combination
+    rule, the generating command and any ``extra`` attributes (quadrature, basis hash, …)."""
+    return {
+        "convention": convention, "width": str(width), "height": str(height),
+        "generator": f"{GENERATOR} ({command})", "channel_set": channels.name,
+        "channels": ",".join(channels.channel_names), "combination": channels.combination,
+        **{key: str(value) for key, value in extra.items()},
+    }
+
+
+def _clamped_position(points: np.ndarray, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower texel index and fraction of linear interpolation between increasing ``centres``, clamped to
+    the edge texels outside them (needs at least two centres)."""
+    position = np.clip(np.interp(points, centres, np.arange(centres.size)), 0.0, centres.size - 1.0)
+    low = np.minimum(np.floor(position).astype(int), centres.size - 2)
+    return low, position - low
+
+
+def interpolation_weights(points, centres) -> np.ndarray:
+    """(P, N) weights of linear, clamp-to-edge interpolation from samples at ``centres`` (increasing)."""
+    points, centres = np.ravel(points), np.asarray(centres, dtype=np.float64)
+    weights = np.zeros((points.size, centres.size))
+    if centres.size == 1:
+        weights[:, 0] = 1.0
+        return weights
+    low, fraction = _clamped_position(points, centres)
+    rows = np.arange(points.size)
+    weights[rows, low] = 1.0 - fraction
+    weights[rows, low + 1] += fraction
+    return weights
+
+
+def lut_lookup(table: np.ndarray, mu_o, roughness) -> np.ndarray:
+    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) at (μo, r), as a GPU samples it at level 0."""
+    height, width = table.shape[:2]
+    mu_o = np.asarray(mu_o, dtype=np.float64)
+    x0, fx = _clamped_position(mu_o, texel_centres(width))
+    y0, fy = _clamped_position(np.broadcast_to(np.asarray(roughness, dtype=np.float64), mu_o.shape), texel_centres(height))
+    fx, fy = fx[..., None], fy[..., None]
+    return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
+            + fy * ((1 - fx) * table[y0 + 1, x0] + fx * table[y0 + 1, x0 + 1]))

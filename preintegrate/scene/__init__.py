@@ -1,0 +1,52 @@
+"""Build for a scene: only the channels, roughness rows and tables its materials need.
+
+Public objects: ``SceneError``, ``SceneMaterial``, ``Scene``, ``read_scene``, ``DEFAULT_TOLERANCE`` (:mod:`.files`);
+``Layout`` (:mod:`.layout`); ``plan_scene``, ``ScenePlan`` (:mod:`.plan`); ``write_scene`` (:mod:`.write`).
+
+A scene file (TOML or JSON) lists materials, each with the roughness range it is used at, and an error
+tolerance on F̄ (default 1/255) and a working colour space::
+
+    tolerance = 0.0039          # optional: max |F̄ − F̄_exact| over every material's range, all view angles
+    space = "ACEScg"            # optional: colour space of presets
+    size = 128                  # optional: LUT columns (μo), as the default build
+
+    [[material]]
+    name = "floor"
+    preset = "Gold"             # or eta/kappa, reflectivity/edge_tint, f0 (Schlick), f0 + f82,
+    roughness = [0.3, 0.6]      # or model = "generalized-adobe" with its parameters
+                                # a number, a [low, high] range
+
+**Exact target of a material**: its own model — the spectral RGB curve of a preset (Hoffman's procedure),
+the Fresnel equations of (η, κ) or of Gulbrandsen's (r, g), Schlick for ``f0`` alone, Hoffman 2019 for
+``f0`` + ``f82``, any model of :data:`basis.approximations.APPROXIMATE_MODELS` for ``model``.
+
+**Candidate layouts** of a material: the Schlick table with F0 = F(0°) (exact for the Schlick family),
+the first K basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
+c0 + c1 = F90 kept exact), and, for a material given by a linear model of the references (F0 + F82,
+Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while
+its clamp is inactive). **Tables**: any combination of the Schlick table, one basis table and the
+models' own tables; the one with the fewest channels that lets every material meet the tolerance with
+one of its layouts. **Rows**: cropped to the union of the
+materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi − r_lo)/(H − 1)), with
+the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still meet the tolerance.
+
+**Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the
+midpoints between them (μo from 0.5/size up: below the first centre every engine reads the edge texel,
+as with the default build), at the roughnesses of a 33-point grid over the scene's range that fall in
+each material's own range (plus its end points), with bilinear, clamp-to-edge
+interpolation of the table as a GPU does, against the split sum of the exact target. Every split sum is
+a linear functional of the curve, computed with the texel weights of
+:func:`preintegrate.quadrature.texel_weights`.
+
+References
+----------
+:cite:`Belcour2020` eq. 5 (F̄ = Σ c_k b̄_k); :cite:`Karis2013` (Schlick split sum).
+"""
+
+from .files import DEFAULT_TOLERANCE, Scene, SceneError, SceneMaterial, read_scene
+from .layout import Layout
+from .plan import ScenePlan, plan_scene
+from .write import write_scene
+
+__all__ = ["DEFAULT_TOLERANCE", "Layout", "Scene", "SceneError", "SceneMaterial", "ScenePlan", "plan_scene",
+           "read_scene", "write_scene"]

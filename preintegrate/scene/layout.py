@@ -1,0 +1,110 @@
+"""The tables a scene may ship: a :class:`Layout` names one, its channels on the basis grid, and the
+weights with which a material reads it.
+
+Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``.
+
+References
+----------
+:cite:`Belcour2020` eq. 5 (F̄ = Σ c_k b̄_k); :cite:`Karis2013` (Schlick split sum).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from basis.angles import cos_theta
+from basis.coefficients import coefficients_least_squares_from_table
+from basis.eigenbasis import Basis
+from basis.models import fresnel_model
+
+from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
+from ..lut import SCHLICK_LUT
+from .files import SceneMaterial
+
+__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Layout:
+    """One candidate table: Schlick's two channels, the first ``terms`` basis terms, or a linear model's own
+    channels (``model`` with the ``shape`` parameters that fix them)."""
+
+    kind: str  # "schlick", "basis" or "model"
+    terms: int = 0
+    model: str = ""
+    shape: tuple[tuple[str, float], ...] = ()
+
+    @property
+    def name(self) -> str:
+        """``schlick``, ``basis-K`` or ``model:NAME[:shape=value,…]``: the name in reports and files."""
+        if self.kind == "model":
+            shape = ",".join(f"{key}={value!r}" for key, value in self.shape)
+            return f"model:{self.model}" + (f":{shape}" if shape else "")
+        return "schlick" if self.kind == "schlick" else f"basis-{self.terms}"
+
+    def channel_set(self, basis: Basis) -> ChannelSet:
+        """The channels, their names and the engine's combination rule."""
+        if self.kind == "schlick":
+            return schlick_channels()
+        if self.kind == "model":
+            return model_channels(self.model, **dict(self.shape))
+        return basis_channels(_truncated(basis, self.terms))
+
+    def values(self, basis: Basis) -> np.ndarray:
+        """(M, n) channel functions on ``basis.theta`` (the basis curves exactly, on their own grid)."""
+        if self.kind == "basis":
+            return basis.curves[: self.terms].T
+        return self.channel_set(basis).functions(cos_theta(basis.theta))
+
+    def file_name(self) -> str:
+        if self.kind == "schlick":
+            return SCHLICK_LUT
+        if self.kind == "model":
+            return f"ggx_{self.model}" + "".join(f"_{key}{value:g}" for key, value in self.shape) + ".exr"
+        return f"ggx_basis_{'rgba'[: self.terms]}.exr"
+
+    def coefficients(self, material: SceneMaterial, basis: Basis) -> np.ndarray | None:
+        """(3, n) weights of a material: Schlick (F0, 1), the first K basis terms by least squares (c0 = F0
+        and c0 + c1 = F90 exact), or a linear model's own weights; None where the layout cannot represent
+        the material (another model's table)."""
+        if self.kind == "model":
+            if own_layout(material) != self:
+                return None
+            parameters = {key: value for key, value in material.description.items() if key != "model"}
+            weights = np.asarray(fresnel_model(self.model).channel_weights(**parameters), dtype=np.float64)
+            return np.broadcast_to(weights, (3, weights.shape[-1])).copy()
+        if self.kind == "schlick":
+            return np.stack([material.curve[0], np.ones(3)], axis=-1)
+        if self.terms == 2:
+            return np.stack([material.curve[0], material.curve[-1] - material.curve[0]], axis=-1)
+        return coefficients_least_squares_from_table(basis.theta, material.curve.T, _truncated(basis, self.terms))
+
+
+#: Schlick's table, shared by every model whose fixed functions are Schlick's (schlick, the external-media
+#: variants, fresnel-blend).
+SCHLICK = Layout("schlick")
+
+
+def basis_layout(terms: int) -> Layout:
+    """The first ``terms`` basis terms."""
+    return Layout("basis", terms=terms)
+
+
+def _truncated(basis: Basis, terms: int) -> Basis:
+    return Basis(basis.theta, basis.curves[:terms], basis.fit_angles[:terms]) if terms < basis.n_terms else basis
+
+
+def own_layout(material: SceneMaterial) -> Layout | None:
+    """The own exact table of a material given by a linear model whose fixed functions are not Schlick's
+    (those read the Schlick table), else None."""
+    name = material.description.get("model")
+    if name is None or not fresnel_model(name).linear:
+        return None
+    model = fresnel_model(name)
+    shape = tuple((parameter.name, float(material.description.get(parameter.name, parameter.default)))
+                  for parameter in model.parameters if parameter.name in model.shape)
+    if model.channel_functions(**dict(shape)) == fresnel_model("schlick").channel_functions():
+        return None
+    return Layout("model", model=name, shape=shape)

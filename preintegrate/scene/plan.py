@@ -1,0 +1,150 @@
+"""Plan a scene build: which tables, which layout per material, how many roughness rows.
+
+Public objects: ``ScenePlan``, ``plan_scene``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+
+import numpy as np
+
+from basis.eigenbasis import Basis, resolve_basis
+
+from ..lut import interpolation_weights, texel_centres
+from ..quadrature import texel_weights
+from .files import Scene, SceneError
+from .layout import SCHLICK, Layout, basis_layout, own_layout
+
+__all__ = ["ScenePlan", "plan_scene"]
+
+#: Roughness samples of the error grid: 2 × 17 − 1 over the scene's range.
+_EVAL_ROUGHNESS = 17
+
+
+@dataclasses.dataclass
+class ScenePlan:
+    """What :func:`plan_scene` decided, with every material's achieved error."""
+
+    scene: Scene
+    tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "model:…"
+    roughness_range: tuple[float, float]
+    rows: int
+    layouts: dict[str, str]
+    coefficients: dict[str, np.ndarray]
+    errors: dict[str, float]
+    full_errors: dict[str, dict[str, float]]
+    default_build_errors: dict[str, float]
+    candidates: dict[str, Layout]
+
+
+def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
+    """Choose tables, layouts and rows (module docstring); raises :class:`SceneError` if a material cannot
+    meet the tolerance with any layout, naming it and the smallest tolerance that would do."""
+    basis = resolve_basis(basis)
+    theta = basis.theta
+    low = min(m.roughness[0] for m in scene.materials)
+    high = max(m.roughness[1] for m in scene.materials)
+    # view cosines: the texel centres and the midpoints between them, μo ∈ [0.5/W, 1 − 0.5/W]; below the
+    # first centre every engine reads the edge texel (clamped NdotV), as the default build does
+    mu_eval = (np.arange(2 * scene.size - 1) + 1.0) / (2 * scene.size)
+    mu_columns = texel_centres(scene.size)
+    grid = np.linspace(low, high, 2 * _EVAL_ROUGHNESS - 1)
+    r_eval = {m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
+              for m in scene.materials}
+    all_r = np.unique(np.concatenate(list(r_eval.values())))
+    w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
+    # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high]
+    levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
+    max_rows = 1 if high == low else 2**levels + 1
+    r_rows = np.linspace(low, high, max_rows)
+    w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
+    interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
+    w_rows_mu = np.einsum("pw,hwm->hpm", interp_mu, w_rows)  # table texels interpolated along μo
+    own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
+    candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
+                  **{name: own_layouts[name] for name in sorted(own_layouts)}}
+    own = sorted(own_layouts)
+    functions = {name: layout.values(basis) for name, layout in candidates.items()}
+
+    # each material's weights per layout, once: the error loops below reuse them for every row count
+    weights_of = {(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in candidates.items()}
+
+    def errors_for(layout: str, rows: np.ndarray, weights=None, positions=None) -> dict[str, float]:
+        result = {}
+        weights_rows = w_rows_mu[rows] if weights is None else weights  # (H', P, M)
+        positions = r_rows[rows] if positions is None else positions
+        for material in scene.materials:
+            r_index = np.searchsorted(all_r, r_eval[material.name])
+            exact = w_eval[r_index] @ material.curve  # (r, P, 3)
+            interp_r = interpolation_weights(r_eval[material.name], positions)  # (r, H')
+            coefficients = weights_of[material.name, layout]
+            if coefficients is None:
+                result[material.name] = np.inf
+                continue
+            approx_curve = functions[layout] @ coefficients.T  # (M, 3)
+            approx = np.einsum("rh,hpc->rpc", interp_r, weights_rows @ approx_curve)
+            result[material.name] = float(np.max(np.abs(approx - exact)))
+        return result
+
+    # the full default build (basis RGBA + Schlick RG, rows at (j + 0.5)/size over 0–1), for comparison
+    default_r = texel_centres(scene.size)
+    near = np.flatnonzero((default_r >= low - 1.0 / scene.size) & (default_r <= high + 1.0 / scene.size))
+    w_default = np.einsum("pw,hwm->hpm", interp_mu,
+                          texel_weights(theta, mu_columns[None, :], (default_r[near] ** 2)[:, None]))
+    default_errors = {layout: errors_for(layout, near, w_default, default_r[near]) for layout in ("schlick", "basis-4")}
+    default_best = {m.name: min(default_errors[layout][m.name] for layout in default_errors) for m in scene.materials}
+
+    full = np.arange(max_rows)
+    full_errors = {layout: errors_for(layout, full) for layout in functions}
+    tolerance = scene.tolerance
+    best = {m.name: min(full_errors[layout][m.name] for layout in functions) for m in scene.materials}
+    failing = [name for name, value in best.items() if value > tolerance]
+    if failing:
+        worst = max(failing, key=best.get)
+        raise SceneError(
+            f"material {worst!r} cannot meet tolerance {tolerance:.3g} on Fbar: the best layout reaches "
+            f"{best[worst]:.3g}; use tolerance >= {best[worst] * 1.01:.3g} (or another model for it)"
+            + (f"; also failing: {sorted(set(failing) - {worst})}" if len(failing) > 1 else "")
+        )
+    channels = {"schlick": 2, "basis-2": 2, "basis-3": 3, "basis-4": 4,
+                **{layout: functions[layout].shape[-1] for layout in own}}
+    # every combination of at most one basis table, the Schlick table and the models' own tables
+    options = [tuple(x for x in (schlick, basis_table, *extra) if x)
+               for schlick in ("", "schlick") for basis_table in ("", "basis-2", "basis-3", "basis-4")
+               for count in range(len(own) + 1) for extra in itertools.combinations(own, count)]
+    options = [option for option in options if option]
+
+    def assign(tables, errors) -> dict[str, str] | None:
+        layouts = {}
+        for material in scene.materials:
+            fitting = [t for t in tables if errors[t][material.name] <= tolerance]
+            if not fitting:
+                return None
+            layouts[material.name] = min(fitting, key=lambda t: errors[t][material.name])
+        return layouts
+
+    feasible = [tables for tables in options if assign(tables, full_errors) is not None]
+    tables = min(feasible, key=lambda t: (sum(channels[x] for x in t), len(t)))
+    # fewest nested rows that still meet the tolerance
+    chosen_rows, chosen_errors = full, full_errors
+    for level in range(levels + 1):
+        count = 2**level + 1 if max_rows > 1 else 1
+        if count > max_rows:
+            break
+        subset = np.round(np.linspace(0, max_rows - 1, count)).astype(int)
+        errors = {layout: errors_for(layout, subset) for layout in tables}
+        if assign(tables, errors) is not None:
+            chosen_rows, chosen_errors = subset, errors
+            break
+    layouts = assign(tables, chosen_errors)
+    return ScenePlan(
+        scene=scene, tables=tables, roughness_range=(low, high), rows=len(chosen_rows), layouts=layouts,
+        coefficients={m.name: weights_of[m.name, layouts[m.name]] for m in scene.materials},
+        errors={m.name: chosen_errors[layouts[m.name]][m.name] for m in scene.materials},
+        full_errors=full_errors,
+        default_build_errors=default_best,
+        candidates={name: candidates[name] for name in tables},
+    )

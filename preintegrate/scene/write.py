@@ -1,0 +1,115 @@
+"""Write a planned scene: its tables, ``scene_coefficients.json`` and ``scene_report.md``, as one transaction.
+
+Public objects: ``write_scene``.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from basis.eigenbasis import Basis, resolve_basis
+from basis.storage import shipped_path
+
+from ..exr import write_luts
+from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, texel_centres
+from ..quadrature import texel_weights
+from .plan import ScenePlan
+
+__all__ = ["write_scene"]
+
+
+def _table(functions: np.ndarray, plan: ScenePlan, basis: Basis) -> np.ndarray:
+    low, high = plan.roughness_range
+    rows = np.linspace(low, high, plan.rows) if plan.rows > 1 else np.array([low])
+    mu_columns = texel_centres(plan.scene.size)
+    weights = texel_weights(basis.theta, mu_columns[None, :], (rows**2)[:, None])
+    return weights @ functions
+
+
+def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None) -> dict:
+    """Write the plan's tables, ``scene_coefficients.json`` and ``scene_report.md`` into ``out``.
+
+    ``reference_folder`` holds the full default build to compare sizes with (default: the shipped luts).
+    """
+    basis = resolve_basis(basis)
+    out = Path(out)
+    low, high = plan.roughness_range
+    rows_text = (
+        f"row j <-> perceptual roughness r = {low:.6g} + j * ({high:.6g} - {low:.6g}) / (height - 1) (rows at the "
+        f"range's end points; engine: v = ((r - {low:.6g}) / ({high:.6g} - {low:.6g}) * (height - 1) + 0.5) / height)"
+        if plan.rows > 1 else f"one row, at perceptual roughness r = {low:.6g} (engine: v = 0.5)"
+    )
+    convention = PIXEL_CONVENTION.replace("row j <-> perceptual roughness r = (j + 0.5) / height", rows_text)
+    items, names = [], {}
+    for table in plan.tables:
+        layout = plan.candidates[table]
+        channels = layout.channel_set(basis)
+        path = out / layout.file_name()
+        names[table] = path.name
+        items.append((path, _table(layout.values(basis), plan, basis), channels.channel_names, lut_attributes(
+            channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}", convention,
+            channel_set=table, roughness_range=f"{low:.9g},{high:.9g}", basis_hash=basis.content_hash,
+        )))
+    materials = {
+        material.name: {
+            "target": material.description,
+            "roughness": list(material.roughness),
+            "layout": plan.layouts[material.name],
+            "lut": names[plan.layouts[material.name]],
+            "coefficients": plan.coefficients[material.name].tolist(),
+            "max_abs_error_fbar": plan.errors[material.name],
+            "max_abs_error_fbar_full_default_build": plan.default_build_errors[material.name],
+        }
+        for material in plan.scene.materials
+    }
+    document = {
+        "scene": Path(plan.scene.source).name, "basis_hash": basis.content_hash, "tolerance": plan.scene.tolerance,
+        "space": plan.scene.space, "roughness_range": [low, high], "rows": plan.rows, "columns": plan.scene.size,
+        "layout": "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k",
+        "materials": materials,
+    }
+    # the tables, the coefficients and the report are renamed into place together (or not at all); the
+    # report quotes the tables' sizes, so the tables are encoded once to measure them
+    sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out)) if out.exists() else None
+    if sizes_folder is None:
+        out.mkdir(parents=True)
+        sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out))
+    try:
+        measured = write_luts([(sizes_folder / Path(path).name, *rest) for path, *rest in items])
+        written = {path.name: path.stat().st_size for path in measured}
+    finally:
+        shutil.rmtree(sizes_folder, ignore_errors=True)
+    reference_folder = shipped_path("") if reference_folder is None else Path(reference_folder)
+    full = {name: (reference_folder / name).stat().st_size for name in (BASIS_LUT, SCHLICK_LUT)
+            if (reference_folder / name).exists()}
+    left_out = [name for name in ("schlick", "basis-4") if name not in plan.tables]
+    report = [
+        f"# Scene build: {Path(plan.scene.source).name}", "",
+        (f"Tolerance {plan.scene.tolerance:.4g} on Fbar (max over each material's roughness range and all view "
+         f"angles, bilinear lookup), space {plan.scene.space}, basis {basis.content_hash}."), "",
+        ("| material | roughness | layout | max abs error of Fbar | full default build | "
+         "error with Schlick, basis 2, 3, 4 terms (all rows) |"),
+        "|---|---|---|---|---|---|",
+        *[f"| {m.name} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
+          f"{plan.default_build_errors[m.name]:.2e} | "
+          + ", ".join(f"{plan.full_errors[layout][m.name]:.1e}" for layout in ("schlick", "basis-2", "basis-3", "basis-4"))
+          + " |" for m in plan.scene.materials],
+        "",
+        (f"Tables: {', '.join(f'{names[t]} ({t})' for t in plan.tables)}; {plan.rows} rows over roughness "
+         f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.scene.size} columns."),
+        f"Left out: {', '.join(left_out) if left_out else 'no table'}"
+        + ("" if "basis-4" in plan.tables or not any(t.startswith("basis") for t in plan.tables)
+           else f" (basis terms beyond {plan.tables[-1].split('-')[1]})") + ".",
+        (f"Bytes: {sum(written.values()):,} written against {sum(full.values()):,} for the full default build "
+         f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
+    ]
+    coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
+    paths = write_luts(items, texts=[(coefficients_path, json.dumps(document, indent=1) + "\n"),
+                                     (report_path, "\n".join(report) + "\n")])
+    return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
+            "full_bytes": full, "text": "\n".join(report)}
