@@ -1,7 +1,8 @@
 """Coefficients of a target Fresnel curve in the eigen-basis: the Python API engines call.
 
-Public objects: ``coefficients_from_samples``, ``coefficients_from_curve``, ``coefficients_from_table``,
-``coefficients_from_nk``, ``coefficients_from_gulbrandsen``, ``coefficients_least_squares``,
+Public objects: ``COEFFICIENT_FITS``, ``coefficient_fit``, ``coefficients_from_function``,
+``coefficients_from_samples``, ``coefficients_from_curve``, ``coefficients_from_table``, ``coefficients_from_nk``,
+``coefficients_from_model``, ``coefficients_from_gulbrandsen``, ``coefficients_least_squares``,
 ``coefficients_least_squares_from_table``, ``LEAST_SQUARES_WEIGHTS``, ``reconstruct``,
 ``reconstruction_error``, ``fit_matrix``, ``fit_condition_number``.
 
@@ -37,9 +38,13 @@ from .gulbrandsen import gulbrandsen_to_nk
 from .validation import ParameterError, as_float_array, check_positive_int, check_range, check_shape_last
 
 __all__ = [
+    "COEFFICIENT_FITS",
     "LEAST_SQUARES_WEIGHTS",
+    "coefficient_fit",
+    "coefficients_from_function",
     "coefficients_from_curve",
     "coefficients_from_gulbrandsen",
+    "coefficients_from_model",
     "coefficients_from_nk",
     "coefficients_from_samples",
     "coefficients_from_table",
@@ -117,7 +122,7 @@ def _table_spline(theta, values):
     return theta_spline(theta, values)
 
 
-def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
+def coefficients_from_nk(eta, kappa, basis: Basis | None = None, fit: str = "four-point") -> np.ndarray:
     """Coefficients of the exact Fresnel curve of η + iκ, e.g. per RGB channel: (..., 3) → (..., 3, K).
 
     Parameters
@@ -127,6 +132,8 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
         critical angle that four smooth terms can only approximate.
     kappa : array_like
         In [0, 1e6].
+    fit : str
+        ``four-point`` (the talk's), ``least-squares`` or ``minimax`` (:data:`COEFFICIENT_FITS`).
 
     Examples
     --------
@@ -134,11 +141,12 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None) -> np.ndarray:
     >>> c.shape
     (3, 4)
     """
-    basis = resolve_basis(basis)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
-    mu = cos_theta(basis.fit_angles)
-    return coefficients_from_samples(fresnel_kernel(mu, eta[..., None], kappa[..., None]), basis)
+    if fit.startswith("delta-e") if isinstance(fit, str) else False:
+        raise ParameterError(f"fit {fit!r} fits RGB curves in a colour space; for eta, kappa use "
+                             "'four-point', 'least-squares' or 'minimax'")
+    return coefficients_from_function(lambda mu: fresnel_kernel(mu, eta[..., None], kappa[..., None]), fit, basis)
 
 
 def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None = None) -> np.ndarray:
@@ -353,3 +361,99 @@ def reconstruction_error(coefficients, theta, values, basis: Basis | None = None
     fitted = np.einsum("...k,jk->...j", coefficients, basis.evaluate(theta))
     error = np.broadcast_to(fitted, leading + (theta.size,)) - values
     return np.max(np.abs(error), axis=-1), np.sqrt(np.mean(error * error, axis=-1))
+
+
+def _four_point_fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+    return coefficients_from_samples(values_of(cos_theta(basis.fit_angles)), basis)
+
+
+def _least_squares_fit(weight: str) -> Callable:
+    def fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+        return _least_squares_on_grid(values_of(cos_theta(basis.theta)), basis, weight, LAWSON_ITERATIONS)
+
+    return fit
+
+
+def _delta_e_fit(free_f0: bool) -> Callable:
+    def fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+        from .material_fits import delta_e_fit  # colour science, loaded only for a ΔE2000 fit
+
+        if space is None:
+            raise ParameterError("a delta-e fit needs the colour space of the RGB curve (space='ACEScg' or 'sRGB')")
+        return delta_e_fit(values_of, space, basis, free_f0)
+
+    return fit
+
+
+#: Registry: fit name → (values_of, basis, space) → (..., K), with values_of(μ (A,)) → (..., A) the target.
+#: Every fit keeps F(90°) = c0 + c1 exact; all but ``delta-e`` keep F(0°) = c0 exact too.
+COEFFICIENT_FITS: dict[str, Callable] = {
+    "four-point": _four_point_fit,  # the talk's scheme: the curve at the fit angles (Belcour 2020, "Coefficients")
+    "least-squares": _least_squares_fit("uniform"),  # L2 over θ on the basis grid
+    "minimax": _least_squares_fit("minimax"),  # max norm over the basis grid, by Lawson's reweighting
+    "delta-e-exact-f0": _delta_e_fit(False),  # RGB: Σ_θ ΔE2000² over c2 … (Hoffman 2020's measure)
+    "delta-e": _delta_e_fit(True),  # RGB: the same over c0, c2 …; F0 may move by an invisible ΔE
+}
+
+
+def coefficient_fit(name: str) -> Callable:
+    """Look up a fit of :data:`COEFFICIENT_FITS`; the error lists the valid names."""
+    try:
+        return COEFFICIENT_FITS[name]
+    except (KeyError, TypeError):
+        raise ParameterError(f"fit must be one of {sorted(COEFFICIENT_FITS)}, got {name!r}") from None
+
+
+def coefficients_from_function(values_of: Callable, fit: str = "four-point", basis: Basis | None = None,
+                               space: str | None = None) -> np.ndarray:
+    """Coefficients (..., K) of any target given as a function of μ, by a fit of :data:`COEFFICIENT_FITS`.
+
+    Parameters
+    ----------
+    values_of : callable
+        μ (A,) in [0, 1] → (..., A): the target at the cosines the fit asks for; (3, A) for the ΔE fits.
+    fit : str
+        A name of :data:`COEFFICIENT_FITS`.
+    space : str, optional
+        Colour space of an RGB target (``delta-e`` fits only).
+
+    Examples
+    --------
+    >>> c = coefficients_from_function(lambda mu: fresnel_kernel(mu, 1.5, 0.0), fit="minimax")
+    >>> round(float(c[0]), 6)  # F0 of glass
+    0.04
+    """
+    if not callable(values_of):
+        raise ParameterError(f"values_of must be callable, got {type(values_of).__name__}")
+    return coefficient_fit(fit)(values_of, resolve_basis(basis), space)
+
+
+def coefficients_from_model(name: str, fit: str = "four-point", basis: Basis | None = None,
+                            **parameters) -> tuple[np.ndarray, np.ndarray]:
+    """Project an RGB material of a model of :data:`basis.models.FRESNEL_MODELS` onto the basis.
+
+    Returns the coefficients (3, K) by ``fit`` (``four-point``, ``least-squares`` or ``minimax``) and the
+    max |F_model − Σ c_k b_k| over 2001 angles uniform in θ, per channel (3,): how much of the model the
+    basis holds.
+
+    Examples
+    --------
+    >>> coefficients, error = coefficients_from_model("f82", f0=[0.95, 0.64, 0.54], f82=[0.93, 0.6, 0.5])
+    >>> coefficients.shape, error.shape
+    ((3, 4), (3,))
+    """
+    from .models import fresnel_model
+
+    model = fresnel_model(name)
+    checked = model.check(**parameters)
+    if isinstance(fit, str) and fit.startswith("delta-e"):
+        raise ParameterError(f"fit must be 'four-point', 'least-squares' or 'minimax' for a model, got {fit!r}")
+
+    def values_of(mu: np.ndarray) -> np.ndarray:  # (3, A)
+        return np.broadcast_to(model.evaluate(mu[:, None], **checked), (mu.size, 3)).T
+
+    basis = resolve_basis(basis)
+    coefficients = coefficients_from_function(values_of, fit, basis)
+    theta = np.linspace(0.0, 0.5 * np.pi, 2001)
+    error, _ = reconstruction_error(coefficients, theta, values_of(cos_theta(theta)), basis)
+    return coefficients, error

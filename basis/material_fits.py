@@ -1,6 +1,6 @@
 """Measured materials as basis coefficients: fitting RGB Fresnel curves, and the shipped presets.
 
-Public objects: ``ANGLES_DEGREES``, ``rms_delta_E_2000``, ``MATERIAL_FITS``, ``material_fit``,
+Public objects: ``ANGLES_DEGREES``, ``rms_delta_E_2000``, ``delta_e_fit``,
 ``fit_rgb_curve``, ``fit_material``, ``material_curve``, ``build_presets``, ``minimise_delta_e``.
 The presets themselves are read by :mod:`basis.presets`, which needs none of this.
 
@@ -9,7 +9,7 @@ A material's ground truth is its RGB Fresnel curve by Hoffman's spectral procedu
 CIEDE2000 between the approximation and the ground truth (with this sampling his dielectric Schlick
 column is reproduced to 0.01; ``tests/test_materials.py``).
 
-Coefficient fits (``MATERIAL_FITS``); all keep F(90°) = c0 + c1 exact (white):
+Coefficient fits (:data:`basis.coefficients.COEFFICIENT_FITS`); all keep F(90°) = c0 + c1 exact (white):
 
 ==================  ==============================================================================
 ``four-point``      the talk's scheme: the curve at the basis' fit angles (Belcour 2020, eq. 5)
@@ -41,25 +41,20 @@ import numpy as np
 import scipy.optimize
 
 from .angles import cos_theta
-from .coefficients import (
-    coefficients_from_samples,
-    coefficients_least_squares_from_table,
-)
+from .coefficients import coefficients_from_function
 from .colorimetry import delta_E_2000, delta_E_2000_Lab, rgb_to_Lab, working_space
 from .eigenbasis import Basis, resolve_basis
 from .models.formulas import F82_MU, schlick_curve
 from .presets import FORMAT, PRESET_SPACES, VERSION
 from .spectral import rgb_fresnel, spectral_ior, spectral_iors
-from .validation import ParameterError
 
 __all__ = [
     "ANGLES_DEGREES",
-    "MATERIAL_FITS",
     "build_presets",
     "fit_material",
     "fit_rgb_curve",
     "material_curve",
-    "material_fit",
+    "delta_e_fit",
     "minimise_delta_e",
     "rms_delta_E_2000",
 ]
@@ -85,14 +80,6 @@ def material_curve(name: str, space: str = "ACEScg") -> Curve:
     return functools.partial(rgb_fresnel, material, space=space)
 
 
-def _four_point(curve: Curve, space: str, basis: Basis) -> np.ndarray:
-    return coefficients_from_samples(curve(cos_theta(basis.fit_angles)).T, basis)
-
-
-def _least_squares(curve: Curve, space: str, basis: Basis) -> np.ndarray:
-    return coefficients_least_squares_from_table(basis.theta, curve(cos_theta(basis.theta)).T, basis)
-
-
 def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], np.ndarray], initial: np.ndarray,
                      space: str, bounds=(-np.inf, np.inf)) -> np.ndarray:
     """Parameters p minimising Σ ΔE2000(reference, rgb_of(p))² (scipy's trust-region least squares).
@@ -113,12 +100,17 @@ def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], n
     return scipy.optimize.least_squares(residuals, initial, jac=jacobian, bounds=bounds).x
 
 
-def _delta_e_fit(curve: Curve, space: str, basis: Basis, free_f0: bool) -> np.ndarray:
-    """Minimise Σ_θ ΔE2000² over c2 … c_{K−1} (and c0 if ``free_f0``), with c0 + c1 = F90 kept exact."""
+def delta_e_fit(values_of: Callable, space: str, basis: Basis, free_f0: bool) -> np.ndarray:
+    """(3, K): minimise Σ_θ ΔE2000² over c2 … c_{K−1} (and c0 if ``free_f0``), with c0 + c1 = F90 kept exact.
+
+    ``values_of`` maps μ (A,) to the RGB curve (3, A); the ``delta-e`` entries of
+    :data:`basis.coefficients.COEFFICIENT_FITS` call this.
+    """
     # the free-F0 fit starts from the exact-F0 optimum, so it can only improve on it
-    start = _delta_e_fit(curve, space, basis, False) if free_f0 else _least_squares(curve, space, basis)
+    start = (delta_e_fit(values_of, space, basis, False) if free_f0
+             else coefficients_from_function(values_of, "least-squares", basis))
     theta = np.deg2rad(_FIT_DEGREES)
-    truth = curve(cos_theta(theta))
+    truth = values_of(cos_theta(theta)).T
     reference = rgb_to_Lab(truth, space)
     curves = basis.evaluate(theta)  # (A, K)
     f90 = truth[-1]
@@ -136,42 +128,18 @@ def _delta_e_fit(curve: Curve, space: str, basis: Basis, free_f0: bool) -> np.nd
     return np.concatenate([c0, f90[:, None] - c0, free[:, 1:] if free_f0 else free], axis=1)
 
 
-def _delta_e_exact_f0(curve: Curve, space: str, basis: Basis) -> np.ndarray:
-    return _delta_e_fit(curve, space, basis, free_f0=False)
-
-
-def _delta_e(curve: Curve, space: str, basis: Basis) -> np.ndarray:
-    return _delta_e_fit(curve, space, basis, free_f0=True)
-
-
-#: Registry: fit name → (RGB curve, space, basis) → (3, K) coefficients.
-MATERIAL_FITS: dict[str, Callable[[Curve, str, Basis], np.ndarray]] = {
-    "four-point": _four_point,
-    "least-squares": _least_squares,
-    "delta-e-exact-f0": _delta_e_exact_f0,
-    "delta-e": _delta_e,
-}
-
-
-def material_fit(name: str) -> Callable[[Curve, str, Basis], np.ndarray]:
-    """Look up a coefficient fit; the error lists the valid names."""
-    try:
-        return MATERIAL_FITS[name]
-    except (KeyError, TypeError):
-        raise ParameterError(f"fit must be one of {sorted(MATERIAL_FITS)}, got {name!r}") from None
-
-
 def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
-    """(3, K) coefficients of an RGB curve μ → (..., 3) by one of :data:`MATERIAL_FITS`."""
+    """(3, K) coefficients of an RGB curve μ → (..., 3) by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`."""
     working_space(space)
-    return material_fit(fit)(curve, space, resolve_basis(basis))
+    return coefficients_from_function(lambda mu: curve(mu).T, fit, basis, space)
 
 
 _FITS: dict[tuple, np.ndarray] = {}
 
 
 def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
-    """(3, K) coefficients of a measured material by one of :data:`MATERIAL_FITS` (memoised per basis hash).
+    """(3, K) coefficients of a measured material by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`
+    (memoised per basis hash).
 
     Unlike :func:`material_coefficients` this always fits; the presets, the tables and the report share
     the fits through the memo.

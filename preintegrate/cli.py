@@ -27,26 +27,18 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.angles import cos_theta
 from basis.builder import build_basis
-from basis.coefficients import (
-    coefficients_from_gulbrandsen,
-    coefficients_from_nk,
-    coefficients_from_samples,
-    coefficients_least_squares_from_table,
-)
+from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
 from basis.eigenbasis import Basis, default_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.material_fits import build_presets
 from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.presets import PRESET_SPACES, material_coefficients, material_preset, shipped_presets_path, write_presets
-from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 from basis.storage import write_text
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_channels
 from .exr import write_luts
-from .lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, build_table
+from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes
 from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
 
@@ -100,24 +92,14 @@ def command_build(arguments) -> int:
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     table = build_table(combined, size, order=order, progress=progress)
     progress.close()
-    common = {
-        "convention": PIXEL_CONVENTION,
-        "quadrature": order.describe(),
-        "width": str(size),
-        "height": str(size),
-        "generator": "fresnel-basis 0.1.0 (fresnel-lut build)",
-    }
     k = basis_set.n_channels
+    quadrature = order.describe()
     items = [
-        (out / BASIS_LUT, table[:, :, :k], basis_set.channel_names, {
-            **common, "channel_set": "basis", "channels": ",".join(basis_set.channel_names),
-            "combination": basis_set.combination, "basis_hash": basis.content_hash,
-            "basis_fit_angles": ",".join(f"{angle:.6f}" for angle in basis.fit_angles),
-        }),
-        (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names, {
-            **common, "channel_set": "schlick", "channels": ",".join(schlick_set.channel_names),
-            "combination": schlick_set.combination,
-        }),
+        (out / BASIS_LUT, table[:, :, :k], basis_set.channel_names, lut_attributes(
+            basis_set, size, size, "fresnel-lut build", quadrature=quadrature, basis_hash=basis.content_hash,
+            basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))),
+        (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
+         lut_attributes(schlick_set, size, size, "fresnel-lut build", quadrature=quadrature)),
     ]
     paths = write_luts(items, half=arguments.half)
     elapsed = time.perf_counter() - started
@@ -129,8 +111,7 @@ def command_build(arguments) -> int:
 
 def _shape_arguments(arguments) -> dict:
     """The shape parameters given on the command line (--exponent, --alpha, --eta-prime, --kappa-prime)."""
-    names = ("exponent", "alpha", "eta_prime", "kappa_prime")
-    return {name: getattr(arguments, name) for name in names if getattr(arguments, name, None) is not None}
+    return {name: getattr(arguments, name) for name in _SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
 
 
 def _build_model_table(arguments, size: int, out: Path, order) -> int:
@@ -151,12 +132,8 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
     table = build_table(channels, size, order=order, progress=progress)
     progress.close()
     path = out / f"ggx_{model.name}.exr"
-    header = {
-        "convention": PIXEL_CONVENTION, "quadrature": order.describe(), "width": str(size), "height": str(size),
-        "generator": "fresnel-basis 0.1.0 (fresnel-lut build --model)", "channel_set": model.name,
-        "channels": ",".join(channels.channel_names), "combination": channels.combination,
-        **{f"model_{key}": value for key, value in channels.provenance.items()},
-    }
+    header = lut_attributes(channels, size, size, "fresnel-lut build --model", quadrature=order.describe(),
+                            **{f"model_{key}": value for key, value in channels.provenance.items()})
     (written,) = write_luts([(path, table, channels.channel_names, header)], half=arguments.half)
     print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
           f"{'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s:")
@@ -247,6 +224,9 @@ def command_coeffs(arguments) -> int:
 
 
 def command_materials(arguments) -> int:
+    from basis.material_fits import build_presets  # colour science: loaded by the commands that fit
+    from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
+
     from .studies.material_error import TARGET, material_markdown, material_study
 
     folder = _output_folder("--out", arguments.out)
@@ -282,28 +262,20 @@ def command_materials(arguments) -> int:
     return 0
 
 
-#: Model parameters as ``coeffs`` options: RGB triples, and scalars (also the shape options of ``build``).
-_MODEL_COLOUR_OPTIONS = ("f0", "f82", "r0", "r90", "a", "tint", "rs", "eta", "kappa", "reflectivity", "edge_tint")
-_MODEL_SCALAR_OPTIONS = ("exponent", "alpha", "eta_prime", "kappa_prime", "eta_e")
+#: Every model parameter of the registry, by name: RGB triples (``colour``) and scalars become ``coeffs``
+#: options; the shape parameters (which fix a model's channels) are ``build --model`` options too.
+_MODEL_PARAMETERS = {parameter.name: parameter for model in FRESNEL_MODELS.values() for parameter in model.parameters}
+_SHAPE_OPTIONS = tuple(sorted({name for model in FRESNEL_MODELS.values() for name in model.shape}))
 
 
 def _coeffs_of_model(arguments, basis: Basis) -> int:
     model = fresnel_model(arguments.model)
-    given = {name: getattr(arguments, name) for name in _MODEL_COLOUR_OPTIONS + _MODEL_SCALAR_OPTIONS
-             if getattr(arguments, name, None) is not None}
+    given = {name: getattr(arguments, name) for name in _MODEL_PARAMETERS if getattr(arguments, name, None) is not None}
     if arguments.material is not None or arguments.space is not None:
         raise ParameterError("--model takes its own parameters, not --material or --space")
     parameters = model.check(**{name: np.array(value, dtype=np.float64) for name, value in given.items()})
     fit = arguments.fit
-    if fit == "four-point":
-        samples = model.evaluate(cos_theta(basis.fit_angles)[:, None], **parameters)  # (K, 3)
-        coefficients = coefficients_from_samples(np.broadcast_to(samples, (basis.n_terms, 3)).T, basis)
-    else:
-        curve = model.evaluate(cos_theta(basis.theta)[:, None], **parameters)
-        coefficients = coefficients_least_squares_from_table(basis.theta, np.broadcast_to(curve, (basis.theta.size, 3)).T, basis)
-    theta = np.linspace(0.0, 0.5 * np.pi, 2001)
-    exact = np.broadcast_to(model.evaluate(cos_theta(theta)[:, None], **parameters), (theta.size, 3))
-    error = np.max(np.abs(exact - (coefficients @ basis.evaluate(theta).T).T), axis=0)
+    coefficients, error = coefficients_from_model(model.name, fit, basis, **parameters)
     own = None
     if model.linear:
         weights = model.channel_weights(**parameters)
@@ -373,10 +345,10 @@ def command_report(arguments) -> int:
 
 
 def _add_shape_options(parser) -> None:
-    parser.add_argument("--exponent", type=float, default=None, help="exponent p (generalized-schlick, generalized-adobe)")
-    parser.add_argument("--alpha", type=float, default=None, help="exponent of the Lazanyi dip term (lazanyi)")
-    parser.add_argument("--eta-prime", type=float, default=None, help="representative eta (cook-torrance)")
-    parser.add_argument("--kappa-prime", type=float, default=None, help="representative kappa (cook-torrance)")
+    for name in _SHAPE_OPTIONS:
+        users = sorted(model.name for model in FRESNEL_MODELS.values() if name in model.shape)
+        parser.add_argument(f"--{name.replace('_', '-')}", type=float, default=None,
+                            help=f"{_MODEL_PARAMETERS[name].description} ({', '.join(users)})")
 
 
 def make_parser() -> argparse.ArgumentParser:
@@ -404,20 +376,27 @@ def make_parser() -> argparse.ArgumentParser:
     basis.set_defaults(run=command_basis)
 
     coeffs = commands.add_parser("coeffs", help="basis coefficients of an RGB material")
-    coeffs.add_argument("--eta", type=float, nargs=3, metavar=("R", "G", "B"))
-    coeffs.add_argument("--kappa", type=float, nargs=3, metavar=("R", "G", "B"))
-    coeffs.add_argument("--reflectivity", type=float, nargs=3, metavar=("R", "G", "B"))
-    coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"))
+    coeffs.add_argument("--eta", type=float, nargs=3, metavar=("R", "G", "B"), help="real part of the IOR per channel (with --kappa)")
+    coeffs.add_argument("--kappa", type=float, nargs=3, metavar=("R", "G", "B"), help="extinction coefficient per channel (with --eta)")
+    coeffs.add_argument("--reflectivity", type=float, nargs=3, metavar=("R", "G", "B"),
+                        help="Gulbrandsen's reflectivity r per channel (with --edge-tint)")
+    coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"),
+                        help="Gulbrandsen's edge tint g per channel (with --reflectivity)")
     coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
     coeffs.add_argument("--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)")
     coeffs.add_argument("--model", default=None, help=f"an approximate model ({', '.join(sorted(FRESNEL_MODELS))}) "
                         "with its parameters")
-    for name in _MODEL_COLOUR_OPTIONS:
-        if name not in ("eta", "kappa", "reflectivity", "edge_tint"):
-            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, nargs=3, metavar=("R", "G", "B"))
-    coeffs.add_argument("--eta-e", type=float, default=None, help="index of the external medium")
+    for name, parameter in _MODEL_PARAMETERS.items():
+        if name in ("eta", "kappa", "reflectivity", "edge_tint") or name in _SHAPE_OPTIONS:
+            continue  # the material options above; the shape options below
+        if parameter.colour:
+            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, nargs=3, metavar=("R", "G", "B"),
+                                help=f"{parameter.description} (--model)")
+        else:
+            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, default=None,
+                                help=f"{parameter.description} (--model)")
     _add_shape_options(coeffs)
-    coeffs.add_argument("--fit", default="four-point", choices=("four-point", "least-squares"),
+    coeffs.add_argument("--fit", default="four-point", choices=("four-point", "least-squares", "minimax"),
                         help="projection of --model onto the basis (default four-point)")
     coeffs.add_argument("--json", action="store_true", help="machine-readable output")
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")

@@ -10,7 +10,7 @@ The ground truth of a material is its RGB curve by Hoffman's spectral procedure
 
 * ``schlick``: F0 from the curve, Schlick 1994 eq. 15 per channel;
 * ``four-point``, ``least-squares``, ``delta-e``: the basis with the fits of
-  :data:`basis.material_fits.MATERIAL_FITS` (the presets use ``delta-e``);
+  :data:`STUDY_FITS` of :data:`basis.coefficients.COEFFICIENT_FITS` (the presets use ``delta-e``);
 * ``gulbrandsen``: exact Fresnel of Gulbrandsen's (r, g) per channel, both fitted numerically to the
   ground truth (ΔE2000, bounded to r ∈ [0, 0.999], g ∈ [0, 1]): Hoffman's "fitted η, κ" column;
 * ``f82``: Hoffman 2019's reparameterised Lazányi model with F0 and F82 taken from the curve (not
@@ -46,7 +46,7 @@ from basis.colorimetry import delta_E_2000, rgb_to_Lab, rgb_to_rgb_matrix
 from basis.eigenbasis import Basis, resolve_basis
 from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.material_fits import ANGLES_DEGREES, MATERIAL_FITS, fit_material, material_curve, minimise_delta_e, rms_delta_E_2000
+from basis.material_fits import ANGLES_DEGREES, fit_material, material_curve, minimise_delta_e, rms_delta_E_2000
 
 # the unchecked kernels: an RGB F0 of a saturated metal lies outside [0, 1] in a small gamut (sRGB)
 from basis.models.formulas import F82_MU, hoffman2019_curve, schlick_curve
@@ -107,6 +107,9 @@ _R_MAX = 0.999
 _THETA = np.deg2rad(ANGLES_DEGREES)
 _FIT_THETA = np.deg2rad(np.linspace(0.0, 90.0, 361))
 
+#: The fits of the tables' columns, the presets' ``delta-e`` last (its ΔE at 0° is reported beside it).
+STUDY_FITS = ("four-point", "least-squares", "delta-e-exact-f0", "delta-e")
+
 
 def _gulbrandsen_curve(mu: np.ndarray, reflectivity: np.ndarray, edge_tint: np.ndarray) -> np.ndarray:
     """(A, 3) exact Fresnel of per-channel (r, g); r, g are clipped into Gulbrandsen's domain first."""
@@ -153,7 +156,7 @@ def material_error_table(space: str = "ACEScg", basis: Basis | None = None, name
         truth = curve(mu)
         row = {"material": name, "kind": material.kind, "hoffman_schlick": HOFFMAN_SCHLICK.get(name)}
         row["schlick"] = float(rms_delta_E_2000(truth, schlick_curve(mu[:, None], truth[0]), space))
-        for fit in MATERIAL_FITS:
+        for fit in STUDY_FITS:
             coefficients = fit_material(name, space, fit, basis)
             row[fit] = float(rms_delta_E_2000(truth, (coefficients @ curves.T).T, space))
         row["delta-e_at_0"] = float(delta_E_2000(truth[0], coefficients[:, 0], space))  # the F0 the fit moved
@@ -252,7 +255,7 @@ def basis_choice_table(count: int = 200_000, space: str = "ACEScg", progress=Non
         basis = build_basis(count=count, domain=_domain_with_metals(share))
         curves = basis.evaluate(_THETA)
         held_out = basis.training["holdout_max_abs_error"]["chosen"]
-        for fit in MATERIAL_FITS:
+        for fit in STUDY_FITS:
             metals = {
                 name: float(rms_delta_E_2000(truths[name], (fit_material(name, space, fit, basis) @ curves.T).T, space))
                 for name in materials

@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.angles import check_theta_grid, cos_theta, trapezoid_weights
-from basis.coefficients import coefficients_from_nk, coefficients_least_squares
+from basis.coefficients import coefficients_from_nk
 from basis.eigenbasis import Basis, resolve_basis
 from basis.fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_conductor, fresnel_kernel
 from basis.holdout import holdout_materials
@@ -106,13 +106,9 @@ def _basis_curve(mu: np.ndarray, parameters: np.ndarray, basis: Basis) -> np.nda
     return np.einsum("...k,...k->...", parameters, basis.spline(np.arccos(mu)))
 
 
-def _four_point_parameters(eta, kappa, basis: Basis) -> np.ndarray:
-    return coefficients_from_nk(eta, kappa, basis)
-
-
-def _least_squares(weight: str) -> Callable[[np.ndarray, np.ndarray, Basis], np.ndarray]:
+def _fitted(fit: str) -> Callable[[np.ndarray, np.ndarray, Basis], np.ndarray]:
     def parameters(eta, kappa, basis: Basis) -> np.ndarray:
-        return coefficients_least_squares(eta, kappa, basis, weight=weight)
+        return coefficients_from_nk(eta, kappa, basis, fit=fit)
 
     return parameters
 
@@ -183,15 +179,15 @@ REPRESENTATIONS: dict[str, Representation] = {
     ),
     "basis-4point": Representation(
         "basis-4point", "eigen-basis, four-point coefficients (Belcour 2020)",
-        _four_point_parameters, _basis_curve, "basis",
+        _fitted("four-point"), _basis_curve, "basis",
     ),
     "basis-lsq": Representation(
         "basis-lsq", "eigen-basis, L2 least squares over theta, F0 and F90 exact",
-        _least_squares("uniform"), _basis_curve, "basis",
+        _fitted("least-squares"), _basis_curve, "basis",
     ),
     "basis-minimax": Representation(
         "basis-minimax", "eigen-basis, Lawson-reweighted least squares (max norm), F0 and F90 exact",
-        _least_squares("minimax"), _basis_curve, "basis",
+        _fitted("minimax"), _basis_curve, "basis",
     ),
 }
 
