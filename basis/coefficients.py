@@ -8,7 +8,7 @@ Public objects: ``COEFFICIENT_FITS``, ``coefficient_fit``, ``coefficients_from_f
 
 The four-point scheme of Belcour et al. 2020 ("Coefficients"): the target is sampled at the basis'
 fit angles θ0 = 0, θ1 = π/2, θ2, θ3 and the K × K system Σ_k c_k b_k(θ_i) = F(θ_i) is solved. Because
-b_k(0) = 0 for k ≥ 1 and b_k(π/2) = 0 for k ≥ 2 (see :mod:`basis.svd`), this gives c0 = F(0) and
+b_k(0) = 0 for k ≥ 1 and b_k(π/2) = 0 for k ≥ 2 (see :mod:`basis.training`), this gives c0 = F(0) and
 c1 = F(π/2) − F(0) exactly, and c2, c3 from a 2 × 2 solve. Shapes: a target of shape (...) gives
 coefficients (..., K); an RGB material (..., 3) gives (..., 3, 4).
 
@@ -177,9 +177,9 @@ LEAST_SQUARES_WEIGHTS = {
 }
 
 #: Lawson iterations of ``weight="minimax"``. Measured against the exact discrete minimax (a linear
-#: programme) on the held-out groups of :mod:`basis.holdout`: every dielectric and metal is within
+#: programme) on the held-out groups of :mod:`basis.training`: every dielectric and metal is within
 #: 0.4 % of it after 40 iterations (5 %, 1.8 % after 10, 20), the stiff corners within 2.3 %;
-#: ``tests/test_models.py`` checks 1 % on a few metals.
+#: ``tests/basis/test_coefficients_least_squares.py`` checks 1 % on a few metals.
 LAWSON_ITERATIONS = 40
 
 
@@ -187,7 +187,7 @@ def _least_squares_on_grid(values: np.ndarray, basis: Basis, weight: str, iterat
     """Unchecked kernel: ``values`` (..., M) on ``basis.theta`` → coefficients (..., K)."""
     c0 = values[..., 0]
     c1 = values[..., -1] - c0
-    # b_k(0) = 0 (k ≥ 1) and b_k(π/2) = 0 (k ≥ 2): the residual vanishes at both ends (basis.svd).
+    # b_k(0) = 0 (k ≥ 1) and b_k(π/2) = 0 (k ≥ 2): the residual vanishes at both ends (basis.training).
     residual = values - c0[..., None] - c1[..., None] * basis.curves[1]
     design = basis.curves[2:].T  # (M, K − 2)
     weights = trapezoid_weights(basis.theta)
@@ -245,7 +245,7 @@ def coefficients_least_squares_from_table(
 
     Notes
     -----
-    Because b_k(0) = 0 for k ≥ 1 and b_k(π/2) = 0 for k ≥ 2 (:mod:`basis.svd`), fixing c0 and c1 leaves
+    Because b_k(0) = 0 for k ≥ 1 and b_k(π/2) = 0 for k ≥ 2 (:mod:`basis.training`), fixing c0 and c1 leaves
     a residual that vanishes at both ends, and the other terms do not disturb F0 or F90. An unweighted
     L2 fit can let the error pile up at grazing angles; the minimax weighting bounds it instead.
     Lawson's update (Lawson 1961; Rice and Usow 1968) is w_j ← w_j |e_j| / Σ_i w_i |e_i|.

@@ -7,7 +7,7 @@ The presets themselves are read by :mod:`basis.presets`, which needs none of thi
 A material's ground truth is its RGB Fresnel curve by Hoffman's spectral procedure
 (:func:`basis.spectral.rgb_fresnel`). Its error is Hoffman's measure: the RMS over θ = 0°, 1°, …, 90° of
 CIEDE2000 between the approximation and the ground truth (with this sampling his dielectric Schlick
-column is reproduced to 0.01; ``tests/test_materials.py``).
+column is reproduced to 0.01; ``tests/basis/test_material_fits.py``).
 
 Coefficient fits (:data:`basis.coefficients.COEFFICIENT_FITS`); all keep F(90°) = c0 + c1 exact (white):
 

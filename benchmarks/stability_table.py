@@ -1,9 +1,9 @@
 """Numerical stability on stiff and extreme cases, bad input and storage: the tables of the closing note.
 
-Run: ``.venv/bin/python benchmarks/stability_table.py [--seed S]`` (well under 3 minutes on 2 cores). It runs
-every extreme regime of tests/test_stability_extremes.py on denser grids, fuzzes the public API over its whole
+Run from the repository root: ``.venv/bin/python -m benchmarks.stability_table [--seed S]`` (well under 3 minutes on 2 cores). It runs
+every extreme regime of tests/stability/test_extremes.py on denser grids, fuzzes the public API over its whole
 documented domain with random and edge inputs, fuzzes every CLI option (the table of
-tests/test_stability_faults.py), measures the conditioning of the coefficient solve and the reconstruction error
+tests/stability/test_faults.py), measures the conditioning of the coefficient solve and the reconstruction error
 of non-Fresnel targets, and the float32 / half storage error of the shipped LUTs against a float64 rebuild. It
 prints Markdown tables: what was tried, how many inputs, the worst error against which reference, the tolerance,
 and pass / FAIL. A FAIL is a known, reported defect (each has a strict-xfail test).
@@ -15,7 +15,6 @@ import argparse
 import contextlib
 import io
 import os
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -23,11 +22,7 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from test_fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex  # noqa: E402
-
-from basis import (  # noqa: E402
+from basis import (
     coefficients_from_curve,
     coefficients_from_gulbrandsen,
     coefficients_from_nk,
@@ -37,21 +32,21 @@ from basis import (  # noqa: E402
     gulbrandsen_to_nk,
 )
 from basis.angles import cos_theta
-from basis.builder import NOTEBOOK_ANGLES, TALK_ANGLES  # noqa: E402
-from basis.coefficients import (  # noqa: E402
+from basis.coefficients import (
     coefficients_from_samples,
     fit_condition_number,
     fit_matrix,
     reconstruction_error,
 )
-from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path  # noqa: E402
-from basis.svd import MIN_SPAN, GramAccumulator  # noqa: E402
-from basis.validation import ParameterError  # noqa: E402
-from preintegrate import cli  # noqa: E402
-from preintegrate.channels import basis_channels, combine, schlick_channels  # noqa: E402
-from preintegrate.exr import read_lut, write_lut  # noqa: E402
+from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path
+from basis.training import MIN_SPAN, NOTEBOOK_ANGLES, TALK_ANGLES, GramAccumulator
+from basis.validation import ParameterError
+from preintegrate import cli
+from preintegrate.channels import basis_channels, combine, schlick_channels
+from preintegrate.exr import read_lut, write_lut
 from preintegrate.lut import build_table
-from preintegrate.quadrature import QuadratureOrder, directional_albedo  # noqa: E402
+from preintegrate.quadrature import QuadratureOrder, directional_albedo
+from tests.references.fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex
 
 EPS = float(np.finfo(np.float64).eps)
 HIGH = QuadratureOrder.uniform(128)

@@ -27,13 +27,13 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.builder import build_basis
 from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
 from basis.eigenbasis import Basis, default_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.presets import PRESET_SPACES, material_coefficients, material_preset, shipped_presets_path, write_presets
 from basis.storage import write_text
+from basis.training import build_basis
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_channels
@@ -227,7 +227,7 @@ def command_materials(arguments) -> int:
     from basis.material_fits import build_presets  # colour science: loaded by the commands that fit
     from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 
-    from .studies.material_error import TARGET, material_markdown, material_study
+    from .report.material_error import TARGET, material_markdown, material_study
 
     folder = _output_folder("--out", arguments.out)
     presets_path = shipped_presets_path() if arguments.presets is None else Path(arguments.presets)
@@ -318,7 +318,7 @@ def command_scene(arguments) -> int:
 
 
 def command_render(arguments) -> int:
-    from .studies.renders import render_markdown, write_renders
+    from .report.renders import render_markdown, write_renders
 
     out = _output_folder("--out", arguments.out)
     progress = Progress("rendering", "images")

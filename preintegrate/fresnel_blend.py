@@ -77,7 +77,7 @@ def fresnel_blend_specular_albedo(mu_o, alpha, rs, nodes_u: int = 256, nodes_phi
     """E_s(μo, α) of the specular lobe (module docstring); μo, α, Rs broadcast.
 
     The reflection's horizon cuts the (u, φ) domain along a curve, so the product rule converges
-    algebraically there; 256 × 256 nodes give about 1e-5 (``tests/test_fresnel_blend.py`` bounds it
+    algebraically there; 256 × 256 nodes give about 1e-5 (``tests/preintegrate/test_fresnel_blend.py`` bounds it
     against Monte Carlo). As α → 0 it tends to F(μo) (the mirror).
     """
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)

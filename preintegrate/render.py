@@ -118,7 +118,7 @@ def _figure2(space: str):
 
 def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
     """The curve on a dense μ table, linearly interpolated (max error < 1e-6 for Fresnel curves, measured
-    by ``tests/test_render.py``): the spectral curve costs 95 wavelengths per evaluation."""
+    by ``tests/preintegrate/test_render.py``): the spectral curve costs 95 wavelengths per evaluation."""
     mu = np.linspace(0.0, 1.0, samples)
     table = curve(mu)
 

@@ -1,0 +1,31 @@
+"""Building the eigen-basis: the training set, the iterative SVD, the fit angles, the held-out materials.
+
+Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN`` (:mod:`.domain`, the seeded training
+set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
+``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``
+(:mod:`.builder`); ``holdout_materials`` (:mod:`.holdout`, never used in training).
+
+References
+----------
+:cite:`Belcour2020` SIGGRAPH 2020 Talks, "An Empirical Decomposition", eq. 4 and 6, and "Coefficients".
+"""
+
+from .builder import NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
+from .domain import DEFAULT_DOMAIN, Component, TrainingDomain
+from .holdout import holdout_materials
+from .svd import MIN_SPAN, GramAccumulator, build_curves
+
+__all__ = [
+    "DEFAULT_DOMAIN",
+    "MIN_SPAN",
+    "NOTEBOOK_ANGLES",
+    "TALK_ANGLES",
+    "Component",
+    "GramAccumulator",
+    "TrainingDomain",
+    "build_basis",
+    "build_curves",
+    "choose_fit_angles",
+    "holdout_fit_errors",
+    "holdout_materials",
+]

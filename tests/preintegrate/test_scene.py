@@ -1,0 +1,224 @@
+"""Scene builds (preintegrate/scene.py, fresnel-lut scene): only what a scene needs, and what it costs.
+
+Independent checks: texels of the written tables against VNDF Monte Carlo of the material's own curve
+(4σ), cropped rows against the full table interpolated in roughness (bounded by h²/8 · max |∂²F̄/∂r²|, estimated from the table, × 2),
+and the chosen channel count against the per-layout errors the plan measured.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from basis.models import fresnel_model
+from preintegrate import cli
+from preintegrate.channels import basis_channels
+from preintegrate.estimators import monte_carlo_albedo
+from preintegrate.exr import read_lut
+from preintegrate.lut import build_table
+from preintegrate.quadrature import directional_albedo
+from preintegrate.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
+
+SIZE = 16
+
+
+def scene_file(tmp_path, body: str, name="scene.toml") -> str:
+    path = tmp_path / name
+    path.write_text(f"size = {SIZE}\n" + body, encoding="utf-8")
+    return path
+
+
+SCHLICK_ONLY = """
+[[material]]
+name = "paint"
+f0 = 0.04
+roughness = [0.3, 0.7]
+[[material]]
+name = "rubber"
+model = "fresnel-blend"
+rs = [0.03, 0.04, 0.05]
+roughness = 0.8
+"""
+
+DIELECTRICS = """
+[[material]]
+name = "window"
+preset = "Glass BK7"
+roughness = [0.2, 0.4]
+[[material]]
+name = "pond"
+preset = "Water"
+roughness = [0.25, 0.5]
+"""
+
+
+@pytest.mark.parametrize("material", [
+    'model = "schlick-external"\nf0 = [0.9, 0.6, 0.3]\neta_e = 1.33',
+    'model = "schlick-external-metal"\nf0 = 0.5\neta_e = 2.0',
+    'model = "fresnel-blend"\nrs = 0.04',
+    'model = "generalized-schlick"\nr0 = 0.04\nr90 = 1.0\nexponent = 5.0',
+])
+def test_models_with_schlicks_functions_get_the_schlick_table(tmp_path, material):
+    """A model whose fixed functions are Schlick's (1 - (1-x)^5, (1-x)^5) reads the Schlick table, not a
+    second copy of it under its own name."""
+    path = tmp_path / "scene.toml"
+    path.write_text(f"[[material]]\nname = \"m\"\n{material}\nroughness = 0.4\n", encoding="utf-8")
+    plan = plan_scene(read_scene(path))
+    assert plan.tables == ("schlick",) and plan.layouts == {"m": "schlick"}
+    assert plan.errors["m"] <= plan.scene.tolerance
+
+
+def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
+    plan = plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY)))
+    assert plan.tables == ("schlick",) and set(plan.layouts.values()) == {"schlick"}
+    result = write_scene(plan, tmp_path / "out")
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
+    table, header = read_lut(tmp_path / "out" / "ggx_schlick_rg.exr")
+    assert table.shape == (plan.rows, SIZE, 2) and header["roughness_range"] == "0.3,0.8"
+    # a texel of the written table, combined with the paint's weights, against Monte Carlo of Schlick
+    rows = np.linspace(0.3, 0.8, plan.rows)
+    j, i = 1, 11
+    mu_o = (i + 0.5) / SIZE
+    fbar = table[j, i] @ np.array([0.04, 1.0])
+    mean, error = monte_carlo_albedo(lambda x: fresnel_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2,
+                                     samples=400_000, seed=3)
+    assert abs(fbar - mean) < 4.0 * error + 1e-6
+    assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
+    assert "Left out: basis-4" in result["text"]
+
+
+def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):
+    for tolerance, expected in ((DEFAULT_TOLERANCE, 4), (0.013, 3)):
+        plan = plan_scene(read_scene(scene_file(tmp_path, f"tolerance = {tolerance}\n" + DIELECTRICS)))
+        assert plan.tables == (f"basis-{expected}",)
+        full = plan.full_errors
+        assert all(full[f"basis-{expected}"][name] <= tolerance for name in plan.layouts)
+        assert any(full[f"basis-{expected - 1}"][name] > tolerance for name in plan.layouts)  # one term fewer fails
+        assert any(full["schlick"][name] > tolerance for name in plan.layouts)
+
+
+def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
+    plan = plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS)))
+    write_scene(plan, tmp_path / "out")
+    cropped, header = read_lut(tmp_path / "out" / "ggx_basis_rgba.exr")
+    assert header["roughness_range"] == "0.2,0.5" and cropped.shape[0] == plan.rows < SIZE
+    rows = np.linspace(0.2, 0.5, plan.rows)
+    # exact: the rows are integrated at their own roughness
+    direct = directional_albedo(basis_channels().functions, ((np.arange(SIZE) + 0.5) / SIZE)[None, :], (rows**2)[:, None])
+    np.testing.assert_allclose(cropped, direct, atol=2e-6)
+    # the full default-layout table, interpolated linearly in r, agrees within its interpolation error
+    full = build_table(basis_channels(), SIZE)
+    centres = (np.arange(SIZE) + 0.5) / SIZE
+    interpolated = np.stack([[np.interp(rows, centres, full[:, i, k]) for k in range(4)] for i in range(SIZE)]).transpose(2, 0, 1)
+    curvature = np.max(np.abs(np.diff(full, 2, axis=0)), axis=0) / (1.0 / SIZE) ** 2  # max |∂²F̄/∂r²| per texel column
+    # linear interpolation error ≤ h²/8 · max |∂²F̄/∂r²|; the second difference of a 16-row table
+    # underestimates the derivative's maximum, hence the factor 2
+    bound = 2.0 * (1.0 / SIZE) ** 2 / 8.0 * curvature + 1e-6
+    assert np.all(np.abs(interpolated - cropped) <= bound[None])
+
+
+def test_unmeetable_tolerance_is_refused_by_name_and_nothing_is_written(tmp_path, capsys):
+    path = scene_file(tmp_path, """
+tolerance = 0.0001
+[[material]]
+name = "old copper"
+f0 = [0.95, 0.64, 0.54]
+f82 = [0.93, 0.60, 0.50]
+roughness = [0.3, 0.6]
+""")
+    with pytest.raises(SceneError, match=r"material 'old copper' cannot meet tolerance 0.0001.*use tolerance >= "):
+        plan_scene(read_scene(path))
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "old copper" in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ("[[material]\nname = 'x'", "not valid TOML"),
+        ("[[material]]\nname = 'x'\nf0 = 0.04", "roughness (a number or [low, high]) is missing"),
+        ("colour = 1\n[[material]]\nf0 = 0.04\nroughness = 0.5", "unknown keys ['colour']"),
+        ("[[material]]\npreset = 'Unobtainium'\nroughness = 0.5", "material must be one of"),
+        ("[[material]]\nf0 = 1.5\nroughness = 0.5", "f0 must be in [0, 1]"),
+        ("[[material]]\nf0 = 0.04\nroughness = [0.6, 0.2]", "[low, high]"),
+        ("[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5\n[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5",
+         "appears twice"),
+        ("[[material]]\nf0 = 0.04\nkappa = 1\nroughness = 0.5", "give one of"),
+        ("space = 'P3'\n[[material]]\nf0 = 0.04\nroughness = 0.5", "space must be one of"),
+    ],
+)
+def test_bad_scene_files(tmp_path, body, message, capsys):
+    path = scene_file(tmp_path, body)
+    with pytest.raises(SceneError, match=None) as caught:
+        read_scene(path)
+    assert message in str(caught.value)
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_json_scene_and_coefficients_file(tmp_path):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps({"size": SIZE, "tolerance": 0.01, "material": [
+        {"name": "gold", "preset": "Gold", "roughness": [0.4, 0.6]},
+        {"name": "steel", "eta": [2.9, 2.9, 2.8], "kappa": [3.1, 3.0, 2.9], "roughness": 0.5},
+    ]}), encoding="utf-8")
+    plan = plan_scene(read_scene(path))
+    write_scene(plan, tmp_path / "out")
+    document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
+    for name, entry in document["materials"].items():
+        channels = int(entry["layout"].split("-")[1]) if entry["layout"].startswith("basis") else 2
+        assert np.array(entry["coefficients"]).shape == (3, channels)
+        assert entry["max_abs_error_fbar"] <= document["tolerance"]
+        assert (tmp_path / "out" / entry["lut"]).exists()
+
+
+def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
+    """The tables, scene_coefficients.json and scene_report.md are renamed together: a failure at the
+    last rename rolls the others back, and no temporary is left."""
+    import basis.storage
+
+    plan = plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS)))
+    original, calls = basis.storage.os.replace, []
+
+    def failing(source, target):
+        calls.append(target)
+        if str(target).endswith("scene_report.md"):
+            raise KeyboardInterrupt
+        return original(source, target)
+
+    monkeypatch.setattr(basis.storage.os, "replace", failing)
+    with pytest.raises(KeyboardInterrupt):
+        write_scene(plan, tmp_path / "out")
+    assert len(calls) >= 3
+    assert [p.name for p in (tmp_path / "out").iterdir()] == []
+
+
+def test_f82_material_gets_its_own_exact_table_when_the_basis_cannot_hold_it(tmp_path):
+    """A strong-dip F0/F82 copper: the basis reaches only ~1e-2, Hoffman 2019's own three channels
+    (exact split sum: the dip stays in [0, 1]) meet 1/255; the written table combines to Monte Carlo."""
+    path = tmp_path / "f82.toml"  # 64 columns: at 16 the lookup alone costs 1.2e-2 near grazing
+    path.write_text("""size = 64
+[[material]]
+name = "old copper"
+f0 = [0.95, 0.64, 0.54]
+f82 = [0.93, 0.60, 0.50]
+roughness = [0.3, 0.6]
+""", encoding="utf-8")
+    plan = plan_scene(read_scene(path))
+    assert plan.full_errors["basis-4"]["old copper"] > DEFAULT_TOLERANCE
+    assert plan.tables == ("model:f82",) and plan.errors["old copper"] <= DEFAULT_TOLERANCE
+    write_scene(plan, tmp_path / "out")
+    table, header = read_lut(tmp_path / "out" / "ggx_f82.exr")
+    assert table.shape[-1] == 3 and "x (1-x)^6" in header["combination"]
+    weights = np.array(plan.coefficients["old copper"])
+    rows = np.linspace(0.3, 0.6, plan.rows)
+    j, i = 0, 9
+    model = fresnel_model("f82")
+    f0, f82 = np.array([0.95, 0.64, 0.54]), np.array([0.93, 0.60, 0.50])
+    mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64,
+                                     rows[j] ** 2, samples=400_000, seed=8)
+    np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
