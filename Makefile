@@ -2,7 +2,7 @@
 #   make luts   build the default LUTs into luts/
 #   make test   run the test suite
 #   make report error against run time (report/README.md and plots; installs the plot extra)
-#   make materials  measured materials: report/materials.md and luts/materials.json (about 6 minutes)
+#   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 6 minutes)
 #   make render     pictures: report/render/ (about 4 minutes)
 PYTHON ?= python3
 VENV := .venv
@@ -27,7 +27,8 @@ report: $(STAMP)
 	$(VENV)/bin/fresnel-lut report --out report
 
 materials: $(STAMP)
-	$(VENV)/bin/fresnel-lut materials --out report
+	$(VENV)/bin/fresnel-lut materials
+	$(VENV)/bin/fresnel-lut report --materials --out report
 
 render: $(STAMP)
 	$(VENV)/bin/fresnel-lut render --out report/render

@@ -376,11 +376,14 @@ def _least_squares_fit(weight: str) -> Callable:
 
 def _delta_e_fit(free_f0: bool) -> Callable:
     def fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
-        from .material_fits import delta_e_fit  # colour science, loaded only for a ΔE2000 fit
+        from .delta_e_fits import delta_e_coefficients  # colour science, loaded only for a ΔE2000 fit
 
         if space is None:
             raise ParameterError("a delta-e fit needs the colour space of the RGB curve (space='ACEScg' or 'sRGB')")
-        return delta_e_fit(values_of, space, basis, free_f0)
+        start = _least_squares_fit("uniform")(values_of, basis, space)
+        coefficients = delta_e_coefficients(values_of, space, basis, start, free_f0=False)
+        # the free-F0 fit starts from the exact-F0 optimum, so it can only improve on it
+        return delta_e_coefficients(values_of, space, basis, coefficients, free_f0=True) if free_f0 else coefficients
 
     return fit
 

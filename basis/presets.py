@@ -1,6 +1,6 @@
 """The shipped presets of measured materials (``luts/materials.json``): basis coefficients and their errors.
 
-Public objects: ``PRESET_SPACES``, ``PresetFileError``, ``shipped_presets_path``, ``write_presets``,
+Public objects: ``PRESET_SPACES``, ``PresetFileError``, ``shipped_presets_path``, ``build_presets``, ``write_presets``,
 ``material_presets``, ``material_preset``, ``material_coefficients``.
 
 Reading a preset loads no colour science: the coefficients were fitted once by
@@ -16,11 +16,14 @@ References
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from .eigenbasis import Basis, default_basis
+from .angles import cos_theta
+from .eigenbasis import Basis, default_basis, resolve_basis
+from .models.formulas import F82_MU, schlick_curve
 from .storage import read_json_document, shipped_path, write_json
 from .validation import ParameterError
 
@@ -29,6 +32,7 @@ __all__ = [
     "PRESET_SPACES",
     "PresetFileError",
     "VERSION",
+    "build_presets",
     "material_coefficients",
     "material_preset",
     "material_presets",
@@ -125,3 +129,62 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
             f"{default_basis().content_hash}; rebuild it with `fresnel-lut materials`"
         )
     return preset["coefficients"]
+
+
+def build_presets(
+    basis: Basis | None = None, fit: str = "delta-e", progress: Callable[[int, int], None] | None = None
+) -> dict:
+    """The JSON document of ``luts/materials.json`` for every measured material and :data:`PRESET_SPACES`.
+
+    ``progress(done, total)`` is called after each material.
+    """
+    # colour science: loaded by this command, never by reading a preset
+    from .colorimetry import delta_E_2000
+    from .material_fits import ANGLES_DEGREES, fit_material, material_curve, rms_delta_E_2000
+    from .spectral import spectral_iors
+
+    basis = resolve_basis(basis)
+    theta = np.deg2rad(ANGLES_DEGREES)
+    materials = {}
+    measured = spectral_iors()
+    for done, (name, material) in enumerate(measured.items(), start=1):
+        spaces = {}
+        for space in PRESET_SPACES:
+            curve = material_curve(name, space)
+            truth = curve(cos_theta(theta))
+            coefficients = fit_material(name, space, fit, basis)
+            f0 = truth[0]
+            schlick = schlick_curve(cos_theta(theta)[:, None], f0)
+            spaces[space] = {
+                "f0": [round(float(v), 8) for v in f0],
+                "f82": [round(float(v), 8) for v in curve(np.array(F82_MU))],
+                "coefficients": [[round(float(v), 10) for v in row] for row in coefficients],
+                "rms_delta_e2000": {
+                    "basis": round(float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, space)), 4),
+                    "schlick": round(float(rms_delta_E_2000(truth, schlick, space)), 4),
+                },
+                "delta_e2000_at_0": round(float(delta_E_2000(f0, coefficients[:, 0], space)), 4),
+            }
+        source = material.source
+        materials[name] = {
+            "kind": material.kind,
+            "source": {key: source[key] for key in ("database", "file", "references", "constant_eta", "note") if key in source},
+            **spaces,
+        }
+        if progress is not None:
+            progress(done, len(measured))
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "basis_hash": basis.content_hash,
+        "description": {
+            "f0": "RGB reflectance at normal incidence, Hoffman 2020's spectral procedure (linear, working space)",
+            "f82": "RGB reflectance at arccos(1/7) (about 82.3 degrees), for Hoffman 2019's F82 model",
+            "coefficients": f"3 x {basis.n_terms}: per channel R, G, B the basis coefficients c0..c{basis.n_terms - 1} "
+                            f"({fit} fit; c0 = F0, c0 + c1 = F90 = 1)",
+            "rms_delta_e2000": "RMS over 0, 1, ..., 90 degrees of CIEDE2000 against the spectral ground truth",
+            "delta_e2000_at_0": "CIEDE2000 between f0 and the fitted c0 (the fit trades F0 exactness for the RMS)",
+            "spaces": "ACEScg: D60 illuminant, Bradford to the ACES white; sRGB: linear Rec.709 primaries, D65",
+        },
+        "materials": materials,
+    }

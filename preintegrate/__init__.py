@@ -1,2 +1,4 @@
-"""Everything about integrating Fresnel channels against GGX: distribution, quadrature, Monte Carlo,
-channel sets, LUT tables, EXR I/O and the ``fresnel-lut`` command."""
+"""Everything about integrating Fresnel channels against GGX: the distribution (``ggx``), the deterministic
+quadrature (``quadrature``), the Monte-Carlo and Hammersley estimators (``estimators``), channel sets
+(``channels``), LUT tables and their lookup (``lut``), EXR I/O (``exr``), scene builds (``scene``), the
+renderer (``render``) and the ``fresnel-lut`` command (``cli``); the report (``report``) stands apart."""

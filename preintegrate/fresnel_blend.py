@@ -28,18 +28,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from basis.models.formulas import schlick_curve, schlick_weight
 from basis.validation import check_positive_int, check_range
 
 from .channels import schlick_channels
-from .ggx import ndf
+from .ggx import ndf, ndf_inverse_cdf
 
 __all__ = ["fresnel_blend_albedo", "fresnel_blend_brdf", "fresnel_blend_diffuse_albedo", "fresnel_blend_specular_albedo"]
 
 
+def _diffuse_factor(mu):
+    """1 − (1 − μ/2)^5 of Ashikhmin and Shirley's diffuse term (pbrt's ``pow5(1 − .5 AbsCosTheta)``)."""
+    return 1.0 - schlick_weight(0.5 * mu)
+
+
 def fresnel_blend_brdf(mu_i, mu_o, mu_h, i_dot_h, alpha, rd, rs) -> np.ndarray:
     """pbrt's ``FresnelBlend::f`` with a GGX D, for given cosines (vectorised; no validation)."""
-    diffuse = 28.0 / (23.0 * np.pi) * rd * (1.0 - rs) * (1.0 - (1.0 - 0.5 * mu_i) ** 5) * (1.0 - (1.0 - 0.5 * mu_o) ** 5)
-    fresnel = rs + (1.0 - rs) * (1.0 - i_dot_h) ** 5
+    diffuse = 28.0 / (23.0 * np.pi) * rd * (1.0 - rs) * _diffuse_factor(mu_i) * _diffuse_factor(mu_o)
+    fresnel = schlick_curve(i_dot_h, rs)
     specular = ndf(mu_h, alpha) * fresnel / (4.0 * np.abs(i_dot_h) * np.maximum(mu_i, mu_o))
     return diffuse + specular
 
@@ -49,7 +55,7 @@ def fresnel_blend_diffuse_albedo(mu_o, rd, rs) -> np.ndarray:
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     rd = check_range("rd", rd, 0.0, 1.0)
     rs = check_range("rs", rs, 0.0, 1.0)
-    return rd * (1.0 - rs) * (1.0 - (1.0 - 0.5 * mu_o) ** 5)
+    return rd * (1.0 - rs) * _diffuse_factor(mu_o)
 
 
 def _specular_terms(mu_o: np.ndarray, alpha: np.ndarray, nodes_u: int, nodes_phi: int) -> np.ndarray:
@@ -60,9 +66,7 @@ def _specular_terms(mu_o: np.ndarray, alpha: np.ndarray, nodes_u: int, nodes_phi
     shape = np.broadcast_shapes(mu_o.shape, alpha.shape)
     mu_o = np.broadcast_to(mu_o, shape)[..., None, None]
     alpha = np.broadcast_to(alpha, shape)[..., None, None]
-    tan2 = alpha * alpha * (u / (1.0 - u))[:, None]
-    mu_h = 1.0 / np.sqrt(1.0 + tan2)
-    sin_h = np.sqrt(np.maximum(0.0, 1.0 - mu_h * mu_h))
+    sin_h, mu_h = ndf_inverse_cdf(alpha, u[:, None])
     sin_o = np.sqrt(np.maximum(0.0, 1.0 - mu_o * mu_o))
     o_dot_h = sin_o * sin_h * np.cos(phi) + mu_o * mu_h
     mu_i = 2.0 * o_dot_h * mu_h - mu_o

@@ -1,7 +1,7 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
 Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``texel_centres``, ``lut_axes``,
-``build_table``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
 first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
@@ -11,18 +11,21 @@ and :func:`interpolation_weights` are that rule, once.
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 
 import numpy as np
 
-from basis.validation import check_positive_int
+from basis.validation import ParameterError, check_positive_int
 
 from .channels import ChannelSet
+from .estimators import hammersley_albedo
 from .ggx import roughness_to_alpha
-from .quadrature import DEFAULT_ORDER, QuadratureOrder, QuadratureSchedule, directional_albedo
+from .quadrature import DEFAULT_ORDER, directional_albedo
 
 __all__ = [
     "BASIS_LUT",
+    "LUT_METHODS",
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
     "build_table",
@@ -59,18 +62,49 @@ def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndar
     return texel_centres(width), texel_centres(height)
 
 
+def _quadrature(functions, mu_o, alpha, progress, order=DEFAULT_ORDER):
+    return directional_albedo(functions, mu_o, alpha, order=order, progress=progress)
+
+
+def _hammersley(functions, mu_o, alpha, progress, samples=1024, sampling="ndf", max_samples=131_072):
+    return hammersley_albedo(functions, mu_o, alpha, samples, sampling, max_samples, progress)
+
+
+_TEXELS = ("functions", "mu_o", "alpha", "progress")
+
+#: Registry: how a table's texels are computed. ``quadrature`` (options: ``order``) is this project's
+#: deterministic integral; ``hammersley`` (options: ``samples``, ``sampling``, ``max_samples``) is the
+#: engines' Monte-Carlo estimate (Karis 2013), kept to measure them against it.
+LUT_METHODS: dict[str, Callable] = {"quadrature": _quadrature, "hammersley": _hammersley}
+
+
 def build_table(
     channels: ChannelSet,
     width: int,
     height: int | None = None,
-    order: QuadratureOrder | QuadratureSchedule = DEFAULT_ORDER,
+    method: str = "quadrature",
     progress: Callable[[int, int], None] | None = None,
+    **options,
 ) -> np.ndarray:
-    """(H, W, K) float64 table of the channel set on the texel grid."""
+    """(H, W, K) float64 table of the channel set on the texel grid, by a method of :data:`LUT_METHODS`.
+
+    Examples
+    --------
+    >>> from preintegrate.channels import schlick_channels
+    >>> build_table(schlick_channels(), 4, method="hammersley", samples=64).shape
+    (4, 4, 2)
+    """
+    if not isinstance(channels, ChannelSet):
+        raise ParameterError(f"channels must be a ChannelSet, got {type(channels).__name__}")
+    if method not in LUT_METHODS:
+        raise ParameterError(f"method must be one of {sorted(LUT_METHODS)}, got {method!r}")
+    compute = LUT_METHODS[method]
+    accepted = [name for name in inspect.signature(compute).parameters if name not in _TEXELS]
+    unknown = sorted(set(options) - set(accepted))
+    if unknown:
+        raise ParameterError(f"method {method!r} takes the options {accepted}, got {unknown}")
     mu_o, roughness = lut_axes(width, height)
-    alpha = roughness_to_alpha(roughness)
-    table = directional_albedo(channels.functions, mu_o[None, :], alpha[:, None], order=order, progress=progress)
-    return table
+    return compute(channels.functions, mu_o[None, :], roughness_to_alpha(roughness)[:, None], progress, **options)
 
 
 def lut_attributes(channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION,

@@ -9,7 +9,7 @@ For one table of the six channels an engine ships (4 basis + 2 Schlick,
   several factors (``method="quadrature-schedule"``, setting = factor, 1 = what ``fresnel-lut build``
   uses) and several uniform orders n (``method="quadrature"``, ``QuadratureOrder.uniform(n)``, 2n² nodes
   per texel);
-* the engine practice (:func:`preintegrate.estimators.hammersley_table`): N Hammersley points per texel
+* the engine practice (:func:`preintegrate.estimators.hammersley_albedo` through ``build_table(method="hammersley")``): N Hammersley points per texel
   with GGX NDF importance sampling (Karis 2013; UE4, Filament, glTF IBL Sampler), and the same points with
   VNDF sampling (Heitz 2018);
 
@@ -39,7 +39,6 @@ import numpy as np
 from basis.validation import ParameterError, check_positive_int, check_range
 
 from ..channels import basis_channels, combine, schlick_channels
-from ..estimators import hammersley_table
 from ..lut import build_table
 from ..quadrature import DEFAULT_ORDER, QuadratureOrder
 from .figures import pyplot, save_figure
@@ -170,7 +169,7 @@ def lut_error_vs_time(
     # Warm-up: first calls (spline set-up, lazy imports) stay out of the timings.
     build_table(channels, 2, order=QuadratureOrder.uniform(2))
     for sampling in _SAMPLING.values():
-        hammersley_table(channels, 2, samples=4, sampling=sampling)
+        build_table(channels, 2, method="hammersley", samples=4, sampling=sampling)
 
     total_tables = 1 + len(scales) + len(orders) + len(_SAMPLING) * len(samples)
     done = 0
@@ -206,7 +205,7 @@ def lut_error_vs_time(
         step()
     for method, sampling in _SAMPLING.items():
         for count in samples:
-            table, seconds = timed(hammersley_table, channels, size, samples=count, sampling=sampling)
+            table, seconds = timed(build_table, channels, size, method="hammersley", samples=count, sampling=sampling)
             rows.append({"method": method, "setting": count, "seconds": seconds, **_row_errors(table, reference)})
             step()
     return {

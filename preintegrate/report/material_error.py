@@ -43,10 +43,11 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000, rgb_to_Lab, rgb_to_rgb_matrix
 from basis.datasets import HOFFMAN_BLENDING, HOFFMAN_FITTED, HOFFMAN_GAMUT, HOFFMAN_SCHLICK
+from basis.delta_e_fits import minimise_delta_e
 from basis.eigenbasis import Basis, resolve_basis
 from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.material_fits import ANGLES_DEGREES, fit_material, material_curve, minimise_delta_e, rms_delta_E_2000
+from basis.material_fits import ANGLES_DEGREES, fit_material, material_curve, rms_delta_E_2000
 
 # the unchecked kernels: an RGB F0 of a saturated metal lies outside [0, 1] in a small gamut (sRGB)
 from basis.models.formulas import F82_MU, hoffman2019_curve, schlick_curve

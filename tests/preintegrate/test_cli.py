@@ -231,9 +231,13 @@ def test_coeffs_material_preset(capsys):
         (["--material", "Unobtainium"], "material must be one of"),
         (["--material", "Gold", "--eta", 1, 1, 1, "--kappa", 1, 1, 1], "give one of"),
         (["--eta", 1, 1, 1, "--kappa", 1, 1, 1, "--space", "sRGB"], "--space goes with --material"),
+        (["--model", "f82", "--f0", 0.9, 0.6, 0.3], "needs f82"),
+        (["--model", "f82", "--f0", 0.9, 0.6, 0.3, "--f82", 0.5, 0.5, 1.5], "f82 must be in [0, 1]"),
+        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--exponent", 3], "takes ['f0']"),
+        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--material", "Gold"], "not --material"),
     ],
 )
-def test_coeffs_material_errors(argv, message, capsys):
+def test_coeffs_errors(argv, message, capsys):
     assert run(["coeffs", *argv]) == 2
     err = capsys.readouterr().err
     assert_one_line_error(err)
@@ -295,22 +299,6 @@ def test_coeffs_model(capsys):
     assert "least-squares projection" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize(
-    "argv, message",
-    [
-        (["--model", "f82", "--f0", 0.9, 0.6, 0.3], "needs f82"),
-        (["--model", "f82", "--f0", 0.9, 0.6, 0.3, "--f82", 0.5, 0.5, 1.5], "f82 must be in [0, 1]"),
-        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--exponent", 3], "takes ['f0']"),
-        (["--model", "schlick", "--f0", 0.5, 0.5, 0.5, "--material", "Gold"], "not --material"),
-    ],
-)
-def test_coeffs_model_errors(argv, message, capsys):
-    assert run(["coeffs", *argv]) == 2
-    err = capsys.readouterr().err
-    assert_one_line_error(err)
-    assert message in err
-
-
 def test_render_refuses_a_file_as_output_folder(tmp_path, capsys):
     target = tmp_path / "file"
     target.write_text("x")
@@ -320,7 +308,7 @@ def test_render_refuses_a_file_as_output_folder(tmp_path, capsys):
 
 
 def test_materials_refuses_a_folder_as_presets_before_any_work(tmp_path, capsys):
-    assert run(["materials", "--out", tmp_path / "report", "--presets", tmp_path]) == 2
+    assert run(["materials", "--presets", tmp_path]) == 2
     assert_one_line_error(capsys.readouterr().err)
     assert list(tmp_path.iterdir()) == []
 

@@ -17,7 +17,7 @@ import pytest
 
 from basis.validation import ParameterError
 from preintegrate.channels import basis_channels, combine, schlick_channels
-from preintegrate.estimators import hammersley_points, hammersley_table, radical_inverse_base2
+from preintegrate.estimators import hammersley_points, radical_inverse_base2
 from preintegrate.ggx import g1, sample_vndf
 from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import QuadratureOrder
@@ -99,7 +99,7 @@ def _literal_integrate_brdf(mu_o, alpha, samples, sampling):
 @pytest.mark.parametrize("sampling", ["ndf", "vndf"])
 def test_matches_literal_integrate_brdf(sampling):
     """3 × 3 Schlick table with 64 points equals the sample-by-sample IntegrateBRDF loop to 1e-13."""
-    table = hammersley_table(schlick_channels(), 3, samples=64, sampling=sampling, max_samples=50)
+    table = build_table(schlick_channels(), 3, method="hammersley", samples=64, sampling=sampling, max_samples=50)
     mu_axis, roughness_axis = lut_axes(3)
     for j, roughness in enumerate(roughness_axis):
         for i, mu_o in enumerate(mu_axis):
@@ -109,8 +109,8 @@ def test_matches_literal_integrate_brdf(sampling):
 
 def test_chunking_does_not_change_the_result():
     """Chunks of 7 texel-sample pairs (splitting the samples of a texel) give the same table as one chunk, to 1e-14."""
-    whole = hammersley_table(SIX, 4, 5, samples=32)
-    chunked = hammersley_table(SIX, 4, 5, samples=32, max_samples=7)
+    whole = build_table(SIX, 4, 5, method="hammersley", samples=32)
+    chunked = build_table(SIX, 4, 5, method="hammersley", samples=32, max_samples=7)
     assert whole.shape == (5, 4, 6)
     np.testing.assert_allclose(chunked, whole, rtol=0, atol=1e-14)
 
@@ -121,16 +121,16 @@ def test_ndf_converges_to_quadrature(quadrature_16):
 
     Measured: max 5.6e-2 at 64 spp, 4.5e-3 at 4096 spp.
     """
-    max_64, rms_64 = _errors(hammersley_table(SIX, 16, samples=64), quadrature_16)
-    max_4096, rms_4096 = _errors(hammersley_table(SIX, 16, samples=4096), quadrature_16)
+    max_64, rms_64 = _errors(build_table(SIX, 16, method="hammersley", samples=64), quadrature_16)
+    max_4096, rms_4096 = _errors(build_table(SIX, 16, method="hammersley", samples=4096), quadrature_16)
     assert max_4096 < max_64 and rms_4096 < rms_64
     assert max_4096 < 1e-2, max_4096
 
 
 def test_vndf_converges_to_quadrature(quadrature_16):
     """VNDF sampling, 16 × 16, six channels: max at 4096 spp < 1e-3 (measured 3.1e-4; 1.6e-2 at 64)."""
-    max_64, rms_64 = _errors(hammersley_table(SIX, 16, samples=64, sampling="vndf"), quadrature_16)
-    max_4096, rms_4096 = _errors(hammersley_table(SIX, 16, samples=4096, sampling="vndf"), quadrature_16)
+    max_64, rms_64 = _errors(build_table(SIX, 16, method="hammersley", samples=64, sampling="vndf"), quadrature_16)
+    max_4096, rms_4096 = _errors(build_table(SIX, 16, method="hammersley", samples=4096, sampling="vndf"), quadrature_16)
     assert max_4096 < max_64 and rms_4096 < rms_64
     assert max_4096 < 1e-3, max_4096
 
@@ -138,8 +138,8 @@ def test_vndf_converges_to_quadrature(quadrature_16):
 @pytest.mark.parametrize("samples", [64, 1024])
 def test_vndf_more_accurate_than_ndf(quadrature_16, samples):
     """Same table, same points: VNDF's max and RMS errors are below NDF's (measured ≥ 3× lower at 64 and 1024 spp)."""
-    ndf = _errors(hammersley_table(SIX, 16, samples=samples, sampling="ndf"), quadrature_16)
-    vndf = _errors(hammersley_table(SIX, 16, samples=samples, sampling="vndf"), quadrature_16)
+    ndf = _errors(build_table(SIX, 16, method="hammersley", samples=samples, sampling="ndf"), quadrature_16)
+    vndf = _errors(build_table(SIX, 16, method="hammersley", samples=samples, sampling="vndf"), quadrature_16)
     assert vndf[0] < ndf[0] and vndf[1] < ndf[1], (ndf, vndf)
 
 
@@ -158,12 +158,12 @@ def test_vndf_more_accurate_than_ndf(quadrature_16, samples):
 )
 def test_invalid_input(kwargs):
     with pytest.raises(ParameterError):
-        hammersley_table(SIX, **kwargs)
+        build_table(SIX, method="hammersley", **kwargs)
 
 
 def test_invalid_channels_and_indices():
     with pytest.raises(ParameterError, match="channels"):
-        hammersley_table(lambda x: x, 8)
+        build_table(lambda x: x, 8, method="hammersley")
     with pytest.raises(ParameterError, match="indices"):
         radical_inverse_base2([1.5])
     with pytest.raises(ParameterError, match="indices"):
@@ -172,7 +172,7 @@ def test_invalid_channels_and_indices():
 
 def test_progress_reports_every_texel():
     calls = []
-    hammersley_table(SIX, 4, samples=16, max_samples=64, progress=lambda done, total: calls.append((done, total)))
+    build_table(SIX, 4, method="hammersley", samples=16, max_samples=64, progress=lambda done, total: calls.append((done, total)))
     assert calls == [(4, 16), (8, 16), (12, 16), (16, 16)]
 
 
