@@ -431,19 +431,12 @@ def _interrupt_replace_at(monkeypatch, call):
     fail_on_call(monkeypatch, os, "replace", call, interrupt)
 
 
-def test_interrupt_at_first_rename(previous, monkeypatch, capsys):
-    """KeyboardInterrupt at the 1st os.replace: main returns 130, both old LUTs byte-identical, no .tmp left."""
+@pytest.mark.parametrize("call", [1, 2], ids=["at the first rename", "between the renames"])
+def test_interrupt_during_the_renames(previous, monkeypatch, capsys, call):
+    """KeyboardInterrupt at the 1st or 2nd os.replace: main returns 130 and, as the CLI promises, both old LUTs
+    stay byte-identical, no .tmp left."""
     out, before = previous
-    _interrupt_replace_at(monkeypatch, 1)
-    assert run(["build", "--size", 12, "--out", out]) == 130
-    capsys.readouterr()
-    _assert_untouched(out, before)
-
-
-def test_interrupt_between_renames(previous, monkeypatch, capsys):
-    """KeyboardInterrupt at the 2nd os.replace: main returns 130 and, as the CLI promises, both old LUTs stay byte-identical."""
-    out, before = previous
-    _interrupt_replace_at(monkeypatch, 2)
+    _interrupt_replace_at(monkeypatch, call)
     assert run(["build", "--size", 12, "--out", out]) == 130
     capsys.readouterr()
     _assert_untouched(out, before)
