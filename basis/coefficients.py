@@ -363,32 +363,34 @@ def reconstruction_error(coefficients, theta, values, basis: Basis | None = None
     return np.max(np.abs(error), axis=-1), np.sqrt(np.mean(error * error, axis=-1))
 
 
-def _four_point_fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+def _four_point_fit(values_of: Callable, basis: Basis, space: str | None, start, report) -> np.ndarray:
     return coefficients_from_samples(values_of(cos_theta(basis.fit_angles)), basis)
 
 
 def _least_squares_fit(weight: str) -> Callable:
-    def fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+    def fit(values_of: Callable, basis: Basis, space: str | None, start, report) -> np.ndarray:
         return _least_squares_on_grid(values_of(cos_theta(basis.theta)), basis, weight, LAWSON_ITERATIONS)
 
     return fit
 
 
 def _delta_e_fit(free_f0: bool) -> Callable:
-    def fit(values_of: Callable, basis: Basis, space: str | None) -> np.ndarray:
+    def fit(values_of: Callable, basis: Basis, space: str | None, start, report) -> np.ndarray:
         from .delta_e_fits import delta_e_coefficients  # colour science, loaded only for a ΔE2000 fit
 
         if space is None:
             raise ParameterError("a delta-e fit needs the colour space of the RGB curve (space='ACEScg' or 'sRGB')")
-        start = _least_squares_fit("uniform")(values_of, basis, space)
-        coefficients = delta_e_coefficients(values_of, space, basis, start, free_f0=False)
-        # the free-F0 fit starts from the exact-F0 optimum, so it can only improve on it
-        return delta_e_coefficients(values_of, space, basis, coefficients, free_f0=True) if free_f0 else coefficients
+        if start is None:  # the exact-F0 fit starts from least squares; the free-F0 fit from the exact-F0 optimum
+            start = _least_squares_fit("uniform")(values_of, basis, space, None, None)
+            if free_f0:
+                start = delta_e_coefficients(values_of, space, basis, start, free_f0=False)
+        return delta_e_coefficients(values_of, space, basis, start, free_f0, report)
 
     return fit
 
 
-#: Registry: fit name → (values_of, basis, space) → (..., K), with values_of(μ (A,)) → (..., A) the target.
+#: Registry: fit name → (values_of, basis, space, start, report) → (..., K), with values_of(μ (A,)) → (..., A)
+#: the target; ``start`` and ``report`` serve the iterative fits (see :func:`coefficients_from_function`).
 #: Every fit keeps F(90°) = c0 + c1 exact; all but ``delta-e`` keep F(0°) = c0 exact too.
 COEFFICIENT_FITS: dict[str, Callable] = {
     "four-point": _four_point_fit,  # the talk's scheme: the curve at the fit angles (Belcour 2020, "Coefficients")
@@ -408,7 +410,7 @@ def coefficient_fit(name: str) -> Callable:
 
 
 def coefficients_from_function(values_of: Callable, fit: str = "four-point", basis: Basis | None = None,
-                               space: str | None = None) -> np.ndarray:
+                               space: str | None = None, start=None, report: dict | None = None) -> np.ndarray:
     """Coefficients (..., K) of any target given as a function of μ, by a fit of :data:`COEFFICIENT_FITS`.
 
     Parameters
@@ -419,6 +421,12 @@ def coefficients_from_function(values_of: Callable, fit: str = "four-point", bas
         A name of :data:`COEFFICIENT_FITS`.
     space : str, optional
         Colour space of an RGB target (``delta-e`` fits only).
+    start : array_like, optional
+        (3, K) coefficients an iterative fit starts from (``delta-e``: the ``delta-e-exact-f0`` result,
+        which is otherwise computed first).
+    report : dict, optional
+        Filled by the iterative fits with their convergence: ``converged``, ``status``, ``evaluations``,
+        ``gradient`` (:func:`basis.delta_e_fits.fit_summary`).
 
     Examples
     --------
@@ -428,7 +436,8 @@ def coefficients_from_function(values_of: Callable, fit: str = "four-point", bas
     """
     if not callable(values_of):
         raise ParameterError(f"values_of must be callable, got {type(values_of).__name__}")
-    return coefficient_fit(fit)(values_of, resolve_basis(basis), space)
+    start = None if start is None else as_float_array("start", start)
+    return coefficient_fit(fit)(values_of, resolve_basis(basis), space, start, report)
 
 
 def coefficients_from_model(name: str, fit: str = "four-point", basis: Basis | None = None,

@@ -1,7 +1,8 @@
 """Working colour spaces, spectral → RGB weights and CIE ΔE2000 for Fresnel curves.
 
 Public objects: ``WorkingSpace``, ``WORKING_SPACES``, ``working_space``, ``WAVELENGTHS``,
-``spectral_to_rgb_weights``, ``rgb_to_Lab``, ``delta_E_2000``, ``delta_E_2000_Lab``, ``rgb_to_rgb_matrix``.
+``spectral_to_rgb_weights``, ``rgb_to_Lab``, ``delta_E_2000``, ``delta_E_2000_Lab``,
+``delta_E_2000_components``, ``rgb_to_rgb_matrix``.
 
 Hoffman's procedure for RGB parameters from spectral data (Hoffman 2020, "Computing RGB Parameter
 Values From Spectral IOR Data"): the spectral reflectance at an angle is lit by the working space's
@@ -21,6 +22,8 @@ References
     Values From Spectral IOR Data".
 :cite:`CIE2018` CIE 015:2018 Colorimetry, 4th ed. (1931 2° observer; CIEDE2000 via colour-science).
 :cite:`AMPAS2018` TB-2018-001, Derivation of the ACES White Point Chromaticity Coordinates.
+:cite:`Sharma2005` G. Sharma, W. Wu, E. N. Dalal, "The CIEDE2000 Color-Difference Formula: Implementation
+    Notes, Supplementary Test Data, and Mathematical Observations", Color Res. Appl. 30(1), 2005, eq. 1–22.
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ __all__ = [
     "WorkingSpace",
     "delta_E_2000",
     "delta_E_2000_Lab",
+    "delta_E_2000_components",
     "rgb_to_Lab",
     "rgb_to_rgb_matrix",
     "spectral_to_rgb_weights",
@@ -156,3 +160,45 @@ def rgb_to_rgb_matrix(source: str, target: str) -> np.ndarray:
     )
     matrix.setflags(write=False)
     return matrix
+
+
+def delta_E_2000_components(lab_a, lab_b) -> np.ndarray:
+    """(…, 3) residuals r whose squares sum to CIEDE2000² exactly, for least squares on ΔE2000.
+
+    CIEDE2000 (Sharma et al. 2005, eq. 1–22; k_L = k_C = k_H = 1) is
+    ΔE² = (ΔL′/S_L)² + (ΔC′/S_C)² + (ΔH′/S_H)² + R_T (ΔC′/S_C)(ΔH′/S_H); completing the square in the
+    cross term gives r = (ΔL′/S_L, ΔC′/S_C + ½ R_T ΔH′/S_H, √(1 − R_T²/4) ΔH′/S_H), real since
+    |R_T| = |sin 2Δθ| R_C ≤ 2. Unlike ΔE itself, r is smooth where the colours meet, which is what a
+    Gauss–Newton (Levenberg–Marquardt) fit needs. Unchecked; ``delta_E_2000_Lab`` is the norm of r.
+    """
+    lab_a, lab_b = np.broadcast_arrays(np.asarray(lab_a, dtype=np.float64), np.asarray(lab_b, dtype=np.float64))
+    L1, a1, b1 = np.moveaxis(lab_a, -1, 0)
+    L2, a2, b2 = np.moveaxis(lab_b, -1, 0)
+    chroma_mean7 = (0.5 * (np.hypot(a1, b1) + np.hypot(a2, b2))) ** 7
+    g = 0.5 * (1.0 - np.sqrt(chroma_mean7 / (chroma_mean7 + 25.0**7)))  # eq. 4
+    a1p, a2p = (1.0 + g) * a1, (1.0 + g) * a2  # eq. 5
+    c1p, c2p = np.hypot(a1p, b1), np.hypot(a2p, b2)  # eq. 6
+    h1p = np.where((a1p == 0.0) & (b1 == 0.0), 0.0, np.mod(np.degrees(np.arctan2(b1, a1p)), 360.0))  # eq. 7
+    h2p = np.where((a2p == 0.0) & (b2 == 0.0), 0.0, np.mod(np.degrees(np.arctan2(b2, a2p)), 360.0))
+    product = c1p * c2p
+    dh = h2p - h1p
+    dh = np.where(product == 0.0, 0.0, np.where(dh > 180.0, dh - 360.0, np.where(dh < -180.0, dh + 360.0, dh)))  # eq. 10
+    d_lightness = L2 - L1  # eq. 8
+    d_chroma = c2p - c1p  # eq. 9
+    d_hue = 2.0 * np.sqrt(product) * np.sin(np.radians(0.5 * dh))  # eq. 11
+    lightness_mean = 0.5 * (L1 + L2)  # eq. 12
+    chroma_mean = 0.5 * (c1p + c2p)  # eq. 13
+    hue_sum = h1p + h2p
+    hue_mean = np.where(product == 0.0, hue_sum, np.where(np.abs(h1p - h2p) <= 180.0, 0.5 * hue_sum,
+                        np.where(hue_sum < 360.0, 0.5 * (hue_sum + 360.0), 0.5 * (hue_sum - 360.0))))  # eq. 14
+    t = (1.0 - 0.17 * np.cos(np.radians(hue_mean - 30.0)) + 0.24 * np.cos(np.radians(2.0 * hue_mean))
+         + 0.32 * np.cos(np.radians(3.0 * hue_mean + 6.0)) - 0.20 * np.cos(np.radians(4.0 * hue_mean - 63.0)))  # eq. 15
+    d_theta = 30.0 * np.exp(-(((hue_mean - 275.0) / 25.0) ** 2))  # eq. 16
+    r_c = 2.0 * np.sqrt(chroma_mean**7 / (chroma_mean**7 + 25.0**7))  # eq. 17
+    offset = (lightness_mean - 50.0) ** 2
+    s_l = 1.0 + 0.015 * offset / np.sqrt(20.0 + offset)  # eq. 18
+    s_c = 1.0 + 0.045 * chroma_mean  # eq. 19
+    s_h = 1.0 + 0.015 * chroma_mean * t  # eq. 20
+    r_t = -np.sin(np.radians(2.0 * d_theta)) * r_c  # eq. 21
+    lightness, chroma, hue = d_lightness / s_l, d_chroma / s_c, d_hue / s_h
+    return np.stack([lightness, chroma + 0.5 * r_t * hue, np.sqrt(np.maximum(1.0 - 0.25 * r_t * r_t, 0.0)) * hue], axis=-1)

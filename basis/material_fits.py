@@ -72,27 +72,34 @@ def material_curve(name: str, space: str = "ACEScg") -> Curve:
     return functools.partial(rgb_fresnel, material, space=space)
 
 
-def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
-    """(3, K) coefficients of an RGB curve μ → (..., 3) by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`."""
+def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None,
+                  start=None, report: dict | None = None) -> np.ndarray:
+    """(3, K) coefficients of an RGB curve μ → (..., 3) by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`
+    (``start`` and ``report`` as in :func:`basis.coefficients.coefficients_from_function`)."""
     working_space(space)
-    return coefficients_from_function(lambda mu: curve(mu).T, fit, basis, space)
+    return coefficients_from_function(lambda mu: curve(mu).T, fit, basis, space, start, report)
 
 
-_FITS: dict[tuple, np.ndarray] = {}
+_FITS: dict[tuple, tuple[np.ndarray, dict]] = {}
 
 
-def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None) -> np.ndarray:
+def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None,
+                 report: dict | None = None) -> np.ndarray:
     """(3, K) coefficients of a measured material by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`
-    (memoised per basis hash).
+    (memoised per basis hash); ``report``, if given, receives the fit's convergence (iterative fits).
 
-    Unlike :func:`material_coefficients` this always fits; the presets, the tables and the report share
-    the fits through the memo.
+    Unlike :func:`basis.presets.material_coefficients` this always fits; the presets, the tables and the
+    report share the fits through the memo, and the ``delta-e`` fit starts from the memoised
+    ``delta-e-exact-f0`` one instead of computing it again.
     """
     basis = resolve_basis(basis)
     key = (name, space, fit, basis.content_hash)
     if key not in _FITS:
-        _FITS[key] = fit_rgb_curve(material_curve(name, space), space, fit, basis)
-    return _FITS[key].copy()
-
-
-
+        start = fit_material(name, space, "delta-e-exact-f0", basis) if fit == "delta-e" else None
+        summary: dict = {}
+        coefficients = fit_rgb_curve(material_curve(name, space), space, fit, basis, start, summary)
+        _FITS[key] = coefficients, summary
+    coefficients, summary = _FITS[key]
+    if report is not None:
+        report.update(summary)
+    return coefficients.copy()

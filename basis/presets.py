@@ -24,6 +24,7 @@ import numpy as np
 from .angles import cos_theta
 from .eigenbasis import Basis, default_basis, resolve_basis
 from .models.formulas import F82_MU, schlick_curve
+from .parallel import one_blas_thread
 from .storage import read_json_document, shipped_path, write_json
 from .validation import ParameterError
 
@@ -103,6 +104,7 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
         "coefficients": np.array(entry["coefficients"]),
         "rms_delta_e2000": dict(entry["rms_delta_e2000"]),
         "delta_e2000_at_0": entry["delta_e2000_at_0"],
+        "fit": dict(entry.get("fit", {})),
     }
 
 
@@ -139,11 +141,16 @@ def build_presets(
     ``progress(done, total)`` is called after each material.
     """
     # colour science: loaded by this command, never by reading a preset
+    basis = resolve_basis(basis)
+    with one_blas_thread():  # the same bits whatever the machine's BLAS threads (basis.parallel)
+        return _presets_document(basis, fit, progress)
+
+
+def _presets_document(basis: Basis, fit: str, progress) -> dict:
     from .colorimetry import delta_E_2000
     from .material_fits import ANGLES_DEGREES, fit_material, material_curve, rms_delta_E_2000
     from .spectral import spectral_iors
 
-    basis = resolve_basis(basis)
     theta = np.deg2rad(ANGLES_DEGREES)
     materials = {}
     measured = spectral_iors()
@@ -152,7 +159,8 @@ def build_presets(
         for space in PRESET_SPACES:
             curve = material_curve(name, space)
             truth = curve(cos_theta(theta))
-            coefficients = fit_material(name, space, fit, basis)
+            convergence: dict = {}
+            coefficients = fit_material(name, space, fit, basis, report=convergence)
             f0 = truth[0]
             schlick = schlick_curve(cos_theta(theta)[:, None], f0)
             spaces[space] = {
@@ -164,6 +172,7 @@ def build_presets(
                     "schlick": round(float(rms_delta_E_2000(truth, schlick, space)), 4),
                 },
                 "delta_e2000_at_0": round(float(delta_E_2000(f0, coefficients[:, 0], space)), 4),
+                **({"fit": convergence} if convergence else {}),
             }
         source = material.source
         materials[name] = {
@@ -184,6 +193,8 @@ def build_presets(
                             f"({fit} fit; c0 = F0, c0 + c1 = F90 = 1)",
             "rms_delta_e2000": "RMS over 0, 1, ..., 90 degrees of CIEDE2000 against the spectral ground truth",
             "delta_e2000_at_0": "CIEDE2000 between f0 and the fitted c0 (the fit trades F0 exactness for the RMS)",
+            "fit": "convergence of the fit: converged (scipy status > 0), status, function evaluations, final "
+                   "gradient (max norm of J^T r over the dE2000 residual components)",
             "spaces": "ACEScg: D60 illuminant, Bradford to the ACES white; sRGB: linear Rec.709 primaries, D65",
         },
         "materials": materials,

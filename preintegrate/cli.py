@@ -239,11 +239,16 @@ def command_materials(arguments) -> int:
     document = build_presets(default_basis(), progress=progress)
     progress.close()
     write_presets(document, presets_path)  # only once every fit is done: an interrupted run leaves the file as it was
-    for space in ("ACEScg", "sRGB"):
-        metals = {name: entry[space]["rms_delta_e2000"]["basis"] for name, entry in document["materials"].items()
-                  if entry["kind"] == "metal"}
+    for space in PRESET_SPACES:
+        entries = {name: entry[space] for name, entry in document["materials"].items()}
+        metals = {name: entry["rms_delta_e2000"]["basis"] for name, entry in entries.items()
+                  if document["materials"][name]["kind"] == "metal"}
         worst = max(metals, key=metals.get)
-        print(f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis)")
+        unconverged = sorted(name for name, entry in entries.items() if not entry.get("fit", {}).get("converged", True))
+        evaluations = [entry["fit"]["evaluations"] for entry in entries.values() if "fit" in entry]
+        print(f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis); fits converged: "
+              f"{len(entries) - len(unconverged)} of {len(entries)}, {max(evaluations, default=0)} evaluations at most"
+              + (f"; NOT converged: {', '.join(unconverged)}" if unconverged else ""))
     print(f"presets fitted in {time.perf_counter() - started:.1f} s:")
     print(f"  {presets_path}  {_size_text(presets_path)}")
     return 0

@@ -47,12 +47,12 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
-import os
 from collections.abc import Callable
 
 import numpy as np
 
 from basis.angles import check_theta_grid
+from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, check_positive_int, check_range
 
 from .ggx import g2_denominator
@@ -292,8 +292,8 @@ def directional_albedo(
         batch = max(1, max_nodes // group_order.nodes_per_texel)
         batches += [(texels[start : start + batch], group_order) for start in range(0, texels.size, batch)]
     rough_count = int(np.count_nonzero(~mirror))
-    workers = (os.cpu_count() or 1) if workers is None else check_positive_int("workers", workers)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+    workers = worker_count(workers)
+    with one_blas_thread(), concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order) for index, batch_order in batches]
         done = 0
         for (index, _), future in zip(batches, futures):

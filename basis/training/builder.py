@@ -22,6 +22,7 @@ import numpy as np
 from ..angles import angle_grid, cos_theta
 from ..eigenbasis import Basis
 from ..fresnel import fresnel_kernel
+from ..parallel import one_blas_thread
 from ..validation import check_positive_int
 from .domain import DEFAULT_DOMAIN, TrainingDomain
 from .holdout import holdout_materials
@@ -101,6 +102,11 @@ def build_basis(
         θ2, θ3 (, …): searched on the held-out set, the talk's, the notebook's, or given.
     """
     count = check_positive_int("count", count, low=100)
+    with one_blas_thread():  # basis.json's bytes, statistics included, must not depend on BLAS threads
+        return _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress)
+
+
+def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress) -> Basis:
     theta = angle_grid(grid_size, grid_kind)
     curves, stats = build_curves(theta, domain.curves(theta, count, seed), n_terms, progress)
     provisional = Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *TALK_ANGLES][:n_terms]))

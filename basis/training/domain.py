@@ -19,7 +19,6 @@ import collections
 import concurrent.futures
 import dataclasses
 import itertools
-import os
 from collections.abc import Iterator
 
 import numpy as np
@@ -27,6 +26,7 @@ import numpy as np
 from ..angles import cos_theta
 from ..fresnel import fresnel_kernel
 from ..gulbrandsen import gulbrandsen_to_nk
+from ..parallel import worker_count
 from ..validation import ParameterError, check_positive_int
 
 __all__ = ["DEFAULT_DOMAIN", "Component", "TrainingDomain"]
@@ -91,7 +91,7 @@ class TrainingDomain:
         """
         eta, kappa = self.sample_iors(count, seed)
         mu = cos_theta(theta)
-        workers = max(1, os.cpu_count() or 1) if workers is None else check_positive_int("workers", workers)
+        workers = worker_count(workers)
 
         def evaluate(start: int) -> np.ndarray:
             stop = min(start + chunk, count)

@@ -26,6 +26,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 
 from ..angles import trapezoid_weights
+from ..parallel import one_blas_thread
 from ..validation import ParameterError, check_positive_int
 
 __all__ = ["GramAccumulator", "build_curves"]
@@ -99,6 +100,11 @@ def build_curves(
     n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
     if theta[0] != 0.0 or theta[-1] != 0.5 * np.pi:
         raise ParameterError("theta grid must start at 0 and end at pi/2")
+    with one_blas_thread():  # the same bits whatever the machine's BLAS threads (basis.parallel)
+        return _build_curves(theta, chunks, n_terms, progress)
+
+
+def _build_curves(theta, chunks, n_terms: int, progress) -> tuple[np.ndarray, dict]:
     accumulator = GramAccumulator(theta)
     for chunk in chunks:
         accumulator.add(chunk)

@@ -103,7 +103,7 @@ def fit_gulbrandsen(curve: Callable[[np.ndarray], np.ndarray], space: str) -> tu
         return fresnel_kernel(mu[:, None], eta, kappa)
 
     bounds = (np.zeros(6), np.array([_R_MAX] * 3 + [1.0] * 3))
-    solution = minimise_delta_e(rgb_to_Lab(truth, space), rgb_of, np.concatenate([f0, start_g]), space, bounds)
+    solution = minimise_delta_e(rgb_to_Lab(truth, space), rgb_of, np.concatenate([f0, start_g]), space, bounds).x
     return solution[:3], solution[3:]
 
 

@@ -94,3 +94,21 @@ def test_n_dimensional():
     values = delta_E_2000(rgb, rgb[::-1], "sRGB")
     assert values.shape == (2, 3)
     np.testing.assert_allclose(values[0, 1], delta_E_2000(rgb[0, 1], rgb[1, 1], "sRGB"))
+
+
+def test_delta_E_2000_components_square_sum_is_ciede2000():
+    """Σ r² of the three residual components equals CIEDE2000² of colour-science's independent implementation
+    (atol 1e-10 on ΔE), for random pairs far apart and close together, achromatic colours (C = 0, where the
+    hue is undefined) and pairs across the hue wrap at 0°/360°."""
+    from basis.colorimetry import delta_E_2000_components
+
+    rng = np.random.default_rng(2005)
+    near = rng.uniform([0.0, -100.0, -100.0], [100.0, 100.0, 100.0], (5000, 3))
+    far = rng.uniform([0.0, -100.0, -100.0], [100.0, 100.0, 100.0], (5000, 3))
+    first = np.concatenate([near, near, [[50.0, 0.0, 0.0], [50.0, 2.49, -0.001], [60.0, 10.0, -0.1]]])
+    second = np.concatenate([near + rng.normal(0.0, 2.0, near.shape), far,
+                             [[50.0, 0.0, 0.0], [50.0, -2.49, 0.001], [61.0, 10.0, 0.1]]])
+    components = delta_E_2000_components(first, second)
+    assert components.shape == first.shape
+    np.testing.assert_allclose(np.sqrt(np.sum(components**2, axis=-1)),
+                               colour.delta_E(first, second, method="CIE 2000"), rtol=0, atol=1e-10)

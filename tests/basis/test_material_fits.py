@@ -163,3 +163,15 @@ def test_presets_for_another_basis_are_refused(tmp_path, monkeypatch):
     broken.write_text("{", encoding="utf-8")
     with pytest.raises(PresetFileError, match="cannot read material presets"):
         material_presets(broken)
+
+
+def test_every_shipped_preset_fit_converged():
+    """The presets record their fit: every ΔE2000 fit of luts/materials.json stopped on a convergence test
+    (scipy status > 0), not on the evaluation limit, in at most a few hundred evaluations."""
+    from basis.presets import material_presets
+
+    for name, entry in material_presets()["materials"].items():
+        for space in ("ACEScg", "sRGB"):
+            fit = entry[space]["fit"]
+            assert fit["converged"] and fit["status"] > 0, (name, space, fit)
+            assert fit["evaluations"] <= 500, (name, space, fit)
