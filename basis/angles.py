@@ -14,10 +14,14 @@ References
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .validation import ParameterError, check_positive_int, check_range
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 __all__ = ["GRID_KINDS", "angle_grid", "check_theta_grid", "cos_theta", "theta_spline", "trapezoid_weights"]
 
@@ -57,6 +61,8 @@ def trapezoid_weights(theta: np.ndarray) -> np.ndarray:
 def theta_spline(theta: np.ndarray, values: np.ndarray, axis: int = -1) -> CubicSpline:
     """Cubic spline in θ of curves ``values`` sampled at ``theta`` (M,) along ``axis``: zero slope at
     θ = 0, not-a-knot at π/2. Unchecked: callers validate the grid."""
+    from scipy.interpolate import CubicSpline  # scipy loads in 0.25 s: when a spline is first needed
+
     values = np.asarray(values, dtype=np.float64)
     slope = np.zeros(np.delete(values.shape, axis))
     return CubicSpline(theta, values, axis=axis, bc_type=((1, slope), "not-a-knot"))

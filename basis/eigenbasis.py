@@ -19,13 +19,16 @@ import dataclasses
 import functools
 import hashlib
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .angles import theta_spline
 from .storage import read_json_document, shipped_path, write_json
 from .validation import ParameterError, check_range
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 __all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis", "resolve_basis", "shipped_basis_path"]
 

@@ -57,7 +57,8 @@ from basis.validation import ParameterError, check_positive_int, check_range
 
 from .ggx import g2_denominator
 
-__all__ = ["DEFAULT_ORDER", "QuadratureOrder", "QuadratureSchedule", "directional_albedo", "lagrange_cardinals", "texel_weights"]
+__all__ = ["DEFAULT_ORDER", "LagrangeCardinals", "QuadratureOrder", "QuadratureSchedule", "directional_albedo",
+           "lagrange_cardinals", "texel_weights"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -228,6 +229,9 @@ def _integrate_batch(functions, mu_o: np.ndarray, alpha: np.ndarray, order: Quad
     total = 0.0
     for x, mu_i, weight in _texel_pieces(mu_o, alpha, order):
         weighted = (weight * _kernel(mu_o, alpha, x, mu_i)).reshape(len(mu_o), 1, -1)
+        if isinstance(functions, LagrangeCardinals):  # four non-zero values per node: accumulate only those
+            total = total + functions.integrate(x, weighted.reshape(len(mu_o), -1))
+            continue
         values = functions(x)
         total = total + np.matmul(weighted, values.reshape(len(mu_o), weighted.shape[2], -1))[:, 0, :]
     return total
@@ -238,7 +242,7 @@ def directional_albedo(
     mu_o,
     alpha,
     order: QuadratureOrder | QuadratureSchedule = DEFAULT_ORDER,
-    max_nodes: int = 2_000_000,
+    max_nodes: int = 500_000,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
 ) -> np.ndarray:
@@ -304,33 +308,55 @@ def directional_albedo(
     return result.reshape(shape + (n_channels,))
 
 
-#: Values (quadrature nodes × θ grid points) in one batch of :func:`texel_weights`: 2^24 float64 = 128 MiB.
-_MAX_VALUES = 1 << 24
-
-
-def lagrange_cardinals(theta_grid: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+class LagrangeCardinals:
     """x ↦ (L_j(arccos x))_j, x.shape + (M,): cardinal functions of the four-point Lagrange interpolation.
 
     Between θ_i and θ_{i+1} the interpolant is the cubic through θ_{i−1} … θ_{i+2} (the stencil is
     shifted inwards at both ends), so Σ_j f(θ_j) L_j(θ) reproduces cubics in θ exactly and at most four
-    L_j are non-zero at any θ.
+    L_j are non-zero at any θ: :meth:`stencil` gives those four, and :meth:`integrate` sums weighted
+    nodes into the M channels without forming the mostly-zero (nodes × M) array.
     """
-    size = theta_grid.size
-    off_diagonal = ~np.eye(4, dtype=bool)
 
-    def cardinals(x: np.ndarray) -> np.ndarray:
+    def __init__(self, theta_grid: np.ndarray):
+        self.theta_grid = theta_grid
+        self.size = theta_grid.size
+        # 1 / Π_{j ≠ i} (θ_i − θ_j) of every stencil θ_s … θ_{s+3}: (M − 3, 4)
+        nodes = theta_grid[np.arange(self.size - 3)[:, None] + np.arange(4)]
+        differences = np.where(_OFF_DIAGONAL, nodes[:, :, None] - nodes[:, None, :], 1.0)
+        self._inverse_denominators = 1.0 / np.prod(differences, axis=-1)
+
+    def stencil(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(indices, values), each x.shape + (4,): the non-zero cardinals at x and where they stand."""
         theta = np.arccos(np.clip(x, 0.0, 1.0))
-        start = np.clip(np.searchsorted(theta_grid, theta, side="right") - 2, 0, size - 4)
-        stencil = start[..., None] + np.arange(4)
-        nodes = theta_grid[stencil]
-        # L_i(θ) = Π_{j ≠ i} (θ − θ_j) / (θ_i − θ_j) over the stencil
-        numerator = np.where(off_diagonal, (theta[..., None] - nodes)[..., None, :], 1.0)
-        denominator = np.where(off_diagonal, nodes[..., :, None] - nodes[..., None, :], 1.0)
-        values = np.zeros(np.shape(x) + (size,))
-        np.put_along_axis(values, stencil, np.prod(numerator / denominator, axis=-1), axis=-1)
-        return values
+        start = np.clip(np.searchsorted(self.theta_grid, theta, side="right") - 2, 0, self.size - 4)
+        indices = start[..., None] + np.arange(4)
+        # L_i(θ) = Π_{j ≠ i} (θ − θ_j) / Π_{j ≠ i} (θ_i − θ_j) over the stencil
+        d0, d1, d2, d3 = np.moveaxis(theta[..., None] - self.theta_grid[indices], -1, 0)
+        low, high = d0 * d1, d2 * d3
+        numerators = np.stack([d1 * high, d0 * high, low * d3, low * d2], axis=-1)
+        return indices, numerators * self._inverse_denominators[start]
 
-    return cardinals
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        indices, values = self.stencil(x)
+        dense = np.zeros(np.shape(x) + (self.size,))
+        np.put_along_axis(dense, indices, values, axis=-1)
+        return dense
+
+    def integrate(self, x: np.ndarray, weights: np.ndarray) -> np.ndarray:
+        """(T, M): Σ_nodes weights[t, n] L_j(x[t, n]) for nodes x and weights of shape (T, N)."""
+        count = len(weights)
+        indices, values = self.stencil(x)
+        flat = np.arange(count)[:, None, None] * self.size + indices.reshape(count, -1, 4)
+        contributions = weights[:, :, None] * values.reshape(count, -1, 4)
+        return np.bincount(flat.ravel(), contributions.ravel(), minlength=count * self.size).reshape(count, self.size)
+
+
+_OFF_DIAGONAL = ~np.eye(4, dtype=bool)
+
+
+def lagrange_cardinals(theta_grid) -> LagrangeCardinals:
+    """The cardinal functions of the four-point Lagrange interpolation on ``theta_grid`` (M,), M ≥ 4."""
+    return LagrangeCardinals(check_theta_grid("theta_grid", theta_grid))
 
 
 def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
@@ -357,9 +383,9 @@ def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
     -----
     F̄[f](μo, α) = ∫ f(ω_o·h) ρ(ω_o, ω_i) μ_i dω_i (Belcour et al. 2020, eq. 2) is linear in f, so
     replacing f by its interpolant Σ_j f(θ_j) L_j gives F̄[f] ≈ Σ_j f(θ_j) F̄[L_j], exact for cubics
-    in θ and with error O(h⁴ f⁗) otherwise. Each call of the integrator returns all M channels; the
-    work is that of integrating M curves directly, after which any number of curves costs one matrix
-    product. Batches of nodes are bounded so that one holds at most 2^24 values (128 MiB).
+    in θ and with error O(h⁴ f⁗) otherwise. Only four cardinals are non-zero at a node, so each node adds
+    four weighted values (:meth:`LagrangeCardinals.integrate`): the work is that of integrating four
+    curves, after which any number of curves costs one matrix product.
 
     Examples
     --------
@@ -368,7 +394,4 @@ def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
     >>> weights.shape
     (64,)
     """
-    theta_grid = check_theta_grid("theta_grid", theta_grid)
-    return directional_albedo(
-        lagrange_cardinals(theta_grid), mu_o, alpha, order=order, max_nodes=max(1, _MAX_VALUES // theta_grid.size)
-    )
+    return directional_albedo(lagrange_cardinals(theta_grid), mu_o, alpha, order=order)

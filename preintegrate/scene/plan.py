@@ -38,6 +38,7 @@ class ScenePlan:
     full_errors: dict[str, dict[str, float]]
     default_build_errors: dict[str, float]
     candidates: dict[str, Layout]
+    table_values: dict[str, np.ndarray]  # the tables to write: (rows, columns, channels) per name of ``tables``
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
@@ -55,46 +56,51 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     r_eval = {m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
               for m in scene.materials}
     all_r = np.unique(np.concatenate(list(r_eval.values())))
-    w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
     # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high]
     levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
-    w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
-    w_rows_mu = np.einsum("pw,hwm->hpm", interp_mu, w_rows)  # table texels interpolated along μo
     own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
     candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
                   **{name: own_layouts[name] for name in sorted(own_layouts)}}
     own = sorted(own_layouts)
-    functions = {name: layout.values(basis) for name, layout in candidates.items()}
+    functions = {name: layout.values(basis) for name, layout in candidates.items()}  # (M, n) on the θ grid
+
+    # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
+    # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
+    w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
+    exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
+    del w_eval
+    w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
+    table_rows = {name: w_rows @ values for name, values in functions.items()}  # the candidate tables (H, W, n)
+    del w_rows
+    rows_mu = {name: np.einsum("pw,hwn->hpn", interp_mu, table) for name, table in table_rows.items()}
 
     # each material's weights per layout, once: the error loops below reuse them for every row count
     weights_of = {(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in candidates.items()}
 
-    def errors_for(layout: str, rows: np.ndarray, weights=None, positions=None) -> dict[str, float]:
+    def errors_for(layout: str, rows: np.ndarray, projected=None, positions=None) -> dict[str, float]:
         result = {}
-        weights_rows = w_rows_mu[rows] if weights is None else weights  # (H', P, M)
+        table_mu = rows_mu[layout][rows] if projected is None else projected  # (H', P, n): texels read along μo
         positions = r_rows[rows] if positions is None else positions
         for material in scene.materials:
-            r_index = np.searchsorted(all_r, r_eval[material.name])
-            exact = w_eval[r_index] @ material.curve  # (r, P, 3)
-            interp_r = interpolation_weights(r_eval[material.name], positions)  # (r, H')
             coefficients = weights_of[material.name, layout]
             if coefficients is None:
                 result[material.name] = np.inf
                 continue
-            approx_curve = functions[layout] @ coefficients.T  # (M, 3)
-            approx = np.einsum("rh,hpc->rpc", interp_r, weights_rows @ approx_curve)
-            result[material.name] = float(np.max(np.abs(approx - exact)))
+            interp_r = interpolation_weights(r_eval[material.name], positions)  # (r, H')
+            approx = np.einsum("rh,hpn,cn->rpc", interp_r, table_mu, coefficients)
+            result[material.name] = float(np.max(np.abs(approx - exact_of[material.name])))
         return result
 
     # the full default build (basis RGBA + Schlick RG, rows at (j + 0.5)/size over 0–1), for comparison
     default_r = texel_centres(scene.size)
     near = np.flatnonzero((default_r >= low - 1.0 / scene.size) & (default_r <= high + 1.0 / scene.size))
-    w_default = np.einsum("pw,hwm->hpm", interp_mu,
-                          texel_weights(theta, mu_columns[None, :], (default_r[near] ** 2)[:, None]))
-    default_errors = {layout: errors_for(layout, near, w_default, default_r[near]) for layout in ("schlick", "basis-4")}
+    w_default = texel_weights(theta, mu_columns[None, :], (default_r[near] ** 2)[:, None])
+    default_errors = {layout: errors_for(layout, near, np.einsum("pw,hwn->hpn", interp_mu, w_default @ functions[layout]),
+                                         default_r[near]) for layout in ("schlick", "basis-4")}
+    del w_default
     default_best = {m.name: min(default_errors[layout][m.name] for layout in default_errors) for m in scene.materials}
 
     full = np.arange(max_rows)
@@ -147,4 +153,5 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
         full_errors=full_errors,
         default_build_errors=default_best,
         candidates={name: candidates[name] for name in tables},
+        table_values={name: table_rows[name][chosen_rows] for name in tables},
     )

@@ -10,25 +10,14 @@ import shutil
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
 
 from ..exr import write_luts
-from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, texel_centres
-from ..quadrature import texel_weights
+from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes
 from .plan import ScenePlan
 
 __all__ = ["write_scene"]
-
-
-def _table(functions: np.ndarray, plan: ScenePlan, basis: Basis) -> np.ndarray:
-    low, high = plan.roughness_range
-    rows = np.linspace(low, high, plan.rows) if plan.rows > 1 else np.array([low])
-    mu_columns = texel_centres(plan.scene.size)
-    weights = texel_weights(basis.theta, mu_columns[None, :], (rows**2)[:, None])
-    return weights @ functions
 
 
 def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None) -> dict:
@@ -51,7 +40,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         channels = layout.channel_set(basis)
         path = out / layout.file_name()
         names[table] = path.name
-        items.append((path, _table(layout.values(basis), plan, basis), channels.channel_names, lut_attributes(
+        items.append((path, plan.table_values[table], channels.channel_names, lut_attributes(
             channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}", convention,
             channel_set=table, roughness_range=f"{low:.9g},{high:.9g}", basis_hash=basis.content_hash,
         )))
