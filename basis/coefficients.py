@@ -33,7 +33,7 @@ import numpy as np
 
 from .angles import check_theta_grid, cos_theta, theta_spline, trapezoid_weights
 from .eigenbasis import Basis, resolve_basis
-from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
+from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel, fresnel_normal_incidence
 from .gulbrandsen import gulbrandsen_to_nk
 from .validation import ParameterError, as_float_array, check_positive_int, check_range, check_shape_last
 
@@ -146,7 +146,34 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None, fit: str = "fou
     if fit.startswith("delta-e") if isinstance(fit, str) else False:
         raise ParameterError(f"fit {fit!r} fits RGB curves in a colour space; for eta, kappa use "
                              "'four-point', 'least-squares' or 'minimax'")
+    if fit == "four-point":
+        return _four_point_nk(np.broadcast_arrays(eta, kappa), resolve_basis(basis))
     return coefficients_from_function(lambda mu: fresnel_kernel(mu, eta[..., None], kappa[..., None]), fit, basis)
+
+
+#: Materials per chunk of :func:`_four_point_nk`: the Fresnel kernel's temporaries stay near 30 MB.
+_NK_CHUNK = 1 << 16
+
+
+def _four_point_nk(eta_kappa: list[np.ndarray], basis: Basis) -> np.ndarray:
+    """Four-point coefficients of many (η, κ) in chunks: c0 = F(0) in closed form, c1 = F(π/2) − F(0) with
+    F(π/2) = 1 (0 only for η = 1, κ = 0), and the Fresnel kernel at the other fit angles alone (the
+    structure b_k(0) = 0 for k ≥ 1, b_k(π/2) = 0 for k ≥ 2 of :mod:`basis.training.svd`)."""
+    eta, kappa = eta_kappa
+    shape = eta.shape
+    eta, kappa = eta.ravel(), kappa.ravel()
+    system = fit_matrix(basis)  # B[i, k] = b_k(θ_i), i over the fit angles 0, π/2, θ2, …
+    inner = np.linalg.inv(system[2:, 2:]).T
+    mu = cos_theta(basis.fit_angles[2:])
+    coefficients = np.empty((eta.size, basis.n_terms))
+    for start in range(0, eta.size, _NK_CHUNK):
+        part = slice(start, start + _NK_CHUNK)
+        f0 = fresnel_normal_incidence(eta[part], kappa[part])
+        f90 = np.where((eta[part] == 1.0) & (kappa[part] == 0.0), 0.0, 1.0)
+        rest = fresnel_kernel(mu, eta[part, None], kappa[part, None]) - f0[:, None] * system[2:, 0] - (f90 - f0)[:, None] * system[2:, 1]
+        coefficients[part, 0], coefficients[part, 1] = f0, f90 - f0
+        coefficients[part, 2:] = rest @ inner
+    return coefficients.reshape(shape + (basis.n_terms,))
 
 
 def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None = None) -> np.ndarray:

@@ -1,6 +1,7 @@
 """Exact Fresnel reflectance of a planar interface, unpolarised, for a complex IOR η + iκ.
 
-Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``fresnel_kernel``, ``ETA_RANGE``, ``KAPPA_RANGE``.
+Public objects: ``fresnel_conductor``, ``fresnel_dielectric``, ``fresnel_kernel``, ``fresnel_normal_incidence``,
+``ETA_RANGE``, ``KAPPA_RANGE``.
 
 ``fresnel_kernel`` is the same formula without validation, for callers whose inputs are already checked
 (the training set, the integrators' nodes).
@@ -21,7 +22,7 @@ import numpy as np
 
 from .validation import check_range
 
-__all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric", "fresnel_kernel"]
+__all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric", "fresnel_kernel", "fresnel_normal_incidence"]
 
 #: Accepted η: [1e-8, 1e6] keeps every square and product of squares normal in float64 (below
 #: ~1e-81 they underflow and the formula degenerates); no material has η ≤ 0.
@@ -78,6 +79,11 @@ def fresnel_kernel(mu, eta, kappa) -> np.ndarray:
     fs *= ratio
     fs *= 0.5
     return np.clip(fs, 0.0, 1.0, out=fs).reshape(shape)
+
+
+def fresnel_normal_incidence(eta, kappa) -> np.ndarray:
+    """F(θ = 0) = ((η − 1)² + κ²) / ((η + 1)² + κ²), the closed form at normal incidence; unchecked."""
+    return ((eta - 1.0) ** 2 + kappa**2) / ((eta + 1.0) ** 2 + kappa**2)
 
 
 def fresnel_conductor(mu, eta, kappa) -> np.ndarray:

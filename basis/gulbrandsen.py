@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fresnel import ETA_RANGE, KAPPA_RANGE
+from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_normal_incidence
 from .validation import check_range
 
 __all__ = ["gulbrandsen_to_nk", "nk_to_gulbrandsen"]
@@ -80,7 +80,7 @@ def nk_to_gulbrandsen(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
     """
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
-    reflectivity = ((eta - 1.0) ** 2 + kappa**2) / ((eta + 1.0) ** 2 + kappa**2)
+    reflectivity = fresnel_normal_incidence(eta, kappa)
     reflectivity = np.minimum(reflectivity, np.nextafter(1.0, 0.0))
     n_min, n_max = _n_bounds(reflectivity)
     span = n_max - n_min

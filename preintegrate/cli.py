@@ -433,7 +433,7 @@ def make_parser() -> argparse.ArgumentParser:
 
     render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")
     render.add_argument("--out", default="report/render", help="output folder (default: report/render)")
-    render.add_argument("--quick", action="store_true", help="128x128 spheres, 256-spp references, 2 roughnesses per scene")
+    render.add_argument("--quick", action="store_true", help="128x128 spheres, 128-spp lattice references, 2 roughnesses per scene")
     render.set_defaults(run=command_render)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")

@@ -26,13 +26,16 @@ References
 
 from __future__ import annotations
 
+import concurrent.futures
 import dataclasses
+import math
 import time
 from collections.abc import Callable
 
 import numpy as np
 
-from basis.validation import check_positive_int, check_range
+from basis.parallel import one_blas_thread, worker_count
+from basis.validation import ParameterError, check_positive_int, check_range
 
 from .estimators import contributions
 from .lut import lut_lookup, texel_centres
@@ -59,9 +62,12 @@ class Environment:
     amplitudes: np.ndarray  # (N, 3)
 
     def radiance(self, direction: np.ndarray) -> np.ndarray:
-        """(..., 3) radiance for unit directions (..., 3)."""
-        cosine = direction @ self.axes.T  # (..., N)
-        return np.exp(self.sharpness * (cosine - 1.0)) @ self.amplitudes
+        """(..., 3) radiance for unit directions (..., 3), one lobe at a time (no (..., N) array)."""
+        total = np.zeros(direction.shape)
+        for axis, sharpness, amplitude in zip(self.axes, self.sharpness, self.amplitudes):
+            cosine = direction[..., 0] * axis[0] + direction[..., 1] * axis[1] + direction[..., 2] * axis[2]
+            total += np.exp(sharpness * (cosine - 1.0))[..., None] * amplitude
+        return total
 
     def prefiltered(self, direction: np.ndarray, alpha) -> np.ndarray:
         """Karis's prefiltered radiance: L convolved with a normalised SG lobe of sharpness 1/(2α²) around
@@ -182,11 +188,48 @@ def render_split_sum(material: RenderMaterial, roughness: float, size: int, basi
     return images
 
 
+#: Point sets of :func:`render_reference`: independent uniform numbers, or a rank-1 lattice randomly shifted
+#: per pixel (Cranley–Patterson), which is as unbiased and, on these smooth integrands, less noisy.
+SAMPLINGS = ("random", "lattice")
+#: The golden ratio's generator of the rank-1 lattice (i/N, {i g/N}) with g ≈ N/φ coprime to N.
+_GOLDEN = 0.5 * (1.0 + 5.0**0.5)
+
+
+def _uniform_points(rng: np.random.Generator, sampling: str, samples: int, pixels: int):
+    """Yield (u1, u2), each (count, pixels), over ``samples`` points per pixel in batches of 16."""
+    if sampling == "lattice":
+        generator = max(1, round(samples / _GOLDEN))
+        while math.gcd(generator, samples) != 1:
+            generator += 1
+        shift = rng.random((2, pixels))
+    for start in range(0, samples, _BATCH):
+        count = min(_BATCH, samples - start)
+        if sampling == "random":
+            yield rng.random((count, pixels)), rng.random((count, pixels))
+            continue
+        index = np.arange(start, start + count)[:, None]
+        yield np.mod(index / samples + shift[0], 1.0), np.mod(index * generator / samples + shift[1], 1.0)
+
+
+#: Samples per pixel evaluated at once: (16, pixels, 3) arrays keep a 256² reference near 0.2 GB.
+_BATCH = 16
+
+
 def render_reference(material: RenderMaterial, roughness: float, size: int, samples: int, seed: int = 0,
-                     environment: Environment = STUDIO, batch: int = 64) -> tuple[np.ndarray, np.ndarray, float]:
-    """(image (S, S, 3), standard error (S, S, 3), seconds): VNDF Monte Carlo with the exact Fresnel curve."""
+                     environment: Environment = STUDIO, sampling: str = "lattice",
+                     workers: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+    """(image (S, S, 3), spread (S, S, 3), seconds): VNDF Monte Carlo with the exact Fresnel curve.
+
+    ``sampling="random"`` draws independent uniform numbers and ``spread`` is the standard error of the mean;
+    ``"lattice"`` (default) uses a randomly shifted rank-1 lattice per pixel (unbiased; about half the
+    ΔE2000 noise at 256 spp, ``tests/preintegrate/test_render.py``), for which the same formula is an upper
+    bound. Either way two seeds give independent estimates. ``workers`` threads (default: the machine's
+    cores) share the pixels; BLAS runs on one thread (:mod:`basis.parallel`).
+    """
     roughness = float(check_range("roughness", roughness, 1e-3, 1.0))
     samples = check_positive_int("samples", samples, low=2, high=1 << 20)
+    if sampling not in SAMPLINGS:
+        raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
     started = time.perf_counter()
     alpha = roughness**2
     normals, mask = sphere_geometry(size)
@@ -199,17 +242,23 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
     tangent = np.where(length > 1e-9, tangent / np.maximum(length, 1e-300), fallback - (fallback * n).sum(-1, keepdims=True) * n)
     tangent /= np.linalg.norm(tangent, axis=-1, keepdims=True)
     bitangent = np.cross(n, tangent)
-    rng = np.random.default_rng(seed)
     total = np.zeros((n.shape[0], 3))
     total_sq = np.zeros_like(total)
-    for start in range(0, samples, batch):
-        count = min(batch, samples - start)
-        u1, u2 = rng.random((count, n.shape[0])), rng.random((count, n.shape[0]))
-        cos_d, local_i, weight = contributions(mu_o[None], alpha, u1, u2)  # (count, P), local frame
-        world_i = local_i[..., :1] * tangent + local_i[..., 1:2] * bitangent + local_i[..., 2:] * n
+
+    def accumulate(pixels: slice, u1: np.ndarray, u2: np.ndarray) -> None:
+        cos_d, local_i, weight = contributions(mu_o[None, pixels], alpha, u1[:, pixels], u2[:, pixels])  # local frame
+        world_i = local_i[..., :1] * tangent[pixels] + local_i[..., 1:2] * bitangent[pixels] + local_i[..., 2:] * n[pixels]
         value = material.curve(cos_d) * weight[..., None] * environment.radiance(world_i)
-        total += value.sum(axis=0)
-        total_sq += (value**2).sum(axis=0)
+        total[pixels] += value.sum(axis=0)
+        total_sq[pixels] += (value**2).sum(axis=0)
+
+    # each pixel's sum runs in the same order whatever the number of workers: the image's bits do not depend on it
+    bounds = np.linspace(0, n.shape[0], worker_count(workers) + 1).astype(int)
+    parts = [slice(low, high) for low, high in zip(bounds[:-1], bounds[1:])]
+    with one_blas_thread(), concurrent.futures.ThreadPoolExecutor(max_workers=len(parts)) as pool:
+        for u1, u2 in _uniform_points(np.random.default_rng(seed), sampling, samples, n.shape[0]):
+            for done in [pool.submit(accumulate, part, u1, u2) for part in parts]:
+                done.result()
     mean = total / samples
     error = np.sqrt(np.maximum(total_sq / samples - mean**2, 0.0) / (samples - 1))
     image = np.zeros(normals.shape)
