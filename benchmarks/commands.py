@@ -1,6 +1,8 @@
 """Wall time and peak memory of every interactive command, side by side with ``python -c "import numpy"``.
 
-Run from the repository root: ``.venv/bin/python -m benchmarks.commands [--repeats N] [--full] [--out FILE]``.
+Run from the repository root: ``.venv/bin/python -m benchmarks.commands [--repeats N] [--full] [--out FILE]
+[--tree DIR]``; ``--tree`` runs the commands of another checkout (``python -m preintegrate.cli`` in DIR, e.g. a
+``git worktree`` of an older commit) for a before/after table on the same machine.
 Each command runs in a fresh process (``os.wait4`` gives that process's own peak resident memory); fast
 commands are repeated and the median is reported, with the spread. The machine is shared: the ratio to
 the ``import numpy`` baseline measured in the same run is the comparable figure, and the targets of
@@ -31,9 +33,9 @@ COEFFICIENTS_1E6 = (
 )
 
 
-def _jobs(folder: Path, full: bool) -> list[tuple[str, list[str], str]]:
+def _jobs(folder: Path, full: bool, tree: Path | None) -> list[tuple[str, list[str], str]]:
     """(label, argv, target) of every measured command."""
-    lut = [str(BIN / "fresnel-lut")]
+    lut = [str(BIN / "fresnel-lut")] if tree is None else [sys.executable, "-m", "preintegrate.cli"]
     jobs = [
         ("python -c 'import numpy' (baseline)", [sys.executable, "-c", "import numpy"], ""),
         ("import basis", [sys.executable, "-c", "import basis"], "<= 0.3 s"),
@@ -55,10 +57,10 @@ def _jobs(folder: Path, full: bool) -> list[tuple[str, list[str], str]]:
     return jobs
 
 
-def _measure(argv: list[str]) -> tuple[float, float, str]:
+def _measure(argv: list[str], cwd: Path) -> tuple[float, float, str]:
     """(seconds, peak RSS in MiB, stdout) of one run in a fresh process."""
     started = time.perf_counter()
-    process = subprocess.Popen(argv, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    process = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     output = process.stdout.read()
     _, status, usage = os.wait4(process.pid, 0)
     seconds = time.perf_counter() - started
@@ -68,12 +70,12 @@ def _measure(argv: list[str]) -> tuple[float, float, str]:
     return seconds, usage.ru_maxrss / 1024.0, output
 
 
-def benchmark(repeats: int = 5, full: bool = False) -> list[dict]:
+def benchmark(repeats: int = 5, full: bool = False, tree: Path | None = None) -> list[dict]:
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        for label, argv, target in _jobs(Path(folder), full):
+        for label, argv, target in _jobs(Path(folder), full, tree):
             count = repeats if not label.startswith(("fresnel-lut basis", "fresnel-lut materials", "fresnel-lut render", "make")) else 1
-            runs = [_measure(argv) for _ in range(count)]
+            runs = [_measure(argv, ROOT if tree is None else tree) for _ in range(count)]
             seconds = [run[0] for run in runs]
             if label.startswith("coefficients_from_nk"):
                 seconds = [float(run[2].strip().splitlines()[-1]) for run in runs]
@@ -106,10 +108,11 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=5, help="runs of each fast command (default 5)")
     parser.add_argument("--full", action="store_true", help="also the full render and make test")
     parser.add_argument("--out", type=Path, default=ROOT / "report" / "benchmarks.md", help="Markdown table")
+    parser.add_argument("--tree", type=Path, default=None, help="measure another checkout's commands (before/after)")
     arguments = parser.parse_args(argv)
     if shutil.which("make") is None and arguments.full:
         parser.error("--full needs make")
-    text = markdown(benchmark(arguments.repeats, arguments.full))
+    text = markdown(benchmark(arguments.repeats, arguments.full, arguments.tree))
     from basis.storage import write_text
 
     write_text(arguments.out, text)

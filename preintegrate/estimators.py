@@ -178,7 +178,7 @@ def monte_carlo_albedo(
     alpha: float,
     samples: int = 200_000,
     seed: int = 0,
-    batch: int = 1_000_000,
+    batch: int = 1 << 18,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Estimate F̄[f](μo, α) = ∫ f(ω_o·h) ρ(ω_o, ω_i) μ_i dω_i for one texel.
 

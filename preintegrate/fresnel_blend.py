@@ -58,23 +58,32 @@ def fresnel_blend_diffuse_albedo(mu_o, rd, rs) -> np.ndarray:
     return rd * (1.0 - rs) * _diffuse_factor(mu_o)
 
 
+#: Nodes (texels × u × φ) evaluated at once: about a dozen float64 temporaries of this size, ~100 MB.
+_MAX_NODES = 1 << 20
+
+
 def _specular_terms(mu_o: np.ndarray, alpha: np.ndarray, nodes_u: int, nodes_phi: int) -> np.ndarray:
-    """(…, 2): A, B with E_s = Rs A + B, by the product rule of the module docstring."""
+    """(…, 2): A, B with E_s = Rs A + B, by the product rule of the module docstring, in chunks of texels."""
     u, w_u = np.polynomial.legendre.leggauss(nodes_u)
     u, w_u = 0.5 * (u + 1.0), 0.5 * w_u
-    phi = (np.arange(nodes_phi) + 0.5) * (2.0 * np.pi / nodes_phi)
+    cos_phi = np.cos((np.arange(nodes_phi) + 0.5) * (2.0 * np.pi / nodes_phi))
     shape = np.broadcast_shapes(mu_o.shape, alpha.shape)
-    mu_o = np.broadcast_to(mu_o, shape)[..., None, None]
-    alpha = np.broadcast_to(alpha, shape)[..., None, None]
-    sin_h, mu_h = ndf_inverse_cdf(alpha, u[:, None])
-    sin_o = np.sqrt(np.maximum(0.0, 1.0 - mu_o * mu_o))
-    o_dot_h = sin_o * sin_h * np.cos(phi) + mu_o * mu_h
-    mu_i = 2.0 * o_dot_h * mu_h - mu_o
-    valid = (o_dot_h > 0.0) & (mu_i > 0.0)
-    ratio = np.where(valid, mu_i / np.maximum(np.maximum(mu_i, mu_o), np.finfo(float).tiny) / mu_h, 0.0)
-    # D dωh = du dφ / (2π μh); the integrand D F μi / max(μi, μo) dωh
-    weight = ratio * (w_u[:, None] / nodes_phi)
-    return np.einsum("...ij,...ijk->...k", weight, schlick_channels().functions(np.clip(o_dot_h, 0.0, 1.0)))
+    mu_o, alpha = np.broadcast_to(mu_o, shape).ravel(), np.broadcast_to(alpha, shape).ravel()
+    result = np.empty((mu_o.size, 2))
+    chunk = max(1, _MAX_NODES // (nodes_u * nodes_phi))
+    for start in range(0, mu_o.size, chunk):
+        texels = slice(start, start + chunk)
+        cos_o, width = mu_o[texels, None, None], alpha[texels, None, None]
+        sin_h, mu_h = ndf_inverse_cdf(width, u[:, None])
+        sin_o = np.sqrt(np.maximum(0.0, 1.0 - cos_o * cos_o))
+        o_dot_h = sin_o * sin_h * cos_phi + cos_o * mu_h
+        mu_i = 2.0 * o_dot_h * mu_h - cos_o
+        valid = (o_dot_h > 0.0) & (mu_i > 0.0)
+        ratio = np.where(valid, mu_i / np.maximum(np.maximum(mu_i, cos_o), np.finfo(float).tiny) / mu_h, 0.0)
+        # D dωh = du dφ / (2π μh); the integrand D F μi / max(μi, μo) dωh
+        weight = ratio * (w_u[:, None] / nodes_phi)
+        result[texels] = np.einsum("tij,tijk->tk", weight, schlick_channels().functions(np.clip(o_dot_h, 0.0, 1.0)))
+    return result.reshape(shape + (2,))
 
 
 def fresnel_blend_specular_albedo(mu_o, alpha, rs, nodes_u: int = 256, nodes_phi: int = 256) -> np.ndarray:

@@ -41,13 +41,17 @@ def random_materials(count, seed=1):
     return eta, kappa
 
 
-def max_curve_error(eta, kappa):
-    """max over a 2001-point theta grid of |reconstruct - exact Fresnel| per material."""
+def max_curve_error(eta, kappa, chunk=256):
+    """max over a 2001-point theta grid of |reconstruct - exact Fresnel| per material (in chunks of materials)."""
     mu = cosines(THETA)
-    coefficients = coefficients_from_nk(eta, kappa)
-    approximation = reconstruct(coefficients[:, None, :], mu[None, :])
-    exact = fresnel_conductor(mu[None, :], eta[:, None], kappa[:, None])
-    return np.max(np.abs(approximation - exact), axis=1)
+    errors = []
+    for start in range(0, len(eta), chunk):
+        part = slice(start, start + chunk)
+        coefficients = coefficients_from_nk(eta[part], kappa[part])
+        approximation = reconstruct(coefficients[:, None, :], mu[None, :])
+        exact = fresnel_conductor(mu[None, :], eta[part, None], kappa[part, None])
+        errors.append(np.max(np.abs(approximation - exact), axis=1))
+    return np.concatenate(errors)
 
 
 # ----------------------------------------------------------------------------- exactness at the ends
