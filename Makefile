@@ -1,9 +1,9 @@
 # Two entry points that set up their own environment (a .venv made here) on a fresh machine:
 #   make luts   build the default LUTs into luts/
 #   make test   run the test suite
-#   make report error against run time (report/README.md and plots; installs the plot extra)
-#   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 6 minutes)
-#   make render     pictures: report/render/ (about 4 minutes)
+#   make report error against run time (report/README.md and plots, about 70 s; installs the plot extra)
+#   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
+#   make render     pictures: report/render/ (about 45 s)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
