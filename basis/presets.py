@@ -67,7 +67,55 @@ def write_presets(document: dict, path=None) -> Path:
 
 @functools.cache
 def _read(path: str) -> dict:
-    return read_json_document(path, "material presets", FORMAT, VERSION, error=PresetFileError)
+    document = read_json_document(path, "material presets", FORMAT, VERSION, error=PresetFileError)
+    _check_document(path, document)
+    return document
+
+
+def _finite(where: str, value, shape: tuple[int, ...] | None) -> None:
+    """A number or nested list of numbers (no bool, string, NaN or inf) of the given shape."""
+    def bad(reason: str):
+        return PresetFileError(f"material presets {where} {reason}, got {str(value)[:60]!r}")
+
+    def numbers(item) -> bool:
+        if isinstance(item, list):
+            return all(numbers(element) for element in item)
+        return isinstance(item, (int, float)) and not isinstance(item, bool)
+
+    if not numbers(value):
+        raise bad("must hold numbers only")
+    array = np.asarray(value, dtype=np.float64)
+    if shape is not None and (array.ndim != len(shape) or any(n not in (size, -1) for n, size in zip(shape, array.shape))):
+        raise bad(f"must have shape {tuple('K' if n == -1 else n for n in shape)}")
+    if not np.all(np.isfinite(array)):
+        raise bad("must be finite (no NaN or inf)")
+
+
+def _check_document(path: str, document: dict) -> None:
+    """Every field a reader uses, with its type, shape and finiteness; one line naming the file, material, key."""
+    if not isinstance(document.get("basis_hash"), str):
+        raise PresetFileError(f"material presets {path}: basis_hash must be a string")
+    materials = document.get("materials")
+    if not isinstance(materials, dict) or not materials:
+        raise PresetFileError(f"material presets {path}: materials must be a non-empty table of materials")
+    for name, material in materials.items():
+        where = f"{path}: {name!r}"
+        if not isinstance(material, dict) or not isinstance(material.get("kind"), str) \
+                or not isinstance(material.get("source"), dict):
+            raise PresetFileError(f"material presets {where} must be a table with kind (text) and source (table)")
+        for space in PRESET_SPACES:
+            entry = material.get(space)
+            if not isinstance(entry, dict):
+                raise PresetFileError(f"material presets {where} lacks the {space} table")
+            for key, shape in (("f0", (3,)), ("f82", (3,)), ("coefficients", (3, -1)), ("delta_e2000_at_0", ())):
+                if key not in entry:
+                    raise PresetFileError(f"material presets {where} {space} lacks {key}")
+                _finite(f"{where} {space} {key}", entry[key], shape)
+            errors = entry.get("rms_delta_e2000")
+            if not isinstance(errors, dict) or set(errors) != {"basis", "schlick"}:
+                raise PresetFileError(f"material presets {where} {space} rms_delta_e2000 must hold basis and schlick")
+            for key, value in errors.items():
+                _finite(f"{where} {space} rms_delta_e2000 {key}", value, ())
 
 
 def material_presets(path=None) -> dict:
@@ -83,6 +131,8 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
     >>> material_preset("Gold")["coefficients"].shape
     (3, 4)
     """
+    if not isinstance(name, str):
+        raise ParameterError(f"material must be a name (text), got {type(name).__name__} {name!r}")
     document = material_presets(path)
     if space not in PRESET_SPACES:
         raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {space!r}")
@@ -130,6 +180,9 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
             f"{shipped_presets_path()} was made for basis {preset['basis_hash']}, the shipped basis is "
             f"{default_basis().content_hash}; rebuild it with `fresnel-lut materials`"
         )
+    if preset["coefficients"].shape != (3, default_basis().n_terms):
+        raise PresetFileError(f"{shipped_presets_path()}: {preset['name']} has coefficients of shape "
+                              f"{preset['coefficients'].shape}, the shipped basis has {default_basis().n_terms} terms")
     return preset["coefficients"]
 
 

@@ -1,7 +1,7 @@
 """Files: the shipped data's paths, atomic output, and versioned JSON documents.
 
-Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_text``,
-``write_json``, ``read_json_document``.
+Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_together``,
+``recover_folder``, ``write_text``, ``write_json``, ``read_json_document``.
 
 Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
 found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
@@ -15,14 +15,18 @@ is interrupted part-way, the files already replaced are rolled back to their pre
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import os
 import tempfile
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from .validation import ParameterError
 
-__all__ = ["read_json_document", "replace_together", "shipped_path", "temporary_sibling", "write_json", "write_text"]
+__all__ = ["read_json_document", "recover_folder", "replace_together", "shipped_path", "temporary_sibling", "write_json",
+           "write_text", "write_together"]
 
 
 def shipped_path(name: str) -> Path:
@@ -45,7 +49,6 @@ def temporary_sibling(path) -> Path:
     path = Path(path)
     if path.exists() and not path.is_file():
         raise ParameterError(f"{path} exists and is not a regular file; refusing to replace it")
-    path.parent.mkdir(parents=True, exist_ok=True)
     handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(handle)
     os.chmod(name, _default_mode())
@@ -94,17 +97,116 @@ def replace_together(pairs) -> None:
                 backup.unlink(missing_ok=True)
 
 
+#: Written in the destination folder once every file of a group is complete, removed once all are renamed:
+#: a process killed between the renames leaves it, and the next writer or reader finishes the group.
+JOURNAL = ".fresnel-lut-journal.json"
+
+
+@contextlib.contextmanager
+def _folder_lock(folder: Path) -> Iterator[None]:
+    """An exclusive advisory lock on the folder itself (no lock file is left behind): writers of one
+    folder take turns, so a group of files is never interleaved with another group."""
+    handle = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(handle)
+
+
+def _finish(folder: Path) -> None:
+    """Complete an interrupted group (the lock held): rename the temporaries its journal lists, drop the journal."""
+    journal = folder / JOURNAL
+    try:
+        pairs = json.loads(journal.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        journal.unlink(missing_ok=True)
+        return
+    for temporary, target in pairs:
+        if Path(temporary).exists():
+            os.replace(temporary, target)
+    journal.unlink(missing_ok=True)
+
+
+def _remove_stale_temporaries(folder: Path) -> None:
+    """Temporaries left by a killed writer (this module's ``.NAME.XXXX.tmp``); only called with the lock held."""
+    for stale in folder.glob(".*.tmp"):
+        if stale.is_file() and stale.name.count(".") >= 3:
+            stale.unlink(missing_ok=True)
+
+
+def recover_folder(folder) -> None:
+    """Finish a group of files that a killed process left half-renamed, and remove its temporaries."""
+    folder = Path(folder)
+    if (folder / JOURNAL).exists() and os.access(folder, os.W_OK):
+        with _folder_lock(folder):
+            _finish(folder)
+            _remove_stale_temporaries(folder)
+
+
+def _make_folder(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; return those created, deepest first."""
+    missing = []
+    while not folder.exists():
+        missing.append(folder)
+        folder = folder.parent
+    for path in reversed(missing):
+        path.mkdir()
+    return missing
+
+
+def _one_line(error: BaseException, path: Path) -> BaseException:
+    """The error as one line that names the file (disk full, permissions, a library's bare RuntimeError)."""
+    if isinstance(error, (KeyboardInterrupt, SystemExit, ParameterError)):
+        return error
+    reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error) or type(error).__name__
+    return OSError(getattr(error, "errno", None) or 0, f"cannot write {path}: {reason}")
+
+
+def write_together(writers: list[tuple[Path, Callable[[Path], None]]]) -> list[Path]:
+    """Write a group of files as one transaction: ``writer(temporary)`` fills each file's temporary sibling,
+    then all are renamed into place (:func:`replace_together`).
+
+    The destination folder is locked for the transaction; an interrupted earlier group there is finished
+    first and its temporaries removed. On any failure no target is replaced, the temporaries and the
+    folders this call created are removed, and the error is one line naming the file.
+    """
+    targets = [Path(path) for path, _ in writers]
+    folder = targets[0].parent
+    created = _make_folder(folder)
+    temporaries: list[Path] = []
+    try:
+        with _folder_lock(folder):
+            _finish(folder)
+            _remove_stale_temporaries(folder)
+            for target, (_, writer) in zip(targets, writers):
+                temporaries.append(temporary_sibling(target))
+                try:
+                    writer(temporaries[-1])
+                except BaseException as error:
+                    raise _one_line(error, target) from None
+            # a journal cut short by a kill is unreadable and dropped: the renames had not begun
+            (folder / JOURNAL).write_text(json.dumps([[str(t), str(p)] for t, p in zip(temporaries, targets)]),
+                                          encoding="utf-8")
+            try:
+                replace_together(zip(temporaries, targets))
+            except BaseException as error:
+                raise _one_line(error, targets[0]) from None
+            finally:
+                (folder / JOURNAL).unlink(missing_ok=True)
+    except BaseException:
+        for temporary in temporaries:
+            temporary.unlink(missing_ok=True)
+        for path in created:  # deepest first; only if still empty
+            with contextlib.suppress(OSError):
+                path.rmdir()
+        raise
+    return targets
+
+
 def write_text(path, text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
-    path = Path(path)
-    temporary = temporary_sibling(path)
-    try:
-        temporary.write_text(text, encoding="utf-8")
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    replace_together([(temporary, path)])
-    return path
+    return write_together([(Path(path), lambda temporary: temporary.write_text(text, encoding="utf-8"))])[0]
 
 
 def write_json(path, document: dict) -> Path:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-from basis.storage import replace_together, temporary_sibling
+from basis.storage import recover_folder, write_together
 from basis.validation import ParameterError
 
 __all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]
@@ -88,21 +88,11 @@ def write_luts(items, half: bool = False, texts=()) -> list[Path]:
             **{f"{ATTRIBUTE_PREFIX}{key}": value for key, value in attributes.items()},
         }
         prepared.append((path, header, channels))
-    temporaries = []
-    texts = [(Path(path), text) for path, text in texts]
-    try:
-        for path, header, channels in prepared:
-            temporaries.append(temporary_sibling(path))
-            OpenEXR.File(header, channels).write(str(temporaries[-1]))
-        for path, text in texts:
-            temporaries.append(temporary_sibling(path))
-            temporaries[-1].write_text(text, encoding="utf-8")
-    except BaseException:
-        for temporary in temporaries:
-            temporary.unlink(missing_ok=True)
-        raise
-    targets = [path for path, _, _ in prepared] + [path for path, _ in texts]
-    replace_together(zip(temporaries, targets))
+    writers = [(path, lambda temporary, header=header, channels=channels:
+                OpenEXR.File(header, channels).write(str(temporary))) for path, header, channels in prepared]
+    writers += [(Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8"))
+                for path, text in texts]
+    write_together(writers)
     return [path for path, _, _ in prepared]
 
 
@@ -117,6 +107,7 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     ``channel_names`` defaults to the order stored in the header (``fresnel:channels``).
     """
     path = Path(path)
+    recover_folder(path.parent)  # a group a killed build left half-renamed is finished first
     if not path.is_file():
         raise LutFileError(f"LUT file {path} does not exist")
     try:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from basis.storage import replace_together, temporary_sibling
+from basis.storage import write_together
 from basis.validation import ParameterError
 
 __all__ = ["pyplot", "save_figure"]
@@ -30,11 +30,8 @@ def save_figure(figure, path) -> Path:
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ParameterError(f"path must end in .png, got {str(path)!r}")
-    temporary = temporary_sibling(path)
     try:
-        figure.savefig(temporary, format="png")
-        replace_together([(temporary, path)])
+        write_together([(path, lambda temporary: figure.savefig(temporary, format="png"))])
     finally:
-        temporary.unlink(missing_ok=True)
         pyplot().close(figure)
     return path

@@ -6,7 +6,6 @@ Public objects: ``write_scene``.
 from __future__ import annotations
 
 import json
-import shutil
 import tempfile
 from pathlib import Path
 
@@ -63,16 +62,11 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         "materials": materials,
     }
     # the tables, the coefficients and the report are renamed into place together (or not at all); the
-    # report quotes the tables' sizes, so the tables are encoded once to measure them
-    sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out)) if out.exists() else None
-    if sizes_folder is None:
-        out.mkdir(parents=True)
-        sizes_folder = Path(tempfile.mkdtemp(prefix=".scene-", dir=out))
-    try:
-        measured = write_luts([(sizes_folder / Path(path).name, *rest) for path, *rest in items])
+    # report quotes the tables' sizes, so the tables are first encoded in a scratch folder of the system's
+    # (nothing appears in ``out`` before the transaction, nothing is left there by a kill)
+    with tempfile.TemporaryDirectory(prefix="fresnel-lut-scene-") as scratch:
+        measured = write_luts([(Path(scratch) / Path(path).name, *rest) for path, *rest in items])
         written = {path.name: path.stat().st_size for path in measured}
-    finally:
-        shutil.rmtree(sizes_folder, ignore_errors=True)
     reference_folder = shipped_path("") if reference_folder is None else Path(reference_folder)
     full = {name: (reference_folder / name).stat().st_size for name in (BASIS_LUT, SCHLICK_LUT)
             if (reference_folder / name).exists()}
