@@ -27,6 +27,8 @@ from basis.validation import ParameterError, check_positive_int, check_range
 
 __all__ = ["DEFAULT_TOLERANCE", "Scene", "SceneError", "SceneMaterial", "read_scene"]
 
+#: Largest scene LUT width: the plan's texel weights grow as size² × 512 × 8 bytes (about 0.4 GB at 256).
+MAX_SIZE = 256
 #: One 8-bit step: the default tolerance on F̄.
 DEFAULT_TOLERANCE = 1.0 / 255.0
 
@@ -54,11 +56,26 @@ class Scene:
     source: str
 
 
+#: Largest scene file read: a scene lists a few dozen materials; a device or a huge file is refused unread.
+MAX_SCENE_BYTES = 1 << 20
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _describe(value) -> str:
+    kind = {str: "text", bool: "a boolean", dict: "a table", list: "a list"}.get(type(value), type(value).__name__)
+    return f"{str(value)[:40]!r} ({kind})"
+
+
 def _rgb(name: str, item: dict, key: str) -> np.ndarray:
-    value = np.asarray(item[key], dtype=np.float64) if not isinstance(item[key], str) else None
-    if value is None or value.shape not in ((), (3,)):
-        raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {item[key]!r}")
-    return np.broadcast_to(value, (3,)).copy()
+    value = item[key]
+    if _is_number(value):
+        return np.full(3, float(value))
+    if isinstance(value, list) and len(value) == 3 and all(_is_number(element) for element in value):
+        return np.array(value, dtype=np.float64)
+    raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {_describe(value)}")
 
 
 def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict]:
@@ -66,13 +83,20 @@ def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray
     mu = cos_theta(basis.theta)[:, None]
     keys = set(item) - {"name", "roughness"}
     if "preset" in item:
+        if not isinstance(item["preset"], str):
+            raise SceneError(f"material {name!r}: preset must be a material's name (text), got {_describe(item['preset'])}")
         preset = material_preset(item["preset"], space)
         from basis.material_fits import material_curve  # colour-science, only for presets
 
         return material_curve(preset["name"], space)(mu[:, 0]), {"preset": preset["name"], "space": space}
     if "model" in item:
+        if not isinstance(item["model"], str):
+            raise SceneError(f"material {name!r}: model must be a model's name (text), got {_describe(item['model'])}")
         model = fresnel_model(item["model"])
         parameters = {key: item[key] for key in keys - {"model"}}
+        for key, value in parameters.items():
+            if not (_is_number(value) or isinstance(value, list) and all(_is_number(element) for element in value)):
+                raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {_describe(value)}")
         curve = np.broadcast_to(model.evaluate(mu, **parameters), (mu.shape[0], 3))
         return curve, {"model": model.name, **parameters}
     if keys == {"eta", "kappa"}:
@@ -97,14 +121,38 @@ def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray
 
 
 def _roughness(name: str, value) -> tuple[float, float]:
-    values = np.atleast_1d(np.asarray(value, dtype=np.float64)) if not isinstance(value, str) else np.array([np.nan])
-    if values.ndim != 1 or values.size not in (1, 2):
-        raise SceneError(f"material {name!r}: roughness must be a number or [low, high], got {value!r}")
+    if _is_number(value):
+        values = np.array([float(value)])
+    elif isinstance(value, list) and len(value) == 2 and all(_is_number(element) for element in value):
+        values = np.array(value, dtype=np.float64)
+    else:
+        raise SceneError(f"material {name!r}: roughness must be a number or [low, high] of numbers, got {_describe(value)}")
     values = check_range(f"material {name!r}: roughness", values, 0.0, 1.0)
-    low, high = float(values.min()), float(values.max())
     if values.size == 2 and values[0] > values[1]:
         raise SceneError(f"material {name!r}: roughness range must be [low, high], got {value!r}")
-    return low, high
+    return float(values.min()), float(values.max())
+
+
+def _read_text(path: Path) -> str:
+    """The file's text, refusing what is no scene file: a folder, a device that never ends, more than 1 MiB."""
+    try:
+        with open(path, "rb") as stream:
+            data = stream.read(MAX_SCENE_BYTES + 1)
+    except OSError as error:
+        raise SceneError(f"cannot read scene file {path}: {error.strerror or error}") from None
+    if len(data) > MAX_SCENE_BYTES:
+        raise SceneError(f"scene file {path} is larger than {MAX_SCENE_BYTES // 1024} KiB: not a scene file")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise SceneError(f"scene file {path} is not UTF-8 text: {error}") from None
+
+
+def _name(index: int, item: dict) -> str:
+    name = item.get("name", f"material{index}")
+    if not isinstance(name, str) or not name or len(name) > 100 or not name.isprintable():
+        raise SceneError(f"material {index}: name must be printable text of 1 to 100 characters, got {_describe(name)}")
+    return name
 
 
 def read_scene(path, basis: Basis | None = None) -> Scene:
@@ -112,9 +160,13 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
     basis = resolve_basis(basis)
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise SceneError(f"cannot read scene file {path}: {error}") from None
+        return _read_scene(path, _read_text(path), basis)
+    except ParameterError as error:  # SceneError or a checked value's own error: one line naming the file
+        message = str(error)
+        raise SceneError(message if str(path) in message else f"scene file {path}: {message}") from None
+
+
+def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
     try:
         document = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
@@ -124,11 +176,17 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
     unknown = set(document) - {"tolerance", "space", "size", "material"}
     if unknown:
         raise SceneError(f"scene file {path}: unknown keys {sorted(unknown)} (expected tolerance, space, size, material)")
-    tolerance = float(check_range("tolerance", document.get("tolerance", DEFAULT_TOLERANCE), 1e-7, 1.0))
+    tolerance = document.get("tolerance", DEFAULT_TOLERANCE)
+    if not _is_number(tolerance):
+        raise SceneError(f"tolerance must be a number, got {_describe(tolerance)}")
+    tolerance = float(check_range("tolerance", tolerance, 1e-7, 1.0))
     space = document.get("space", "ACEScg")
-    if space not in PRESET_SPACES:
+    if not isinstance(space, str) or space not in PRESET_SPACES:
         raise SceneError(f"scene file {path}: space must be one of {list(PRESET_SPACES)}, got {space!r}")
-    size = check_positive_int("size", document.get("size", 128), low=2, high=8192)
+    size = check_positive_int("size", document.get("size", 128), low=2)
+    if size > MAX_SIZE:
+        raise SceneError(f"size {size}: a scene table has at most {MAX_SIZE} columns (planning holds about "
+                         f"size² × 512 texel weights, 0.4 GB at {MAX_SIZE}); build larger tables with fresnel-lut build")
     entries = document.get("material")
     if not isinstance(entries, list) or not entries:
         raise SceneError(f"scene file {path}: needs at least one [[material]]")
@@ -136,7 +194,7 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
     for index, item in enumerate(entries):
         if not isinstance(item, dict):
             raise SceneError(f"scene file {path}: material {index} must be a table")
-        name = str(item.get("name", f"material{index}"))
+        name = _name(index, item)
         if name in names:
             raise SceneError(f"scene file {path}: material name {name!r} appears twice")
         names.add(name)
@@ -146,7 +204,7 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
             curve, description = _target(name, item, space, basis)
         except SceneError:
             raise
-        except ParameterError as error:
+        except (ParameterError, TypeError, ValueError) as error:  # a model's own check names the parameter
             raise SceneError(f"material {name!r}: {error}") from None
         materials.append(SceneMaterial(name, description, np.asarray(curve, dtype=np.float64),
                                        _roughness(name, item["roughness"])))

@@ -19,6 +19,17 @@ from .plan import ScenePlan
 __all__ = ["write_scene"]
 
 
+def _previous_tables(coefficients_path: Path) -> set[str]:
+    """The table files a scene built earlier into the same folder lists (``lut`` of its materials)."""
+    try:
+        document = json.loads(coefficients_path.read_text(encoding="utf-8"))
+        names = {entry["lut"] for entry in document["materials"].values()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return set()
+    return {name for name in names if isinstance(name, str) and Path(name).name == name and name.startswith("ggx_")
+            and name.endswith(".exr")}
+
+
 def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None) -> dict:
     """Write the plan's tables, ``scene_coefficients.json`` and ``scene_report.md`` into ``out``.
 
@@ -92,7 +103,10 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
          f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
     ]
     coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
+    previous = _previous_tables(coefficients_path)
     paths = write_luts(items, texts=[(coefficients_path, json.dumps(document, indent=1) + "\n"),
                                      (report_path, "\n".join(report) + "\n")])
+    for stale in previous - {path.name for path in paths}:  # tables of the scene built here before
+        (out / stale).unlink(missing_ok=True)
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "full_bytes": full, "text": "\n".join(report)}

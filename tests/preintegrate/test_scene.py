@@ -222,3 +222,56 @@ roughness = [0.3, 0.6]
     mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64,
                                      rows[j] ** 2, samples=400_000, seed=8)
     np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
+
+
+#: Scene files with values of the wrong type or form → words the one-line error must contain.
+BAD_SCENES = {
+    "table eta": ('[[material]]\nname="m"\neta={r=1}\nkappa=0\nroughness=0.3\n', "eta must be a number or 3 numbers"),
+    "date f0": ('[[material]]\nname="m"\nf0=1979-05-27\nroughness=0.3\n', "f0 must be a number"),
+    "table roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness={a=1}\n', "roughness must be a number"),
+    "list preset": ('[[material]]\nname="m"\npreset=["Gold"]\nroughness=0.3\n', "preset must be a material's name"),
+    "list tolerance": ('tolerance=[0.1]\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "tolerance must be a number"),
+    "list space": ('space=["sRGB"]\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "space must be one of"),
+    "boolean roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness=true\n', "roughness must be a number"),
+    "boolean f0": ('[[material]]\nname="m"\nf0=true\nroughness=0.3\n', "f0 must be a number"),
+    "table name": ('[[material]]\nname={a=1}\nf0=0.04\nroughness=0.3\n', "name must be printable text"),
+    "text roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness="0.3"\n', "got '0.3' (text)"),
+    "text f0": ('[[material]]\nname="m"\nf0=["a","b","c"]\nroughness=0.3\n', "material 'm': f0 must be"),
+    "NUL in a name": ('[[material]]\nname="a\\u0000b"\nf0=0.04\nroughness=0.3\n', "name must be printable"),
+    "size 1024": ('size=1024\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "at most 256 columns"),
+    "float size": ('size=64.5\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "size must be an integer"),
+    "model parameter a table": ('[[material]]\nname="m"\nmodel="f82"\nf0={x=1}\nf82=0.5\nroughness=0.3\n', "f0 must be"),
+    "model a list": ('[[material]]\nname="m"\nmodel=["f82"]\nroughness=0.3\n', "model must be a model's name"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_SCENES))
+def test_values_of_the_wrong_type_are_one_line_naming_file_material_and_key(case, tmp_path):
+    text, words = BAD_SCENES[case]
+    path = tmp_path / "scene.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        read_scene(path)
+    message = str(info.value)
+    assert words in message and str(path) in message and len(message.splitlines()) == 1
+
+
+def test_a_device_or_huge_file_is_refused_unread(tmp_path):
+    with pytest.raises(SceneError, match="larger than 1024 KiB"):
+        read_scene("/dev/zero")
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"# " + b"x" * (1 << 20) + b"\n")
+    with pytest.raises(SceneError, match="larger than"):
+        read_scene(big)
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(b"\xff\xfe\x00")
+    with pytest.raises(SceneError, match="not UTF-8"):
+        read_scene(binary)
+
+
+def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_path):
+    out = tmp_path / "out"
+    write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
+    assert (out / "ggx_basis_rgba.exr").exists()
+    write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
+    assert sorted(p.name for p in out.iterdir()) == ["ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
