@@ -34,6 +34,7 @@ from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.presets import PRESET_SPACES, material_coefficients, material_preset, shipped_presets_path, write_presets
 from basis.storage import write_text
 from basis.training import build_basis
+from basis.training.builder import MAX_GRID
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_channels
@@ -66,6 +67,17 @@ def _output_folder(option: str, folder) -> Path:
     if not os.access(existing, os.W_OK | os.X_OK):
         raise ParameterError(f"{option} {folder}: {existing} is not writable")
     return folder
+
+
+def _output_file(option: str, path) -> Path:
+    """Check an output file before any work: named, not a folder or a device, in a writable folder."""
+    if str(path).strip() == "":
+        raise ParameterError(f"{option} must name a file, got an empty string")
+    path = Path(path)
+    if path.exists() and not path.is_file():
+        raise ParameterError(f"{option} {path} exists and is not a regular file (a folder or a device); name a file")
+    _output_folder(f"{option}'s folder", path.parent)
+    return path
 
 
 def _load_basis(path) -> Basis:
@@ -145,16 +157,14 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
 def command_basis(arguments) -> int:
     count = check_positive_int("--count", arguments.count, low=100, high=100_000_000)
     seed = check_positive_int("--seed", arguments.seed, low=0, high=2**63 - 1)
-    if str(arguments.out).strip() == "" or Path(arguments.out).is_dir():
-        raise ParameterError(f"--out must name a file, got {arguments.out!r}")
-    _output_folder("--out's folder", Path(arguments.out).parent)
+    _output_file("--out", arguments.out)
     started = time.perf_counter()
     progress = Progress("training curves", "curves")
     fit_angles = arguments.fit_angles
     if fit_angles not in ("auto", "talk", "notebook"):
         raise ParameterError(f"--fit-angles must be auto, talk or notebook, got {fit_angles!r}")
     basis = build_basis(
-        count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=65536),
+        count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
         n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
         fit_angles=fit_angles, progress=lambda done: progress(done, count),
     )
@@ -170,7 +180,7 @@ def command_basis(arguments) -> int:
     groups = [key for key in next(iter(errors.values())) if key != "angles"]
     print(f"  {'angles':28s}" + "".join(f"{group:>13s}" for group in groups))
     for name, row in errors.items():
-        label = f"{name} ({row['angles'][0]:.4f}, {row['angles'][1]:.4f})"
+        label = f"{name} ({', '.join(f'{angle:.4f}' for angle in row['angles'])})"
         print(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
     print(f"  {path}  {_size_text(path)}")
     return 0
@@ -227,10 +237,7 @@ def command_materials(arguments) -> int:
     from basis.presets import build_presets
     from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 
-    presets_path = shipped_presets_path() if arguments.presets is None else Path(arguments.presets)
-    if str(presets_path).strip() == "" or presets_path.is_dir():
-        raise ParameterError(f"--presets must name a file, got {str(presets_path)!r}")
-    _output_folder("--presets' folder", presets_path.parent)
+    presets_path = _output_file("--presets", shipped_presets_path() if arguments.presets is None else arguments.presets)
     if arguments.from_database:
         print(f"re-sampling {shipped_spectra_path()} from the refractiveindex.info database")
         write_spectra(spectra_from_database())

@@ -19,11 +19,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..angles import angle_grid, cos_theta
+from ..angles import angle_grid, cos_theta, theta_spline
 from ..eigenbasis import Basis
 from ..fresnel import fresnel_kernel
 from ..parallel import one_blas_thread
-from ..validation import check_positive_int
+from ..validation import ParameterError, check_positive_int
 from .domain import DEFAULT_DOMAIN, TrainingDomain
 from .holdout import holdout_materials
 from .svd import build_curves
@@ -78,6 +78,38 @@ def choose_fit_angles(basis: Basis, theta2=(1.30, 1.56, 27), theta3=(1.0, 1.5, 2
     return best[1]
 
 
+#: Largest θ grid: the SVD holds a few M × M matrices (M = 4096: about 0.7 GB).
+MAX_GRID = 4096
+
+
+def greedy_fit_angles(theta: np.ndarray, curves: np.ndarray, candidates=(0.2, 1.56, 137)) -> tuple[float, ...]:
+    """Fit angles for K ≠ 4 terms, one per term after b1: the curves come in SVD order, so the k-th angle is
+    the candidate that minimises the worst held-out error (``SELECTION_GROUPS``) of the (k + 1)-term fit
+    with the angles already chosen (a square system at every step)."""
+    spline = theta_spline(theta, curves.T, axis=0)
+    grid = np.linspace(*candidates)
+    dense = np.linspace(0.0, 0.5 * np.pi, 257)
+    eta, kappa = (np.concatenate(parts) for parts in zip(*(holdout_materials()[group] for group in SELECTION_GROUPS)))
+    angles = [0.0, 0.5 * np.pi]
+    exact_dense = fresnel_kernel(cos_theta(dense), eta[:, None], kappa[:, None])
+    curves_dense = spline(dense)
+    for terms in range(3, curves.shape[0] + 1):
+        best = (np.inf, None)
+        for angle in grid:
+            if min(abs(angle - chosen) for chosen in angles) < 0.02:
+                continue
+            rows = np.array([*angles, angle])
+            system = spline(rows)[:, :terms]
+            if np.linalg.cond(system) > 1e6:
+                continue
+            coefficients = np.linalg.solve(system, fresnel_kernel(cos_theta(rows), eta[:, None], kappa[:, None]).T).T
+            score = float(np.max(np.abs(coefficients @ curves_dense[:, :terms].T - exact_dense)))
+            if score < best[0]:
+                best = (score, float(round(angle, 4)))
+        angles.append(best[1])
+    return tuple(angles[2:])
+
+
 def build_basis(
     count: int = 200_000,
     seed: int = 1,
@@ -97,11 +129,21 @@ def build_basis(
     grid_size, grid_kind : int, str
         θ samples (≥ 16) and their spacing (see :func:`basis.training.angle_grid`).
     n_terms : int
-        K; fit angles beyond θ3 are not chosen automatically, so ``"auto"``/``"talk"`` need K = 4.
+        K in [2, 16]; for K ≠ 4, ``"auto"`` chooses one angle per term after b1 (:func:`greedy_fit_angles`).
     fit_angles : {"auto", "talk", "notebook"} or tuple of float
         θ2, θ3 (, …): searched on the held-out set, the talk's, the notebook's, or given.
     """
     count = check_positive_int("count", count, low=100)
+    n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
+    grid_size = check_positive_int("grid_size", grid_size, low=16, high=MAX_GRID)
+    if isinstance(fit_angles, str):
+        if fit_angles not in ("auto", "talk", "notebook"):
+            raise ParameterError(f"fit_angles must be 'auto', 'talk', 'notebook' or a tuple, got {fit_angles!r}")
+        if fit_angles != "auto" and n_terms != 4:
+            raise ParameterError(f"fit_angles {fit_angles!r} are two angles, for 4 terms; with {n_terms} terms use 'auto' "
+                                 f"or give {n_terms - 2} angles")
+    elif len(tuple(fit_angles)) != n_terms - 2:
+        raise ParameterError(f"{n_terms} terms need {n_terms - 2} fit angles besides 0 and pi/2, got {len(tuple(fit_angles))}")
     with one_blas_thread():  # basis.json's bytes, statistics included, must not depend on BLAS threads
         return _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress)
 
@@ -109,21 +151,22 @@ def build_basis(
 def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress) -> Basis:
     theta = angle_grid(grid_size, grid_kind)
     curves, stats = build_curves(theta, domain.curves(theta, count, seed), n_terms, progress)
+    training = {"domain": domain.describe(), "count": count, "seed": seed, "grid": {"kind": grid_kind, "size": grid_size},
+                "fit_angle_choice": fit_angles if isinstance(fit_angles, str) else "given"}
+    if n_terms != 4:  # the talk's and the notebook's angles are for four terms: choose one angle per extra term
+        chosen = greedy_fit_angles(theta, curves) if fit_angles == "auto" else tuple(float(a) for a in fit_angles)
+        basis = Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *chosen]))
+        errors = {"chosen": {"angles": list(chosen), **holdout_fit_errors(basis)}}
+        return Basis(theta, curves, basis.fit_angles, {**training, "holdout_max_abs_error": errors, **stats})
     provisional = Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *TALK_ANGLES][:n_terms]))
     named = {"talk": TALK_ANGLES, "notebook": NOTEBOOK_ANGLES}
     if isinstance(fit_angles, str):
-        if fit_angles not in ("auto", *named):
-            raise ValueError(f"fit_angles must be 'auto', 'talk', 'notebook' or a tuple, got {fit_angles!r}")
         chosen = choose_fit_angles(provisional) if fit_angles == "auto" else named[fit_angles]
     else:
         chosen = tuple(float(angle) for angle in fit_angles)
     errors = {name: holdout_fit_errors(provisional, angles) for name, angles in {**named, "chosen": chosen}.items()}
     training = {
-        "domain": domain.describe(),
-        "count": count,
-        "seed": seed,
-        "grid": {"kind": grid_kind, "size": grid_size},
-        "fit_angle_choice": fit_angles if isinstance(fit_angles, str) else "given",
+        **training,
         "holdout_max_abs_error": {name: {"angles": list(named.get(name, chosen)), **errs} for name, errs in errors.items()},
         **stats,
     }

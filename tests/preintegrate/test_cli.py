@@ -465,3 +465,12 @@ def test_progress_reports_on_non_tty():
     assert len(lines) == 2 and "\r" not in stream.getvalue()
     assert lines[0].startswith("work:") and "50.0%" in lines[0] and "(5/10 items)" in lines[0]
     assert "100.0%" in lines[1]
+
+
+@pytest.mark.parametrize("target", ["/dev/null", "folder"])
+def test_basis_refuses_a_device_or_folder_before_training(target, tmp_path, monkeypatch, capsys):
+    """basis --out /dev/null used to fail after the whole training pass."""
+    monkeypatch.setattr(cli, "build_basis", lambda **keywords: pytest.fail("training started"))
+    out = target if target.startswith("/") else tmp_path
+    assert run(["basis", "--out", out]) == 2
+    assert_one_line_error(capsys.readouterr().err)
