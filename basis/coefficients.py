@@ -35,7 +35,7 @@ from .angles import check_theta_grid, cos_theta, theta_spline, trapezoid_weights
 from .eigenbasis import Basis, resolve_basis
 from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel, fresnel_normal_incidence
 from .gulbrandsen import gulbrandsen_to_nk
-from .validation import ParameterError, as_float_array, check_positive_int, check_range, check_shape_last
+from .validation import ParameterError, as_float_array, check_broadcast, check_positive_int, check_range, check_shape_last
 
 __all__ = [
     "COEFFICIENT_FITS",
@@ -84,7 +84,12 @@ def coefficients_from_samples(samples, basis: Basis | None = None) -> np.ndarray
     basis = resolve_basis(basis)
     samples = as_float_array("samples", samples)
     check_shape_last("samples", samples, basis.n_terms)  # one value per fit angle
-    return samples @ np.linalg.inv(fit_matrix(basis)).T
+    with np.errstate(over="ignore", invalid="ignore"):
+        coefficients = samples @ np.linalg.inv(fit_matrix(basis)).T
+    if not np.all(np.isfinite(coefficients)):
+        raise ParameterError(f"samples as large as {np.max(np.abs(samples)):.3g} overflow the coefficients (float64); "
+                             "a reflectance is at most 1")
+    return coefficients
 
 
 def coefficients_from_curve(curve: Callable, variable: str = "theta", basis: Basis | None = None) -> np.ndarray:
@@ -102,7 +107,11 @@ def coefficients_from_curve(curve: Callable, variable: str = "theta", basis: Bas
         argument = cos_theta(basis.fit_angles)
     else:
         raise ParameterError(f"variable must be 'theta' or 'mu', got {variable!r}")
-    return coefficients_from_samples(as_float_array("curve(angles)", curve(argument)), basis)
+    values = as_float_array("curve(angles)", curve(argument))
+    if values.ndim == 0 or values.shape[-1] != basis.n_terms:
+        raise ParameterError(f"curve must return one value per fit angle ({basis.n_terms}) along its last axis, "
+                             f"got shape {values.shape}")
+    return coefficients_from_samples(values, basis)
 
 
 def coefficients_from_table(theta, values, basis: Basis | None = None) -> np.ndarray:
@@ -143,12 +152,32 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None, fit: str = "fou
     """
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
+    check_broadcast(eta=eta, kappa=kappa)
     if fit.startswith("delta-e") if isinstance(fit, str) else False:
         raise ParameterError(f"fit {fit!r} fits RGB curves in a colour space; for eta, kappa use "
                              "'four-point', 'least-squares' or 'minimax'")
     if fit == "four-point":
         return _four_point_nk(np.broadcast_arrays(eta, kappa), resolve_basis(basis))
-    return coefficients_from_function(lambda mu: fresnel_kernel(mu, eta[..., None], kappa[..., None]), fit, basis)
+    coefficient_fit(fit)  # the name, checked before any work
+    return _in_chunks(np.broadcast_arrays(eta, kappa), lambda eta, kappa: coefficients_from_function(
+        lambda mu: fresnel_kernel(mu, eta[:, None], kappa[:, None]), fit, basis), resolve_basis(basis).n_terms)
+
+
+def _in_chunks(eta_kappa: list[np.ndarray], fit: Callable, terms: int) -> np.ndarray:
+    """``fit(eta, kappa)`` → (n, K) over flat chunks of materials, so memory stays bounded (a least-squares
+    fit holds a few (materials × θ grid) arrays: 10⁵ materials at once took 12 GB)."""
+    eta, kappa = eta_kappa
+    shape = eta.shape
+    eta, kappa = eta.ravel(), kappa.ravel()
+    coefficients = np.empty((eta.size, terms))
+    for start in range(0, eta.size, _LSQ_CHUNK):
+        part = slice(start, start + _LSQ_CHUNK)
+        coefficients[part] = fit(eta[part], kappa[part])
+    return coefficients.reshape(shape + (terms,))
+
+
+#: Materials per chunk of the least-squares fits of η, κ: a few 4096 × 512 arrays (16 MB each).
+_LSQ_CHUNK = 4096
 
 
 #: Materials per chunk of :func:`_four_point_nk`: the Fresnel kernel's temporaries stay near 30 MB.
@@ -328,8 +357,12 @@ def coefficients_least_squares(
     basis = resolve_basis(basis)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
-    values = fresnel_kernel(cos_theta(basis.theta), eta[..., None], kappa[..., None])
-    return coefficients_least_squares_from_table(basis.theta, values, basis, weight, iterations)
+    check_broadcast(eta=eta, kappa=kappa)
+    weight = _check_weight(weight)
+    iterations = check_positive_int("iterations", iterations, low=1, high=10_000)
+    mu = cos_theta(basis.theta)
+    return _in_chunks(np.broadcast_arrays(eta, kappa), lambda eta, kappa: _least_squares_on_grid(
+        fresnel_kernel(mu, eta[:, None], kappa[:, None]), basis, weight, iterations), basis.n_terms)
 
 
 def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
@@ -337,6 +370,8 @@ def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
     basis = resolve_basis(basis)
     coefficients = as_float_array("coefficients", coefficients)
     check_shape_last("coefficients", coefficients, basis.n_terms)
+    mu = check_range("mu", mu, 0.0, 1.0)
+    check_broadcast(coefficients=coefficients[..., 0], mu=mu)
     return np.sum(coefficients * basis.evaluate_mu(mu), axis=-1)
 
 

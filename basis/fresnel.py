@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .validation import check_range
+from .validation import check_broadcast, check_range
 
 __all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric", "fresnel_kernel", "fresnel_normal_incidence"]
 
@@ -120,6 +120,7 @@ def fresnel_conductor(mu, eta, kappa) -> np.ndarray:
     mu = check_range("mu", mu, 0.0, 1.0)
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
+    check_broadcast(mu=mu, eta=eta, kappa=kappa)
     return fresnel_kernel(mu, eta, kappa)
 
 

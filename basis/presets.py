@@ -169,7 +169,7 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
     >>> material_coefficients("Gold")[:, 0].round(3)  # F0 in ACEScg
     array([ 0.903,  0.746,  0.418])
     """
-    if basis is not None and basis.content_hash != default_basis().content_hash:
+    if basis is not None and resolve_basis(basis).content_hash != default_basis().content_hash:
         # the preset lookup validates name and space with the usual messages
         from .material_fits import fit_material  # colour-science, only when fitting afresh
 

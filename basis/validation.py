@@ -6,7 +6,7 @@ are then trusted. Errors are :class:`ParameterError` (a ``ValueError``) whose
 message names the parameter, the offending value and the accepted range.
 
 Public objects: ``ParameterError``, ``as_float_array``, ``check_range``,
-``check_shape_last``, ``check_positive_int``.
+``check_shape_last``, ``check_positive_int``, ``check_broadcast``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["ParameterError", "as_float_array", "check_positive_int", "check_range", "check_shape_last"]
+__all__ = ["ParameterError", "as_float_array", "check_broadcast", "check_positive_int", "check_range", "check_shape_last"]
 
 
 class ParameterError(ValueError):
@@ -103,3 +103,12 @@ def check_positive_int(name: str, value, low: int = 1, high: int | None = None) 
         upper = "inf" if high is None else str(high)
         raise ParameterError(f"{name} must be an integer in [{low}, {upper}], got {value}")
     return int(value)
+
+
+def check_broadcast(**arrays) -> tuple[int, ...]:
+    """The broadcast shape of named arrays, or an error naming them and their shapes."""
+    try:
+        return np.broadcast_shapes(*(np.shape(array) for array in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{name} {np.shape(array)}" for name, array in arrays.items())
+        raise ParameterError(f"{' and '.join(arrays)} must broadcast against each other, got shapes {shapes}") from None

@@ -299,12 +299,17 @@ def directional_albedo(
     workers = worker_count(workers)
     with one_blas_thread(), concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order) for index, batch_order in batches]
-        done = 0
-        for (index, _), future in zip(batches, futures):
-            result[index] = future.result()
-            done += index.size
-            if progress is not None:
-                progress(done, rough_count)
+        try:
+            done = 0
+            for (index, _), future in zip(batches, futures):
+                result[index] = future.result()
+                done += index.size
+                if progress is not None:
+                    progress(done, rough_count)
+        except BaseException:  # Ctrl-C or a failure: the queued batches never start (each running one is < 0.3 s)
+            for future in futures:
+                future.cancel()
+            raise
     return result.reshape(shape + (n_channels,))
 
 

@@ -273,8 +273,8 @@ def test_bad_curve():
         coefficients_from_curve([0.1, 0.2, 0.3, 0.4])
     with pytest.raises(ParameterError, match=r"^variable must be 'theta' or 'mu'"):
         coefficients_from_curve(lambda x: x, variable="degrees")
-    with pytest.raises(ParameterError, match=r"samples"):
-        coefficients_from_curve(lambda x: x[:3], variable="theta")
+    with pytest.raises(ParameterError, match=r"^curve must return one value per fit angle \(4\)"):
+        coefficients_from_curve(lambda x: x[:3], variable="theta")  # the curve's fault, not the samples
 
 
 def test_bad_table():
@@ -313,3 +313,33 @@ def test_bad_gulbrandsen(r, g, name):
     """coefficients_from_gulbrandsen: r = 1 or g > 1 -> ParameterError naming the parameter."""
     with pytest.raises(ParameterError, match=rf"^{name}\b"):
         coefficients_from_gulbrandsen(r, g)
+
+
+def test_api_errors_name_the_parameter():
+    """Mismatched shapes, a foreign basis, a wrong-length curve and overflowing samples are ParameterErrors
+    naming what is wrong (they used to be numpy's broadcast error, AttributeError and silent inf)."""
+    from basis import coefficients_least_squares, fresnel_conductor, material_coefficients
+
+    cases = [
+        (lambda: coefficients_from_nk([1.5, 1.6], [0.0, 0.0, 0.0]), "eta and kappa must broadcast"),
+        (lambda: coefficients_least_squares([1.5, 1.6], [0.0, 0.0, 0.0]), "eta and kappa must broadcast"),
+        (lambda: fresnel_conductor([0.5, 0.4], [1.5, 1.6, 1.7], 0.0), "must broadcast"),
+        (lambda: reconstruct(np.zeros((2, 4)), np.zeros(3)), "coefficients and mu must broadcast"),
+        (lambda: material_coefficients("Gold", basis="x"), "basis must be"),
+        (lambda: coefficients_from_nk(1.5, 0.0, basis="x"), "basis must be"),
+        (lambda: coefficients_from_samples([1e308, -1e308, 1e308, 1e308]), "overflow"),
+    ]
+    for call, words in cases:
+        with pytest.raises(ParameterError, match=words):
+            call()
+
+
+def test_least_squares_of_many_materials_runs_in_chunks():
+    """10^4 materials at once (chunks of 4096) give the same coefficients as one at a time."""
+    from basis import coefficients_least_squares
+
+    rng = np.random.default_rng(5)
+    eta, kappa = rng.uniform(0.2, 3.0, 10_000), rng.uniform(0.0, 5.0, 10_000)
+    together = coefficients_least_squares(eta, kappa)
+    alone = coefficients_least_squares(eta[[0, 4095, 4096, 9999]], kappa[[0, 4095, 4096, 9999]])
+    np.testing.assert_allclose(together[[0, 4095, 4096, 9999]], alone, rtol=0, atol=1e-14)

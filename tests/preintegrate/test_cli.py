@@ -474,3 +474,29 @@ def test_basis_refuses_a_device_or_folder_before_training(target, tmp_path, monk
     out = target if target.startswith("/") else tmp_path
     assert run(["basis", "--out", out]) == 2
     assert_one_line_error(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["coeffs", "--material", "Gold", "--fit", "least-squares"], "--fit goes with --model"),
+        (["coeffs", "--eta", 1, 1, 1, "--kappa", 1, 1, 1, "--f82", 1, 1, 1, "--exponent", 3], "--exponent, --f82 go with"),
+        (["coeffs", "--reflectivity", 0.5, 0.5, 0.5, "--edge-tint", 0, 0, 0, "--tint", 1, 1, 1], "--tint goes with"),
+        (["build", "--size", "-1e-9"], "invalid int value: '-1e-9'"),
+        (["coeffs", "--eta", "-inf", 1, 1, "--kappa", 0, 0, 0], "eta must be in"),
+        (["coeffs", "--eta", "-1e-9", 1, 1, "--kappa", 0, 0, 0], "eta must be in"),
+    ],
+)
+def test_options_that_do_not_apply_or_negative_values(argv, words, capsys):
+    """Options the command would ignore are refused, and -1e-9 or -inf reach the range check instead of
+    being taken for options ("expected one argument")."""
+    assert run(argv) == 2
+    error = capsys.readouterr().err
+    assert_one_line_error(error)
+    assert words in error
+
+
+def test_list_materials(capsys):
+    assert run(["coeffs", "--list-materials"]) == 0
+    listing = capsys.readouterr().out
+    assert "Gold" in listing and "Glass BK7" in listing and listing.count("\n") >= 30
