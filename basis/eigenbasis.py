@@ -40,6 +40,9 @@ class BasisFileError(ParameterError):
     """A basis file is missing, truncated, corrupt, foreign or fails its hash."""
 
 
+#: Largest accepted magnitude of a basis curve (the build scales b_k, k ≥ 2, to max |b_k| = 1; b0 = 1, b1 ≤ 1).
+MAX_CURVE = 1e3
+
 #: Largest accepted condition number of the four-point system: beyond it the coefficients amplify
 #: rounding in the target by more than 1e6 (the shipped basis has 4.8).
 MAX_FIT_CONDITION = 1e6
@@ -97,6 +100,8 @@ class Basis:
             raise BasisFileError(f"curves must have shape (K, {theta.size}) with 2 <= K <= 16, got {curves.shape}")
         if not np.all(np.isfinite(curves)):
             raise BasisFileError("curves contain NaN or inf")
+        if np.max(np.abs(curves)) > MAX_CURVE:  # b_k are scaled to max |b_k| = 1; beyond this the spline overflows
+            raise BasisFileError(f"curves must stay within ±{MAX_CURVE:g}, got {np.max(np.abs(curves)):.3g}")
         if fit_angles.shape != (curves.shape[0],):
             raise BasisFileError(f"fit_angles must have shape ({curves.shape[0]},), got {fit_angles.shape}")
         check_range("fit_angles", fit_angles, 0.0, 0.5 * np.pi)

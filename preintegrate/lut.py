@@ -1,7 +1,7 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
 Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``texel_centres``, ``lut_axes``,
-``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
 first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
@@ -13,9 +13,11 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
+from basis.storage import shipped_path
 from basis.validation import ParameterError, check_positive_int
 
 from .channels import ChannelSet
@@ -33,6 +35,7 @@ __all__ = [
     "lut_attributes",
     "lut_axes",
     "lut_lookup",
+    "shipped_lut",
     "texel_centres",
 ]
 
@@ -48,6 +51,13 @@ PIXEL_CONVENTION = (
     "Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
     "GGX with height-correlated Smith G2"
 )
+
+
+def shipped_lut(name: str = BASIS_LUT) -> Path:
+    """Path of a LUT shipped with the package (``luts/`` beside it), whatever the working folder."""
+    if name not in (BASIS_LUT, SCHLICK_LUT):
+        raise ParameterError(f"shipped LUT must be one of {[BASIS_LUT, SCHLICK_LUT]}, got {name!r}")
+    return shipped_path(name)
 
 
 def texel_centres(count: int) -> np.ndarray:

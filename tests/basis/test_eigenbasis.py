@@ -277,3 +277,20 @@ def test_shipped_basis_end_points(shipped):
 def test_default_basis_is_cached(shipped):
     """default_basis() returns the same object each call (read once)."""
     assert default_basis() is shipped
+
+
+@pytest.mark.parametrize("value", [1e308, -1e300, 1e4])
+def test_a_huge_curve_value_is_one_error_and_no_warning(value, tmp_path, recwarn):
+    """A basis file whose curve holds a huge (finite) number, with a matching hash, is refused before any
+    spline is built: one BasisFileError, and no SciPy overflow warning printed before it."""
+    data = json.loads(shipped_basis_path().read_text())
+    data["curves"][2][100] = value
+    digest = hashlib.sha256()
+    for key in ("theta", "curves", "fit_angles"):
+        digest.update(np.ascontiguousarray(np.array(data[key], dtype="<f8")).tobytes())
+    data["content_hash"] = digest.hexdigest()[:16]
+    path = tmp_path / "basis.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(BasisFileError, match="curves must stay within"):
+        Basis.read(path)
+    assert not [warning for warning in recwarn if issubclass(warning.category, RuntimeWarning)]
