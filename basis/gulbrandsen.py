@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_normal_incidence
-from .validation import check_range
+from .validation import check_broadcast, check_range
 
 __all__ = ["gulbrandsen_to_nk", "nk_to_gulbrandsen"]
 
@@ -53,6 +53,7 @@ def gulbrandsen_to_nk(reflectivity, edge_tint) -> tuple[np.ndarray, np.ndarray]:
     """
     reflectivity = check_range("reflectivity", reflectivity, 0.0, 1.0, high_open=True)
     edge_tint = check_range("edge_tint", edge_tint, 0.0, 1.0)
+    check_broadcast(reflectivity=reflectivity, edge_tint=edge_tint)
     n_min, n_max = _n_bounds(reflectivity)
     eta = edge_tint * n_min + (1.0 - edge_tint) * n_max
     kappa2 = (reflectivity * (eta + 1.0) ** 2 - (eta - 1.0) ** 2) / (1.0 - reflectivity)
@@ -80,6 +81,7 @@ def nk_to_gulbrandsen(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
     """
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
+    check_broadcast(eta=eta, kappa=kappa)
     reflectivity = fresnel_normal_incidence(eta, kappa)
     reflectivity = np.minimum(reflectivity, np.nextafter(1.0, 0.0))
     n_min, n_max = _n_bounds(reflectivity)

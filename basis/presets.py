@@ -84,7 +84,10 @@ def _finite(where: str, value, shape: tuple[int, ...] | None) -> None:
 
     if not numbers(value):
         raise bad("must hold numbers only")
-    array = np.asarray(value, dtype=np.float64)
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except ValueError:  # ragged nesting
+        raise bad("must be a regular array of numbers") from None
     if shape is not None and (array.ndim != len(shape) or any(n not in (size, -1) for n, size in zip(shape, array.shape))):
         raise bad(f"must have shape {tuple('K' if n == -1 else n for n in shape)}")
     if not np.all(np.isfinite(array)):
@@ -132,10 +135,10 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
     (3, 4)
     """
     if not isinstance(name, str):
-        raise ParameterError(f"material must be a name (text), got {type(name).__name__} {name!r}")
+        raise ParameterError(f"material must be a name (text), got {type(name).__name__} {' '.join(repr(name).split())[:60]}")
     document = material_presets(path)
-    if space not in PRESET_SPACES:
-        raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {space!r}")
+    if not isinstance(space, str) or space not in PRESET_SPACES:
+        raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {' '.join(repr(space).split())[:60]}")
     materials = document["materials"]
     if name not in materials:
         by_case = {key.lower(): key for key in materials}

@@ -10,6 +10,7 @@ import pytest
 
 from basis.material_fits import material_curve
 from basis.validation import ParameterError
+from preintegrate.lut import lut_lookup
 from preintegrate.render import (
     DEFAULT_SCENES,
     STUDIO,
@@ -20,7 +21,6 @@ from preintegrate.render import (
     to_srgb8,
     tone_map,
 )
-from preintegrate.lut import lut_lookup
 from preintegrate.report.renders import _luts, render_study
 
 
