@@ -80,11 +80,18 @@ def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
     return {"rows": results, "quick": quick}
 
 
+#: Line styles of ground truth, Schlick and the basis; colours of the R, G, B channels.
+STYLES = ("-", "--", ":")
+CHANNEL_COLOURS = ("tab:red", "tab:green", "tab:blue")
+
+
 def _curves_figure(scene: str, path: Path) -> Path:
     """RGB curves and colour strips (0–90°, zoom 80–90°) of ground truth, Schlick and the basis."""
     from basis.eigenbasis import default_basis
 
     plt = pyplot()
+    from matplotlib.lines import Line2D
+
     material = DEFAULT_SCENES[scene](SPACE)
     basis = default_basis()
     theta = np.linspace(0.0, 0.5 * np.pi, 901)
@@ -99,21 +106,30 @@ def _curves_figure(scene: str, path: Path) -> Path:
     for column, (low, high) in enumerate(((0.0, 90.0), (80.0, 90.0))):
         plot = axes[0, column]
         degrees = np.degrees(theta)
-        for (label, values), style in zip(curves.items(), ("-", "--", ":")):
-            for channel, colour in zip(range(3), ("tab:red", "tab:green", "tab:blue")):
-                plot.plot(degrees, values[:, channel], style, color=colour, lw=1.4,
-                          label=label if channel == 0 else None)
+        for (label, values), style in zip(curves.items(), STYLES):
+            # thick to thin, so that equal channels (the Figure 2 material's R and B) both stay visible
+            for channel, colour, width in zip(range(3), CHANNEL_COLOURS, (2.8, 2.0, 1.2)):
+                plot.plot(degrees, values[:, channel], style, color=colour, lw=width)
+        handles = [Line2D([], [], color="0.25", linestyle=style, label=label) for label, style in zip(curves, STYLES)]
+        handles += [Line2D([], [], color=colour, lw=width, label=f"{name} channel")
+                    for name, colour, width in zip("RGB", CHANNEL_COLOURS, (2.8, 2.0, 1.2))]
+        above = [name for name, channel in zip("RGB", truth.T) if np.max(channel) > 1.0 + 1e-6]
+        if above:  # a reflectance above 1: the colour lies outside the working space's gamut
+            plot.axhline(1.0, color="0.6", lw=0.8)
+            plot.text(0.99, 0.02, f"{', '.join(above)} above 1: outside the linear {SPACE} gamut (strips clip it)",
+                      transform=plot.transAxes, ha="right", va="bottom", fontsize=7.5, color="0.3")
         plot.set_xlim(low, high)
         plot.set_xlabel("angle of incidence (degrees)")
-        plot.set_ylabel("reflectance (linear sRGB)")
-        plot.legend(loc="upper left", fontsize=8)
+        plot.set_ylabel(f"reflectance (linear {SPACE})")
+
         inside = (degrees >= low) & (degrees <= high)
         strips = np.stack([to_srgb8(np.clip(values[inside], 0.0, 1.0)) for values in curves.values()])
         axes[1, column].imshow(np.repeat(strips, 12, axis=0), aspect="auto", extent=(low, high, 0, 3 * 12))
         axes[1, column].set_yticks([6 + 12 * k for k in range(3)], list(curves)[::-1])
         axes[1, column].set_xlabel("colour strips, degrees")
     figure.suptitle(f"{material.name}: Fresnel curves (solid: ground truth; dashed: Schlick; dotted: basis)")
-    figure.tight_layout()
+    figure.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.955), ncol=6, fontsize=8, frameon=False)
+    figure.tight_layout(rect=(0, 0, 1, 0.92))
     return save_figure(figure, path)
 
 

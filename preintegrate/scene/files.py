@@ -100,8 +100,8 @@ def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray
         curve = np.broadcast_to(model.evaluate(mu, **parameters), (mu.shape[0], 3))
         return curve, {"model": model.name, **parameters}
     if keys == {"eta", "kappa"}:
-        eta = check_range(f"{name}: eta", _rgb(name, item, "eta"), *ETA_RANGE)
-        kappa = check_range(f"{name}: kappa", _rgb(name, item, "kappa"), *KAPPA_RANGE)
+        eta = check_range("eta", _rgb(name, item, "eta"), *ETA_RANGE)
+        kappa = check_range("kappa", _rgb(name, item, "kappa"), *KAPPA_RANGE)
         return fresnel_kernel(mu, eta, kappa), {"eta": eta.tolist(), "kappa": kappa.tolist()}
     if keys == {"reflectivity", "edge_tint"}:
         eta, kappa = gulbrandsen_to_nk(_rgb(name, item, "reflectivity"), _rgb(name, item, "edge_tint"))
