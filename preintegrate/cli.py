@@ -2,7 +2,7 @@
 
 Usage::
 
-    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--basis FILE | --model NAME [--exponent P] ...]
+    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--visibility FORM] [--basis FILE | --model NAME ...]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares|minimax]) [--json] [--basis FILE]
@@ -47,7 +47,8 @@ from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_channels
 from .exr import write_luts
-from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes
+from .ggx import VISIBILITIES
+from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, pixel_convention
 from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
 
@@ -115,16 +116,17 @@ def command_build(arguments) -> int:
     basis_set, schlick_set = basis_channels(basis), schlick_channels()
     combined = combine(basis_set, schlick_set)
     progress = Progress(f"integrating {size}x{size} texels", "texels")
-    table = build_table(combined, size, order=order, progress=progress)
+    table = build_table(combined, size, order=order, progress=progress, visibility=arguments.visibility)
     progress.close()
     k = basis_set.n_channels
     quadrature = order.describe()
+    convention = pixel_convention(arguments.visibility)
     items = [
         (out / BASIS_LUT, table[:, :, :k], basis_set.channel_names, lut_attributes(
-            basis_set, size, size, "fresnel-lut build", quadrature=quadrature, basis_hash=basis.content_hash,
+            basis_set, size, size, "fresnel-lut build", convention, quadrature=quadrature, basis_hash=basis.content_hash,
             basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))),
         (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
-         lut_attributes(schlick_set, size, size, "fresnel-lut build", quadrature=quadrature)),
+         lut_attributes(schlick_set, size, size, "fresnel-lut build", convention, quadrature=quadrature)),
     ]
     paths = write_luts(items, half=arguments.half)
     elapsed = time.perf_counter() - started
@@ -154,10 +156,11 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
     channels = channel_set(model.name, **shape)
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
-    table = build_table(channels, size, order=order, progress=progress)
+    table = build_table(channels, size, order=order, progress=progress, visibility=arguments.visibility)
     progress.close()
     path = out / f"ggx_{model.name}.exr"
-    header = lut_attributes(channels, size, size, "fresnel-lut build --model", quadrature=order.describe(),
+    header = lut_attributes(channels, size, size, "fresnel-lut build --model", pixel_convention(arguments.visibility),
+                            quadrature=order.describe(),
                             **{f"model_{key}": value for key, value in channels.provenance.items()})
     (written,) = write_luts([(path, table, channels.channel_names, header)], half=arguments.half)
     print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
@@ -419,6 +422,9 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
+    build.add_argument("--visibility", default="height-correlated", choices=sorted(VISIBILITIES),
+                       help="Smith masking-shadowing of the engine's BRDF: height-correlated (default; most real-time "
+                            "engines) or separable G1(o) G1(i) (several offline renderers)")
     build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     build.add_argument("--model", default=None, help="instead: the exact split-sum table of one linear model "

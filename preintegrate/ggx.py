@@ -1,6 +1,7 @@
 """The GGX (Trowbridge–Reitz) microfacet distribution with height-correlated Smith masking-shadowing.
 
-Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_denominator``, ``g2_height_correlated``,
+Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_denominator``, ``g2_height_correlated``, ``g2_separable``,
+``VISIBILITIES``,
 ``ndf_inverse_cdf``, ``sample_vndf``, ``view_vector``, ``roughness_to_alpha``.
 
 Directions are unit vectors in the local frame (normal = +z), arrays with a trailing axis of 3; μ is
@@ -24,6 +25,8 @@ __all__ = [
     "g1",
     "g2_denominator",
     "g2_height_correlated",
+    "g2_separable",
+    "VISIBILITIES",
     "ndf",
     "ndf_inverse_cdf",
     "roughness_to_alpha",
@@ -90,6 +93,16 @@ def g2_height_correlated(mu_o, mu_i, alpha):
     with np.errstate(invalid="ignore", divide="ignore"):
         value = 2.0 * o * i / np.where(denominator > 0.0, denominator, 1.0)
     return np.where((mu_o > 0.0) & (mu_i > 0.0), value, 0.0)
+
+
+def g2_separable(mu_o, mu_i, alpha):
+    """Separable G2 = G1(μo) G1(μi) (Walter 2007, eq. 23; Heitz 2014, eq. 98), the form of several offline
+    renderers; never above the height-correlated one, since (1 + Λo)(1 + Λi) ≥ 1 + Λo + Λi."""
+    return g1(mu_o, alpha) * g1(mu_i, alpha)
+
+
+#: Registry: the masking-shadowing forms a table can be built for (``fresnel-lut build --visibility``).
+VISIBILITIES = {"height-correlated": g2_height_correlated, "separable": g2_separable}
 
 
 def view_vector(mu_o):

@@ -22,7 +22,7 @@ from basis.validation import ParameterError, check_positive_int
 
 from .channels import ChannelSet
 from .estimators import hammersley_albedo
-from .ggx import roughness_to_alpha
+from .ggx import VISIBILITIES, roughness_to_alpha
 from .quadrature import DEFAULT_ORDER, directional_albedo
 
 __all__ = [
@@ -31,6 +31,7 @@ __all__ = [
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
     "build_table",
+    "pixel_convention",
     "interpolation_weights",
     "lut_attributes",
     "lut_axes",
@@ -72,8 +73,8 @@ def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndar
     return texel_centres(width), texel_centres(height)
 
 
-def _quadrature(functions, mu_o, alpha, progress, order=DEFAULT_ORDER):
-    return directional_albedo(functions, mu_o, alpha, order=order, progress=progress)
+def _quadrature(functions, mu_o, alpha, progress, order=DEFAULT_ORDER, visibility="height-correlated"):
+    return directional_albedo(functions, mu_o, alpha, order=order, progress=progress, visibility=visibility)
 
 
 def _hammersley(functions, mu_o, alpha, progress, samples=1024, sampling="ndf", max_samples=131_072):
@@ -115,6 +116,16 @@ def build_table(
         raise ParameterError(f"method {method!r} takes the options {accepted}, got {unknown}")
     mu_o, roughness = lut_axes(width, height)
     return compute(channels.functions, mu_o[None, :], roughness_to_alpha(roughness)[:, None], progress, **options)
+
+
+def pixel_convention(visibility: str = "height-correlated") -> str:
+    """:data:`PIXEL_CONVENTION` for a table of the given masking-shadowing form (the header says which)."""
+    if visibility == "height-correlated":
+        return PIXEL_CONVENTION
+    if visibility not in VISIBILITIES:
+        raise ParameterError(f"visibility must be one of {sorted(VISIBILITIES)}, got {visibility!r}")
+    return PIXEL_CONVENTION.replace("GGX with height-correlated Smith G2",
+                                    "GGX with separable Smith G2 = G1(omega_o) * G1(omega_i)")
 
 
 def lut_attributes(channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION,

@@ -55,7 +55,7 @@ from basis.angles import check_theta_grid
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, check_positive_int, check_range
 
-from .ggx import g2_denominator
+from .ggx import VISIBILITIES, g2_denominator
 
 __all__ = ["DEFAULT_ORDER", "LagrangeCardinals", "QuadratureOrder", "QuadratureSchedule", "directional_albedo",
            "lagrange_cardinals", "texel_weights"]
@@ -215,20 +215,24 @@ def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
     return piece_a, piece_b
 
 
-def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray) -> np.ndarray:
-    """2 μ_i x / (μ_i Ro + μo Ri) = x G2 / μo: the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …))."""
+def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray, visibility: str) -> np.ndarray:
+    """x G2 / μo: the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …)); height-correlated as
+    2 μ_i x / (μ_i Ro + μo Ri), finite at grazing."""
     alpha = alpha.reshape((-1,) + (1,) * (x.ndim - 1))
     mu_i = np.maximum(mu_i, 0.0)
+    if visibility != "height-correlated":
+        cos_o = mu_o.reshape(alpha.shape)
+        return np.where(mu_i > 0.0, x * VISIBILITIES[visibility](cos_o, mu_i, alpha) / cos_o, 0.0)
     denominator = g2_denominator(mu_o.reshape(alpha.shape), mu_i, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
 
 
-def _integrate_batch(functions, mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder) -> np.ndarray:
+def _integrate_batch(functions, mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder, visibility: str) -> np.ndarray:
     """(T, K) directional albedos of one batch of rough texels."""
     total = 0.0
     for x, mu_i, weight in _texel_pieces(mu_o, alpha, order):
-        weighted = (weight * _kernel(mu_o, alpha, x, mu_i)).reshape(len(mu_o), 1, -1)
+        weighted = (weight * _kernel(mu_o, alpha, x, mu_i, visibility)).reshape(len(mu_o), 1, -1)
         if isinstance(functions, LagrangeCardinals):  # four non-zero values per node: accumulate only those
             total = total + functions.integrate(x, weighted.reshape(len(mu_o), -1))
             continue
@@ -245,6 +249,7 @@ def directional_albedo(
     max_nodes: int = 500_000,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
+    visibility: str = "height-correlated",
 ) -> np.ndarray:
     """F̄_k(μo, α) for every function f_k of cos θ_d = ω_o·h.
 
@@ -265,6 +270,9 @@ def directional_albedo(
     workers : int, optional
         Threads integrating batches of texels in parallel (default: the machine's cores). Each texel
         is computed the same way whatever the count, so results do not depend on it.
+    visibility : {"height-correlated", "separable"}
+        The Smith masking-shadowing form of the BRDF (:data:`preintegrate.ggx.VISIBILITIES`): an engine's
+        table must match its own BRDF (the two differ by up to 0.15 at r = 0.8 near grazing).
 
     Returns
     -------
@@ -273,6 +281,8 @@ def directional_albedo(
     """
     if not callable(functions):
         raise ParameterError(f"functions must be callable, got {type(functions).__name__}")
+    if visibility not in VISIBILITIES:
+        raise ParameterError(f"visibility must be one of {sorted(VISIBILITIES)}, got {visibility!r}")
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     alpha = check_range("alpha", alpha, 0.0, 1.0)
     if isinstance(order, QuadratureOrder):
@@ -298,7 +308,7 @@ def directional_albedo(
     rough_count = int(np.count_nonzero(~mirror))
     workers = worker_count(workers)
     with one_blas_thread(), concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order) for index, batch_order in batches]
+        futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order, visibility) for index, batch_order in batches]
         try:
             done = 0
             for (index, _), future in zip(batches, futures):

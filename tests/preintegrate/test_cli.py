@@ -500,3 +500,17 @@ def test_list_materials(capsys):
     assert run(["coeffs", "--list-materials"]) == 0
     listing = capsys.readouterr().out
     assert "Gold" in listing and "Glass BK7" in listing and listing.count("\n") >= 30
+
+
+def test_build_visibility_is_recorded_and_changes_the_table(tmp_path, capsys):
+    """build --visibility separable writes tables whose header convention names the form, below the default
+    height-correlated ones (the default build is unchanged: the shipped files rebuild byte for byte)."""
+    assert run(["build", "--size", 8, "--visibility", "separable", "--out", tmp_path / "sep"]) == 0
+    assert run(["build", "--size", 8, "--out", tmp_path / "hc"]) == 0
+    separable, header = read_lut(tmp_path / "sep" / "ggx_schlick_rg.exr")
+    correlated, default_header = read_lut(tmp_path / "hc" / "ggx_schlick_rg.exr")
+    assert "separable Smith G2 = G1(omega_o) * G1(omega_i)" in header["convention"]
+    assert default_header["convention"] == PIXEL_CONVENTION and "height-correlated" in PIXEL_CONVENTION
+    assert np.all(separable.sum(axis=-1) <= correlated.sum(axis=-1) + 1e-6)
+    assert run(["build", "--visibility", "kelemen", "--out", tmp_path / "x"]) == 2
+    assert_one_line_error(capsys.readouterr().err)

@@ -299,3 +299,33 @@ def test_monte_carlo_bad_input(mu_o, alpha, name):
     """monte_carlo_albedo refuses μo ∉ (0, 1] and α ∉ (0, 1] with a ParameterError naming the parameter."""
     with pytest.raises(ParameterError, match=name):
         monte_carlo_albedo(one, mu_o, alpha, samples=10)
+
+
+@pytest.mark.parametrize("mu_o, alpha", [(0.9, 0.3), (0.5, 0.64), (0.15, 0.64), (0.3, 0.05), (0.05, 0.8)])
+def test_separable_visibility_against_independent_integration(mu_o, alpha):
+    """The separable G1(o) G1(i) table against adaptive cubature over ω_i with the separable G2 re-typed in
+    tan form (tests/references/integration.py), Schlick's and the basis channels (atol 1e-6)."""
+    from preintegrate.channels import combine
+
+    channels = combine(basis_channels(), schlick_channels())
+    expected = reference_albedo(channels.functions, mu_o, alpha, visibility="separable")
+    actual = directional_albedo(channels.functions, mu_o, alpha, visibility="separable")
+    np.testing.assert_allclose(actual, expected, rtol=0, atol=1e-6)
+
+
+def test_separable_albedo_is_never_above_the_height_correlated_one():
+    """(1 + Λo)(1 + Λi) ≥ 1 + Λo + Λi, so the separable form masks more: E_sep ≤ E_hc everywhere. Measured on
+    this grid, the gap reaches 0.20 at r = 0.8 and 0.32 at r = 1 (μo = 0.02): why an engine needs the table
+    of its own BRDF."""
+    mu_o, roughness = np.meshgrid(np.linspace(0.02, 1.0, 25), np.linspace(0.05, 1.0, 20))
+    white = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731 - F = 1: the directional albedo itself
+    separable = directional_albedo(white, mu_o, roughness**2, visibility="separable")[..., 0]
+    correlated = directional_albedo(white, mu_o, roughness**2)[..., 0]
+    assert np.all(separable <= correlated + 1e-12)
+    gap = correlated - separable
+    assert gap[roughness >= 0.8].max() > 0.15 and gap[roughness <= 0.2].max() < 0.03  # measured 0.32 and 0.025
+
+
+def test_unknown_visibility_is_refused():
+    with pytest.raises(ParameterError, match="visibility must be one of"):
+        directional_albedo(schlick_channels().functions, 0.5, 0.5, visibility="uncorrelated")

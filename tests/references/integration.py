@@ -44,7 +44,19 @@ def g2_reference(mu_o, mu_i, alpha):
     return np.where(ok, value, 0.0)
 
 
-def _integrand(points, functions, mu_o, alpha):
+def g2_separable_reference(mu_o, mu_i, alpha):
+    """1 / ((1 + Λ(μo)) (1 + Λ(μi))): the separable form G1(o) G1(i), 0 when either cosine is ≤ 0."""
+    mu_i = np.asarray(mu_i, dtype=np.float64)
+    ok = (mu_i > 0.0) & (np.asarray(mu_o) > 0.0)
+    safe_i = np.where(ok, mu_i, 1.0)
+    value = 1.0 / ((1.0 + smith_lambda_tan(mu_o, alpha)) * (1.0 + smith_lambda_tan(safe_i, alpha)))
+    return np.where(ok, value, 0.0)
+
+
+G2_FORMS = {"height-correlated": g2_reference, "separable": g2_separable_reference}
+
+
+def _integrand(points, functions, mu_o, alpha, g2=g2_reference):
     theta_i, phi_i = points[:, 0], points[:, 1]
     sin_o = np.sqrt(max(1.0 - mu_o * mu_o, 0.0))
     sin_i, mu_i = np.sin(theta_i), np.cos(theta_i)
@@ -53,14 +65,14 @@ def _integrand(points, functions, mu_o, alpha):
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     x = np.clip(h @ np.array([sin_o, 0.0, mu_o]), 0.0, 1.0)
     # ρ μi sinθi = D G2 / (4 μo) · sinθi; times 2 for the φ symmetry.
-    weight = 2.0 * ggx_d(h[:, 2], alpha) * g2_reference(mu_o, mu_i, alpha) * sin_i / (4.0 * mu_o)
+    weight = 2.0 * ggx_d(h[:, 2], alpha) * g2(mu_o, mu_i, alpha) * sin_i / (4.0 * mu_o)
     values = np.asarray(functions(x), dtype=np.float64)
     if values.ndim == 1:
         values = values[:, None]
     return values * weight[:, None]
 
 
-def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error):
+def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error, g2=g2_reference):
     """Σ over the polar intervals [cuts[k], cuts[k+1]] × φ ∈ [0, π] of adaptive Gauss–Kronrod cubature.
 
     Raises AssertionError for an interval that neither converges nor estimates its error below ``accepted_error``.
@@ -69,15 +81,16 @@ def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, acc
     for low, high in zip(cuts[:-1], cuts[1:]):
         result = cubature(
             integrand, [low, 0.0], [high, np.pi], rule="gk21", rtol=rtol, atol=atol,
-            args=(functions, mu_o, alpha), max_subdivisions=20000,
+            args=(functions, mu_o, alpha, g2), max_subdivisions=20000,
         )
         assert result.status == "converged" or np.max(result.error) < accepted_error, (mu_o, alpha, result.error)
         total = total + result.estimate
     return np.atleast_1d(total)
 
 
-def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12):
-    """(K,) F̄_k(μo, α) by adaptive cubature over (θi, φi); ``functions`` maps x (N,) → (N,) or (N, K).
+def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12, visibility="height-correlated"):
+    """(K,) F̄_k(μo, α) by adaptive cubature over (θi, φi); ``functions`` maps x (N,) → (N,) or (N, K);
+    ``visibility`` picks the G2 form (:data:`G2_FORMS`).
 
     Raises AssertionError if the cubature neither converges nor estimates its error below 1e-10.
     """
@@ -85,17 +98,18 @@ def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12):
     assert 0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0
     theta_o = float(np.arccos(mu_o))
     cuts = [0.0] + ([theta_o] if 1e-9 < theta_o < 0.5 * np.pi - 1e-9 else []) + [0.5 * np.pi]
-    return _cubature_over_cuts(_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10)
+    return _cubature_over_cuts(_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10,
+                               g2=G2_FORMS[visibility])
 
 
-def _half_vector_integrand(points, functions, mu_o, alpha):
+def _half_vector_integrand(points, functions, mu_o, alpha, g2=g2_reference):
     theta_h, phi = points[:, 0], points[:, 1]
     sin_o = np.sqrt(max(1.0 - mu_o * mu_o, 0.0))
     sin_h, mu_h = np.sin(theta_h), np.cos(theta_h)
     x = np.clip(sin_o * sin_h * np.cos(phi) + mu_o * mu_h, 0.0, 1.0)
     mu_i = 2.0 * x * mu_h - mu_o
     # ρ μi dω_i = D G2 / (4 μo μi) μi · 4 x dω_h = D G2 x / μo dω_h; times 2 for the φ symmetry.
-    weight = 2.0 * ggx_d(mu_h, alpha) * g2_reference(mu_o, mu_i, alpha) * x / mu_o * sin_h
+    weight = 2.0 * ggx_d(mu_h, alpha) * g2(mu_o, mu_i, alpha) * x / mu_o * sin_h
     values = np.asarray(functions(x), dtype=np.float64)
     if values.ndim == 1:
         values = values[:, None]
