@@ -10,10 +10,20 @@ STAMP := $(VENV)/.installed-stamp
 
 .PHONY: luts test basis report materials render clean-venv
 
+# what the shader tests run on: the GLSL reference compiler and Mesa's software OpenGL with headless EGL
+SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri
+
 $(STAMP): pyproject.toml
+	@if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing $(SYSTEM_PACKAGES) (Debian)"; \
+		DEBIAN_FRONTEND=noninteractive apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(SYSTEM_PACKAGES) >/dev/null; \
+	else \
+		echo "note: not root or no apt-get; the GPU shader tests need $(SYSTEM_PACKAGES) and skip without them"; \
+	fi
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install --quiet --upgrade pip
-	$(VENV)/bin/python -m pip install --quiet -e '.[test]'
+	$(VENV)/bin/python -m pip install --quiet -e '.[test,gpu]'
 	touch $(STAMP)
 
 luts: $(STAMP)

@@ -1,4 +1,4 @@
-// fresnel-basis: split-sum Fresnel from the preintegrated LUTs (GLSL 3.30+ / ES 3.0).
+// fresnel-basis: split-sum Fresnel from the preintegrated LUTs (GLSL 3.30+, 4.x, Vulkan; ES 3.00 / WebGL 2).
 //
 // Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
 // Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
@@ -7,6 +7,11 @@
 // roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
 // row 0 first, so uploading the EXR rows in file order makes v = r. Sample with bilinear filtering and
 // CLAMP_TO_EDGE. ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rg.exr: R = scale, G = bias.
+// The LUT is read at level 0 (textureLod): texture() would pick a mip level from screen-space derivatives,
+// and a mipmapped LUT (a common importer default) then returns wrong values at silhouettes. The A channel of
+// the basis table is signed: upload a float format (RGBA16F or RGBA32F), never a unorm one.
+// GLSL ES 3.00 / WebGL 2: declare "precision highp float; precision highp sampler2D;" before these lines
+// (RGBA32F is not filterable there without OES_texture_float_linear: use the half-float table).
 //
 // Coefficients c (one vec4 per colour channel) come from the Python API
 // (basis.coefficients_from_nk / coefficients_from_gulbrandsen) or `fresnel-lut coeffs --json`; they must
@@ -20,13 +25,13 @@ vec2 fresnelLutCoordinates(float NdotV, float perceptualRoughness)
 // Directional albedo of the Fresnel term for each colour channel (cR, cG, cB: coefficients c0..c3).
 vec3 fresnelBasisSplitSum(sampler2D basisLut, float NdotV, float perceptualRoughness, vec4 cR, vec4 cG, vec4 cB)
 {
-    vec4 b = texture(basisLut, fresnelLutCoordinates(NdotV, perceptualRoughness));
+    vec4 b = textureLod(basisLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0);
     return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
 // Schlick's split sum for comparison: F0 per colour channel.
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float perceptualRoughness, vec3 F0)
 {
-    vec2 scaleBias = texture(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness)).rg;
+    vec2 scaleBias = textureLod(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }

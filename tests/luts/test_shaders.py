@@ -1,6 +1,7 @@
 """The shader hand-off (luts/shaders/*.glsl, *.hlsl) against the Python API, through a numpy transcription.
 
-No GLSL compiler is assumed; the transcription below follows the shader line by line (texture() with
+The real compilers and GPU run are tests/luts/test_shaders_gpu.py; the transcription below follows the shader
+line by line (a level-0 fetch with
 bilinear filtering and clamp-to-edge on texel centres, then dot products), and the tests check both that
 the shader text still has those lines and that the transcription reproduces the Python API.
 """
