@@ -17,8 +17,10 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import glob
 import json
 import os
+import re
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -119,20 +121,25 @@ def _finish(folder: Path) -> None:
     journal = folder / JOURNAL
     try:
         pairs = json.loads(journal.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        pairs = [(Path(temporary), Path(target)) for temporary, target in pairs]
+    except (OSError, ValueError, TypeError):
         journal.unlink(missing_ok=True)
         return
     for temporary, target in pairs:
-        if Path(temporary).exists():
+        if temporary.exists():
             os.replace(temporary, target)
+    _remove_stale_temporaries(target for _, target in pairs)
     journal.unlink(missing_ok=True)
 
 
-def _remove_stale_temporaries(folder: Path) -> None:
-    """Temporaries left by a killed writer (this module's ``.NAME.XXXX.tmp``); only called with the lock held."""
-    for stale in folder.glob(".*.tmp"):
-        if stale.is_file() and stale.name.count(".") >= 3:
-            stale.unlink(missing_ok=True)
+def _remove_stale_temporaries(targets) -> None:
+    """Temporaries a killed writer left for these targets: exactly ``.NAME.XXXXXXXX.tmp`` (this module's
+    pattern), nothing else of the folder's; only called with the folder's lock held."""
+    for target in map(Path, targets):
+        pattern = re.compile(rf"^\.{re.escape(target.name)}\.[A-Za-z0-9_]{{8}}\.tmp$")
+        for stale in target.parent.glob(f".{glob.escape(target.name)}.*.tmp"):
+            if pattern.match(stale.name) and stale.is_file():
+                stale.unlink(missing_ok=True)
 
 
 def recover_folder(folder) -> None:
@@ -141,7 +148,6 @@ def recover_folder(folder) -> None:
     if (folder / JOURNAL).exists() and os.access(folder, os.W_OK):
         with _folder_lock(folder):
             _finish(folder)
-            _remove_stale_temporaries(folder)
 
 
 def _make_folder(folder: Path) -> list[Path]:
@@ -178,7 +184,7 @@ def write_together(writers: list[tuple[Path, Callable[[Path], None]]]) -> list[P
     try:
         with _folder_lock(folder):
             _finish(folder)
-            _remove_stale_temporaries(folder)
+            _remove_stale_temporaries(targets)
             for target, (_, writer) in zip(targets, writers):
                 temporaries.append(temporary_sibling(target))
                 try:

@@ -88,9 +88,10 @@ def test_kill_between_renames_is_finished_by_the_next_reader(tmp_path, capsys):
 def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
     out = tmp_path / "luts"
     out.mkdir()
-    (out / ".ggx_basis_rgba.exr.abc123.tmp").write_bytes(b"left by a killed build")
+    (out / ".ggx_basis_rgba.exr.abc12345.tmp").write_bytes(b"left by a killed build")
+    (out / ".my.own.notes.tmp").write_bytes(b"a user's file: not ours to remove")
     assert run(["build", "--size", "6", "--out", out]) == 0
-    assert sorted(path.name for path in out.iterdir()) == ["ggx_basis_rgba.exr", "ggx_schlick_rg.exr"]
+    assert sorted(path.name for path in out.iterdir()) == [".my.own.notes.tmp", "ggx_basis_rgba.exr", "ggx_schlick_rg.exr"]
 
 
 def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
