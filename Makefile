@@ -10,8 +10,9 @@ STAMP := $(VENV)/.installed-stamp
 
 .PHONY: luts test basis report materials render clean-venv
 
-# what the shader tests run on: the GLSL reference compiler and Mesa's software OpenGL with headless EGL
-SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri
+# what the shader tests run on: the GLSL/HLSL reference compiler, Mesa's software OpenGL with headless EGL and
+# its software Vulkan driver (WebGPU's backend here)
+SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers
 
 $(STAMP): pyproject.toml
 	@if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \

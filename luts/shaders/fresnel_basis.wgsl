@@ -1,0 +1,30 @@
+// fresnel-basis: split-sum Fresnel from the preintegrated LUTs (WGSL, WebGPU).
+//
+// Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
+// Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
+//
+// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
+// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
+// row 0 first (upload the rows in file order: v = r). Sampler: linear filtering, clamp-to-edge, no mipmaps;
+// the LUT is read at level 0 (textureSampleLevel). ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3 (A is
+// signed: a float format); ggx_schlick_rg.exr: R = scale, G = bias. WebGPU filters rgba32float only with the
+// "float32-filterable" feature: otherwise upload the half-float table as rgba16float.
+//
+// Coefficients c (one vec4 per colour channel) come from the Python API or `fresnel-lut coeffs --json` and
+// must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
+
+fn fresnelLutCoordinates(NdotV: f32, perceptualRoughness: f32) -> vec2<f32> {
+    return vec2<f32>(clamp(NdotV, 0.0, 1.0), clamp(perceptualRoughness, 0.0, 1.0));
+}
+
+fn fresnelBasisSplitSum(basisLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, perceptualRoughness: f32,
+                        cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>) -> vec3<f32> {
+    let b = textureSampleLevel(basisLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0);
+    return vec3<f32>(dot(cR, b), dot(cG, b), dot(cB, b));
+}
+
+fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, perceptualRoughness: f32,
+                          F0: vec3<f32>) -> vec3<f32> {
+    let scaleBias = textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
+    return F0 * scaleBias.x + scaleBias.y;
+}
