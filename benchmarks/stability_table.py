@@ -347,7 +347,7 @@ def storage(folder: Path):
     build_seconds = time.perf_counter() - started
     shipped_folder = Path(shipped_basis_path()).parent
     shipped = np.concatenate(
-        [read_lut(shipped_folder / "ggx_basis_rgba.exr")[0], read_lut(shipped_folder / "ggx_schlick_rg.exr")[0]], axis=-1
+        [read_lut(shipped_folder / "ggx_basis_rgba.exr")[0], read_lut(shipped_folder / "ggx_schlick_rgb.exr")[0]], axis=-1
     )
     error = np.abs(shipped - table)
     normal = np.abs(table) >= 2.0**-126

@@ -26,7 +26,17 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.validation import ParameterError
 
-__all__ = ["CHANNEL_SETS", "ChannelSet", "basis_channels", "channel_set", "combine", "model_channels", "schlick_channels"]
+__all__ = [
+    "CHANNEL_SETS",
+    "ChannelSet",
+    "albedo_channels",
+    "basis_channels",
+    "channel_set",
+    "combine",
+    "model_channels",
+    "schlick_channels",
+    "schlick_table_channels",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -47,6 +57,30 @@ class ChannelSet:
 def schlick_channels() -> ChannelSet:
     """Karis's two channels: R = scale (f = 1 − (1 − x)^5), G = bias (f = (1 − x)^5): the ``schlick`` model's."""
     return model_channels("schlick")
+
+
+def albedo_channels() -> ChannelSet:
+    """One channel E = F̄[1]: GGX's directional albedo without Fresnel (what multiple-scattering compensation
+    needs; equal to Schlick's scale + bias)."""
+    return ChannelSet(
+        name="albedo",
+        functions=lambda x: np.ones(np.shape(x) + (1,)),
+        channel_names=("B",),
+        combination="B = E = R + G: the GGX directional albedo without Fresnel",
+    )
+
+
+def schlick_table_channels() -> ChannelSet:
+    """The channels of the shipped Schlick table: R = scale, G = bias (Karis 2013) and B = E, so that every
+    reader of RGB images loads it (FreeImage, tinyexr and FFmpeg refuse or zero a two-channel EXR)."""
+    schlick, albedo = schlick_channels(), albedo_channels()
+    return ChannelSet(
+        name="schlick",
+        functions=combine(schlick, albedo).functions,
+        channel_names=schlick.channel_names + albedo.channel_names,
+        combination=f"{schlick.combination}; {albedo.combination} (multiple-scattering compensation; the "
+                    "'multiscatter DFG' form some engines store is (G, B))",
+    )
 
 
 def basis_channels(basis: Basis | None = None) -> ChannelSet:

@@ -45,7 +45,7 @@ from basis.training import build_basis
 from basis.training.builder import MAX_GRID
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import basis_channels, channel_set, combine, schlick_channels
+from .channels import basis_channels, channel_set, combine, schlick_table_channels
 from .exr import write_luts
 from .ggx import VISIBILITIES
 from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, pixel_convention
@@ -113,7 +113,7 @@ def command_build(arguments) -> int:
         return _build_model_table(arguments, size, out, order)
     basis = _load_basis(arguments.basis)
     started = time.perf_counter()
-    basis_set, schlick_set = basis_channels(basis), schlick_channels()
+    basis_set, schlick_set = basis_channels(basis), schlick_table_channels()
     combined = combine(basis_set, schlick_set)
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     table = build_table(combined, size, order=order, progress=progress, visibility=arguments.visibility)

@@ -1,25 +1,39 @@
 """The ``fresnel-lut`` console command.
 
-Ctrl-C at any moment, even while the modules load (0.1–0.4 s of imports), ends the command with exit
-status 130 and one line, never a traceback; a closed pipe on standard output (``fresnel-lut … | head``)
-ends it quietly. Everything else is :func:`preintegrate.cli.main`.
+Ctrl-C at any moment ends the command with exit status 130 and one line, never a traceback. While the
+modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
+import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once. A closed pipe
+on standard output (``fresnel-lut … | head``) ends the command quietly. Everything else is
+:func:`preintegrate.cli.main`.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import sys
 
 __all__ = ["main"]
 
+INTERRUPTED = "\nfresnel-lut: interrupted; no file was written or replaced"
+
 
 def main() -> int:
+    held: list[int] = []
+    previous = signal.getsignal(signal.SIGINT)
+    if previous is signal.default_int_handler:  # not when the shell made us ignore Ctrl-C (a background job)
+        signal.signal(signal.SIGINT, lambda number, frame: held.append(number))
     try:
-        from .cli import main as run  # the imports themselves may be interrupted
-
+        from .cli import main as run
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if held:
+        print(INTERRUPTED, file=sys.stderr)
+        return 130
+    try:
         return run()
     except KeyboardInterrupt:
-        print("\nfresnel-lut: interrupted; no file was written or replaced", file=sys.stderr)
+        print(INTERRUPTED, file=sys.stderr)
         return 130
     except BrokenPipeError:  # the reader of standard output went away: stop without a message
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

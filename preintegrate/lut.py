@@ -42,7 +42,7 @@ __all__ = [
 
 #: File names of the default build's tables (``luts/``).
 BASIS_LUT = "ggx_basis_rgba.exr"
-SCHLICK_LUT = "ggx_schlick_rg.exr"
+SCHLICK_LUT = "ggx_schlick_rgb.exr"
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 

@@ -6,7 +6,7 @@
 // LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
 // roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
 // row 0 first, so uploading the EXR rows in file order makes v = r. Sample with bilinear filtering and
-// CLAMP_TO_EDGE. ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rg.exr: R = scale, G = bias.
+// CLAMP_TO_EDGE. ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel).
 // The LUT is read at level 0 (textureLod): texture() would pick a mip level from screen-space derivatives,
 // and a mipmapped LUT (a common importer default) then returns wrong values at silhouettes. The A channel of
 // the basis table is signed: upload a float format (RGBA16F or RGBA32F), never a unorm one.

@@ -6,7 +6,7 @@
 // LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
 // roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
 // row 0 first (upload the rows in file order: v = r). Use a bilinear, clamp-to-edge sampler.
-// ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rg.exr: R = scale, G = bias.
+// ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel).
 //
 // Coefficients c (one float4 per colour channel) come from the Python API or `fresnel-lut coeffs --json`
 // and must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).

@@ -7,7 +7,7 @@
 // roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
 // row 0 first (upload the rows in file order: v = r). Sampler: linear filtering, clamp-to-edge, no mipmaps;
 // the LUT is read at level 0 (textureSampleLevel). ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3 (A is
-// signed: a float format); ggx_schlick_rg.exr: R = scale, G = bias. WebGPU filters rgba32float only with the
+// signed: a float format); ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel). WebGPU filters rgba32float only with the
 // "float32-filterable" feature: otherwise upload the half-float table as rgba16float.
 //
 // Coefficients c (one vec4 per colour channel) come from the Python API or `fresnel-lut coeffs --json` and

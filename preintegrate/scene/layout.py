@@ -20,7 +20,6 @@ from basis.eigenbasis import Basis
 from basis.models import fresnel_model
 
 from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
-from ..lut import SCHLICK_LUT
 from .files import SceneMaterial
 
 __all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout"]
@@ -60,7 +59,7 @@ class Layout:
 
     def file_name(self) -> str:
         if self.kind == "schlick":
-            return SCHLICK_LUT
+            return "ggx_schlick_rg.exr"  # a scene keeps Schlick's two channels (the default build adds E as B)
         if self.kind == "model":
             return f"ggx_{self.model}" + "".join(f"_{key}{value:g}" for key, value in self.shape) + ".exr"
         return f"ggx_basis_{'rgba'[: self.terms]}.exr"

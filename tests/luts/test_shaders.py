@@ -24,7 +24,7 @@ LUTS = Path(__file__).resolve().parents[2] / "luts"
 GLSL = (LUTS / "shaders" / "fresnel_basis.glsl").read_text(encoding="utf-8")
 HLSL = (LUTS / "shaders" / "fresnel_basis.hlsl").read_text(encoding="utf-8")
 BASIS_LUT, BASIS_HEADER = read_lut(LUTS / "ggx_basis_rgba.exr")
-SCHLICK_LUT, _ = read_lut(LUTS / "ggx_schlick_rg.exr")
+SCHLICK_LUT, _ = read_lut(LUTS / "ggx_schlick_rgb.exr")
 GOLD = (np.array([0.18, 0.42, 1.37]), np.array([3.42, 2.35, 1.77]))
 
 
@@ -51,7 +51,7 @@ def fresnel_basis_split_sum(n_dot_v, roughness, coefficients) -> np.ndarray:
 def fresnel_schlick_split_sum(n_dot_v, roughness, f0) -> np.ndarray:
     """fresnelSchlickSplitSum: scaleBias = texture(schlickLut, (NdotV, r)).rg; F0 * scale + bias."""
     scale_bias = texture_bilinear_clamp(SCHLICK_LUT, n_dot_v, roughness)
-    return f0 * scale_bias[..., :1] + scale_bias[..., 1:]
+    return f0 * scale_bias[..., :1] + scale_bias[..., 1:2]  # .rg: R = scale, G = bias (B = E is not used here)
 
 
 def test_shader_text_matches_the_transcription():

@@ -21,7 +21,7 @@ import pytest
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficients_from_samples, default_basis
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
-from preintegrate.channels import basis_channels, schlick_channels
+from preintegrate.channels import basis_channels, schlick_table_channels
 from preintegrate.exr import read_lut
 from preintegrate.lut import PIXEL_CONVENTION
 from preintegrate.progress import Progress
@@ -32,10 +32,11 @@ BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 SIZE = 32
 #: The basis channels of the default basis, then Schlick's scale and bias: the 6 LUT channels.
 _BASIS = basis_channels().functions
-_SCHLICK = schlick_channels().functions
+_SCHLICK = schlick_table_channels().functions  # R = scale, G = bias, B = E (the albedo without Fresnel)
 
 
-def six_channels(x):
+def build_channels(x):
+    """The seven functions of the default build: b0 … b3, then Schlick's 1 − (1 − x)^5, (1 − x)^5 and 1."""
     return np.concatenate([_BASIS(x), _SCHLICK(x)], axis=-1)
 
 
@@ -61,14 +62,16 @@ def _texel(i, j, size=SIZE):
 
 # ----------------------------------------------------------------------------- build: files and headers
 def test_build_writes_both_luts_with_convention(built):
-    """build --size 32 writes RGBA basis and RG Schlick EXRs, 32×32, finite, header = PIXEL_CONVENTION and default basis hash (exact)."""
+    """build --size 32 writes RGBA basis and RGB Schlick EXRs (R = scale, G = bias, B = E = R + G), 32×32, finite,
+    header = PIXEL_CONVENTION and default basis hash (exact)."""
     out, stdout = built
     assert sorted(p.name for p in out.iterdir()) == sorted([BASIS_LUT, SCHLICK_LUT])
     basis_table, basis_attributes = read_lut(out / BASIS_LUT)
     schlick_table, schlick_attributes = read_lut(out / SCHLICK_LUT)
-    assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 2)
+    assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 3)
+    np.testing.assert_allclose(schlick_table[..., 2], schlick_table[..., 0] + schlick_table[..., 1], rtol=0, atol=1e-7)
     assert np.all(np.isfinite(basis_table)) and np.all(np.isfinite(schlick_table))
-    assert basis_attributes["channels"] == "R,G,B,A" and schlick_attributes["channels"] == "R,G"
+    assert basis_attributes["channels"] == "R,G,B,A" and schlick_attributes["channels"] == "R,G,B"
     for attributes in (basis_attributes, schlick_attributes):
         assert attributes["convention"] == PIXEL_CONVENTION
         assert "(i + 0.5) / width" in attributes["convention"] and "alpha = r^2" in attributes["convention"]
@@ -78,7 +81,7 @@ def test_build_writes_both_luts_with_convention(built):
     raw = OpenEXR.File(str(out / BASIS_LUT), separate_channels=True)
     assert sorted(raw.channels()) == ["A", "B", "G", "R"]
     assert all(channel.pixels.dtype == np.float32 for channel in raw.channels().values())
-    assert sorted(OpenEXR.File(str(out / SCHLICK_LUT), separate_channels=True).channels()) == ["G", "R"]
+    assert sorted(OpenEXR.File(str(out / SCHLICK_LUT), separate_channels=True).channels()) == ["B", "G", "R"]
     assert default_basis().content_hash in stdout
 
 
@@ -88,11 +91,11 @@ REFERENCE_TEXELS = [(0, 31), (31, 31), (15, 31), (0, 16), (31, 16), (10, 8), (20
 
 @pytest.mark.parametrize("i, j", REFERENCE_TEXELS)
 def test_build_values_match_independent_integration(built, i, j):
-    """LUT texel (i, j) equals adaptive scipy cubature over (θi, φi) of the same 6 functions at the convention's (μo, α); atol 1e-6."""
+    """LUT texel (i, j) equals adaptive scipy cubature over (θi, φi) of the same 7 functions at the convention's (μo, α); atol 1e-6."""
     out, _ = built
     mu_o, alpha = _texel(i, j)
     lut = np.concatenate([read_lut(out / BASIS_LUT)[0][j, i], read_lut(out / SCHLICK_LUT)[0][j, i]])
-    np.testing.assert_allclose(lut, reference_albedo(six_channels, mu_o, alpha), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("i", [0, 15, 31])
@@ -105,7 +108,7 @@ def test_build_first_row_matches_half_vector_integration(built, i):
     out, _ = built
     mu_o, alpha = _texel(i, 0)
     lut = np.concatenate([read_lut(out / BASIS_LUT)[0][0, i], read_lut(out / SCHLICK_LUT)[0][0, i]])
-    np.testing.assert_allclose(lut, reference_albedo_half_vector(six_channels, mu_o, alpha), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(lut, reference_albedo_half_vector(build_channels, mu_o, alpha), rtol=0, atol=1e-6)
 
 
 def test_build_first_row_small_alpha_limit(built):
@@ -181,7 +184,7 @@ def test_shipped_luts_match_shipped_basis_and_reference():
     for i, j in [(0, size - 1), (size - 1, size - 1), (size // 2, size // 3), (size // 5, size // 2), (size - 1, size // 4)]:
         mu_o, alpha = _texel(i, j, size)
         lut = np.concatenate([basis_table[j, i], schlick_table[j, i]])
-        np.testing.assert_allclose(lut, reference_albedo(six_channels, mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}")
+        np.testing.assert_allclose(lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}")
 
 
 # ----------------------------------------------------------------------------- coeffs
@@ -507,8 +510,8 @@ def test_build_visibility_is_recorded_and_changes_the_table(tmp_path, capsys):
     height-correlated ones (the default build is unchanged: the shipped files rebuild byte for byte)."""
     assert run(["build", "--size", 8, "--visibility", "separable", "--out", tmp_path / "sep"]) == 0
     assert run(["build", "--size", 8, "--out", tmp_path / "hc"]) == 0
-    separable, header = read_lut(tmp_path / "sep" / "ggx_schlick_rg.exr")
-    correlated, default_header = read_lut(tmp_path / "hc" / "ggx_schlick_rg.exr")
+    separable, header = read_lut(tmp_path / "sep" / "ggx_schlick_rgb.exr")
+    correlated, default_header = read_lut(tmp_path / "hc" / "ggx_schlick_rgb.exr")
     assert "separable Smith G2 = G1(omega_o) * G1(omega_i)" in header["convention"]
     assert default_header["convention"] == PIXEL_CONVENTION and "height-correlated" in PIXEL_CONVENTION
     assert np.all(separable.sum(axis=-1) <= correlated.sum(axis=-1) + 1e-6)

@@ -35,7 +35,7 @@ def test_disk_full_in_a_new_folder_leaves_no_folder(tmp_path, monkeypatch, capsy
     assert run(["build", "--size", "6", "--out", out]) == 2
     error = capsys.readouterr().err
     assert_one_line_error(error)
-    assert "ggx_schlick_rg.exr" in error and "No space left" in error
+    assert "ggx_schlick_rgb.exr" in error and "No space left" in error
     assert list(tmp_path.iterdir()) == []
 
 
@@ -80,9 +80,9 @@ def test_kill_between_renames_is_finished_by_the_next_reader(tmp_path, capsys):
     assert killed.returncode == -signal.SIGKILL
     assert (out / ".fresnel-lut-journal.json").exists()  # the group is half renamed
     basis_table, basis_header = read_lut(out / "ggx_basis_rgba.exr")  # the reader finishes the group
-    schlick_table, schlick_header = read_lut(out / "ggx_schlick_rg.exr")
+    schlick_table, schlick_header = read_lut(out / "ggx_schlick_rgb.exr")
     assert basis_table.shape[:2] == schlick_table.shape[:2] == (8, 8)
-    assert sorted(path.name for path in out.iterdir()) == ["ggx_basis_rgba.exr", "ggx_schlick_rg.exr"]
+    assert sorted(path.name for path in out.iterdir()) == ["ggx_basis_rgba.exr", "ggx_schlick_rgb.exr"]
 
 
 def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
@@ -91,7 +91,7 @@ def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
     (out / ".ggx_basis_rgba.exr.abc12345.tmp").write_bytes(b"left by a killed build")
     (out / ".my.own.notes.tmp").write_bytes(b"a user's file: not ours to remove")
     assert run(["build", "--size", "6", "--out", out]) == 0
-    assert sorted(path.name for path in out.iterdir()) == [".my.own.notes.tmp", "ggx_basis_rgba.exr", "ggx_schlick_rg.exr"]
+    assert sorted(path.name for path in out.iterdir()) == [".my.own.notes.tmp", "ggx_basis_rgba.exr", "ggx_schlick_rgb.exr"]
 
 
 def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
@@ -103,5 +103,5 @@ def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
         processes = [subprocess.Popen(command, cwd=ROOT, env=environment, stdout=subprocess.DEVNULL,
                                       stderr=subprocess.DEVNULL) for command in commands]
         assert [process.wait(timeout=120) for process in processes] == [0, 0]
-        headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rg.exr")]
+        headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")]
         assert headers[0]["pixel_type"] == headers[1]["pixel_type"] and headers[0]["width"] == headers[1]["width"]
