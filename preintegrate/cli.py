@@ -2,7 +2,8 @@
 
 Usage::
 
-    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--visibility FORM] [--basis FILE | --model NAME ...]
+    fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--visibility FORM] [--format exr,png16,header]
+                       [--basis FILE | --model NAME ...]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares|minimax]) [--json] [--basis FILE]
@@ -47,6 +48,7 @@ from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_table_channels
 from .exr import write_luts
+from .formats import FORMATS, c_header, png16_bytes
 from .ggx import VISIBILITIES
 from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, pixel_convention
 from .progress import Progress, peak_rss_mib
@@ -105,6 +107,7 @@ def _size_text(path: Path) -> str:
 
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
+    _formats(arguments.format)  # refused before the work
     out = _output_folder("--out", arguments.out)
     order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
         check_positive_int("--order", arguments.order, low=2, high=512)
@@ -128,12 +131,41 @@ def command_build(arguments) -> int:
         (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
          lut_attributes(schlick_set, size, size, "fresnel-lut build", convention, quadrature=quadrature)),
     ]
-    paths = write_luts(items, half=arguments.half)
+    paths = _write_formats(items, arguments)
     elapsed = time.perf_counter() - started
     print(f"built {size}x{size} LUTs ({'half' if arguments.half else 'float32'}) in {elapsed:.2f} s, basis {basis.content_hash}:")
     for path in paths:
         print(f"  {path}  {_size_text(path)}")
     return 0
+
+
+def _formats(text: str) -> list[str]:
+    """``--format exr,png16,header``: the formats to write, each known, at least one."""
+    names = [name.strip() for name in str(text).split(",") if name.strip()]
+    unknown = [name for name in names if name not in FORMATS]
+    if not names or unknown:
+        raise ParameterError(f"--format must list formats of {sorted(FORMATS)} separated by commas, got {text!r}")
+    return list(dict.fromkeys(names))
+
+
+def _write_formats(items, arguments) -> list[Path]:
+    """The tables in every format asked for, as one transaction; the paths written."""
+    formats = _formats(arguments.format)
+    extra = []
+    for path, table, channel_names, attributes in items:
+        if "png16" in formats:
+            extra.append((path.with_suffix(".png"), lambda temporary, table=table, attributes=attributes:
+                          temporary.write_bytes(png16_bytes(table, attributes))))
+        if "header" in formats:
+            extra.append((path.with_suffix(".h"), lambda temporary, path=path, table=table, names=channel_names,
+                          attributes=attributes: temporary.write_text(c_header(table, path.stem, names, attributes),
+                                                                      encoding="utf-8")))
+    exrs = items if "exr" in formats else []
+    if not exrs:  # write_luts needs its EXR items only to encode them
+        write_luts([], extra_writers=extra)
+    else:
+        write_luts(exrs, half=arguments.half, extra_writers=extra)
+    return [path for path, _, _, _ in exrs] + [path for path, _ in extra]
 
 
 def _shape_arguments(arguments) -> dict:
@@ -162,7 +194,7 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
     header = lut_attributes(channels, size, size, "fresnel-lut build --model", pixel_convention(arguments.visibility),
                             quadrature=order.describe(),
                             **{f"model_{key}": value for key, value in channels.provenance.items()})
-    (written,) = write_luts([(path, table, channels.channel_names, header)], half=arguments.half)
+    (written, *_) = _write_formats([(path, table, channels.channel_names, header)], arguments)
     print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
           f"{'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s:")
     print(f"  {written}  {_size_text(written)}")
@@ -422,6 +454,8 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
+    build.add_argument("--format", default="exr", help="exr, png16 (16-bit PNG, offset and scale per channel in "
+                       "the file) and/or header (C/C++ float arrays), comma-separated (default exr)")
     build.add_argument("--visibility", default="height-correlated", choices=sorted(VISIBILITIES),
                        help="Smith masking-shadowing of the engine's BRDF: height-correlated (default; most real-time "
                             "engines) or separable G1(o) G1(i) (several offline renderers)")

@@ -69,12 +69,13 @@ def content_hash(attributes: Mapping[str, str], channels: Mapping[str, np.ndarra
     return digest.hexdigest()[:16]
 
 
-def write_luts(items, half: bool = False, texts=()) -> list[Path]:
+def write_luts(items, half: bool = False, texts=(), extra_writers=()) -> list[Path]:
     """Write several LUTs as one transaction: all temporaries first, then all renames.
 
     ``items`` is a sequence of (path, table (H, W, K), channel names, attributes mapping str → str);
     ``texts`` a sequence of (path, UTF-8 text) files that belong to the same transaction (a scene's
-    coefficients and report).
+    coefficients and report); ``extra_writers`` (path, writer(temporary)) pairs of other files (the same
+    tables in other formats).
     """
     prepared = []
     for path, table, channel_names, attributes in items:
@@ -92,7 +93,7 @@ def write_luts(items, half: bool = False, texts=()) -> list[Path]:
                 OpenEXR.File(header, channels).write(str(temporary))) for path, header, channels in prepared]
     writers += [(Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8"))
                 for path, text in texts]
-    write_together(writers)
+    write_together(writers + [(Path(path), writer) for path, writer in extra_writers])
     return [path for path, _, _ in prepared]
 
 

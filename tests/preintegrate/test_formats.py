@@ -1,0 +1,84 @@
+"""LUT files beside EXR (preintegrate/formats.py), read back by consumers that share no code with the writers:
+16-bit PNG decoded by pypng, the C header compiled and run by gcc. Each round-trips to the EXR within its
+precision: the PNG within half a 16-bit step of its stated scale, the header exactly (float32)."""
+
+import json
+import shutil
+import subprocess
+
+import numpy as np
+import png
+import pytest
+
+from preintegrate.exr import read_lut
+from tests.conftest import assert_one_line_error, run
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    out = tmp_path_factory.mktemp("formats")
+    assert run(["build", "--size", 16, "--format", "exr,png16,header", "--out", out]) == 0
+    return out
+
+
+def _png16(path):
+    width, height, rows, info = png.Reader(filename=str(path)).read()
+    texels = np.array([np.asarray(row, dtype=np.float64) for row in rows]).reshape(height, width, info["planes"])
+    reader = png.Reader(filename=str(path))
+    text = {}
+    for kind, data in reader.chunks():
+        if kind == b"tEXt":
+            key, value = data.split(b"\x00", 1)
+            text[key.decode("latin-1")] = value.decode("latin-1")
+    assert info["bitdepth"] == 16
+    return texels / 65535.0, text
+
+
+@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb"])
+def test_png16_round_trips_to_the_exr_within_its_step(built, name):
+    table, header = read_lut(built / f"{name}.exr")
+    texels, text = _png16(built / f"{name}.png")
+    encoding = json.loads(text["fresnel:encoding"])
+    offset, scale = np.array(encoding["offset"]), np.array(encoding["scale"])
+    decoded = offset + scale * texels
+    np.testing.assert_allclose(decoded, table, rtol=0, atol=float(np.max(scale)) / 65535.0 / 2 + 1e-7)
+    assert text["fresnel:convention"] == header["convention"] and text["fresnel:channels"] == header["channels"]
+
+
+def test_png16_keeps_the_signed_channel(built):
+    """The basis table's A (b̄3) is negative in places: a unorm path would clip it; the PNG's offset keeps it."""
+    table, _ = read_lut(built / "ggx_basis_rgba.exr")
+    assert table[..., 3].min() < -0.1
+    texels, text = _png16(built / "ggx_basis_rgba.png")
+    encoding = json.loads(text["fresnel:encoding"])
+    decoded = encoding["offset"][3] + encoding["scale"][3] * texels[..., 3]
+    assert decoded.min() == pytest.approx(table[..., 3].min(), abs=1e-4)
+
+
+def test_c_header_compiles_and_holds_the_exr_values(built, tmp_path):
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    program = tmp_path / "read.c"
+    program.write_text('#include <stdio.h>\n#include "ggx_basis_rgba.h"\n#include "ggx_schlick_rgb.h"\n'
+                       "int main(void) {\n"
+                       "  for (int k = 0; k < GGX_BASIS_RGBA_WIDTH * GGX_BASIS_RGBA_HEIGHT * GGX_BASIS_RGBA_CHANNELS; ++k)"
+                       ' printf("%.9g\\n", ggx_basis_rgba[k]);\n'
+                       '  for (int k = 0; k < 16 * 16 * GGX_SCHLICK_RGB_CHANNELS; ++k) printf("%.9g\\n", ggx_schlick_rgb[k]);\n'
+                       "  return 0;\n}\n", encoding="utf-8")
+    executable = tmp_path / "read"
+    subprocess.run([compiler, "-std=c99", "-Wall", "-Werror", f"-I{built}", str(program), "-o", str(executable)],
+                   check=True, capture_output=True)
+    printed = np.array(subprocess.run([str(executable)], check=True, capture_output=True, text=True).stdout.split(),
+                       dtype=np.float64)
+    expected = np.concatenate([read_lut(built / "ggx_basis_rgba.exr")[0].ravel(),
+                               read_lut(built / "ggx_schlick_rgb.exr")[0].ravel()])
+    np.testing.assert_array_equal(printed.astype(np.float32), expected.astype(np.float32))
+
+
+def test_formats_are_checked_before_the_work_and_png_alone_works(tmp_path, capsys):
+    assert run(["build", "--size", 8, "--format", "png16,jpeg", "--out", tmp_path / "x"]) == 2
+    assert_one_line_error(capsys.readouterr().err)
+    assert not (tmp_path / "x").exists()
+    assert run(["build", "--size", 8, "--format", "png16", "--out", tmp_path / "png"]) == 0
+    assert sorted(path.name for path in (tmp_path / "png").iterdir()) == ["ggx_basis_rgba.png", "ggx_schlick_rgb.png"]
