@@ -16,7 +16,6 @@ is interrupted part-way, the files already replaced are rolled back to their pre
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import glob
 import json
 import os
@@ -26,6 +25,11 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from .validation import ParameterError
+
+try:
+    import fcntl
+except ImportError:  # Windows: no advisory locks; groups are still renamed together, but writers may interleave
+    fcntl = None
 
 __all__ = ["read_json_document", "recover_folder", "replace_together", "shipped_path", "temporary_sibling", "write_json",
            "write_text", "write_together"]
@@ -108,6 +112,9 @@ JOURNAL = ".fresnel-lut-journal.json"
 def _folder_lock(folder: Path) -> Iterator[None]:
     """An exclusive advisory lock on the folder itself (no lock file is left behind): writers of one
     folder take turns, so a group of files is never interleaved with another group."""
+    if fcntl is None:
+        yield
+        return
     handle = os.open(folder, os.O_RDONLY)
     try:
         fcntl.flock(handle, fcntl.LOCK_EX)
