@@ -130,6 +130,18 @@ class Basis:
             digest.update(np.ascontiguousarray(array, dtype="<f8").tobytes())
         return digest.hexdigest()[:16]
 
+    @functools.cached_property
+    def hemispherical_averages(self) -> np.ndarray:
+        """avg(b_k) = 2 ∫₀¹ b_k(μ) μ dμ, (K,): the cosine-weighted average over the hemisphere. The average of a
+        fitted curve is linear in its coefficients, F_avg = Σ c_k avg(b_k): what multiple-scattering
+        compensation needs, exact for coloured edge tints (Kulla and Conty 2017; Fdez-Agüera 2019)."""
+        nodes, weights = np.polynomial.legendre.leggauss(256)
+        mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
+        values = self.spline(np.arccos(mu))
+        averages = 2.0 * (weights * mu) @ values
+        averages.setflags(write=False)
+        return averages
+
     def evaluate(self, theta) -> np.ndarray:
         """b_k(θ) for θ in [0, π/2]: shape (..., K)."""
         theta = check_range("theta", theta, 0.0, 0.5 * np.pi)
@@ -153,13 +165,15 @@ class Basis:
                 "Fresnel eigen-basis after Belcour, Bati, Barla 2020: F(theta) ~ sum_k c_k b_k(theta). "
                 "theta in radians; curves[k][j] = b_k(theta[j]); cubic spline in theta between samples "
                 "(zero slope at 0); fit_angles: where the four-point solver samples a target, in order "
-                "c0 <- F(0), c1 <- F(pi/2) - F(0), then c2, c3."
+                "c0 <- F(0), c1 <- F(pi/2) - F(0), then c2, c3. hemispherical_averages[k] = 2 integral of "
+                "b_k(mu) mu dmu over [0, 1] (derived; F_avg = sum_k c_k hemispherical_averages[k])."
             ),
             "content_hash": self.content_hash,
             "n_terms": self.n_terms,
             "theta": self.theta.tolist(),
             "fit_angles": self.fit_angles.tolist(),
             "curves": self.curves.tolist(),
+            "hemispherical_averages": [float(f"{value:.15g}") for value in self.hemispherical_averages],
             "training": self.training,
         }
 

@@ -35,3 +35,15 @@ vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float perceptualR
     vec2 scaleBias = textureLod(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
+
+// Multiple-scattering compensation (Fdez-Aguera 2019; Kulla and Conty 2017): E = the Schlick table's B channel
+// (GGX albedo without Fresnel), Favg = sum_k c_k avg(b_k) with avg = basis.json "hemispherical_averages"
+// (exact for coloured edge tints); the result is 1 in a white furnace.
+vec3 fresnelBasisMultipleScattering(sampler2D basisLut, sampler2D schlickLut, float NdotV, float perceptualRoughness,
+                                    vec4 cR, vec4 cG, vec4 cB, vec4 averages)
+{
+    vec3 FssEss = fresnelBasisSplitSum(basisLut, NdotV, perceptualRoughness, cR, cG, cB);
+    float Ems = 1.0 - textureLod(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).b;
+    vec3 Favg = clamp(vec3(dot(cR, averages), dot(cG, averages), dot(cB, averages)), 0.0, 1.0);
+    return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
+}

@@ -29,3 +29,16 @@ float3 FresnelSchlickSplitSum(Texture2D<float2> schlickLut, SamplerState linearC
     float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0);
     return F0 * scaleBias.x + scaleBias.y;
 }
+
+// Multiple-scattering compensation (Fdez-Aguera 2019; Kulla and Conty 2017): E = the Schlick table's B channel
+// (GGX albedo without Fresnel), Favg = sum_k c_k avg(b_k) with avg = basis.json "hemispherical_averages"
+// (exact for coloured edge tints); the result is 1 in a white furnace.
+float3 FresnelBasisMultipleScattering(Texture2D<float4> basisLut, Texture2D<float4> schlickLut, SamplerState linearClamp,
+                                      float NdotV, float perceptualRoughness, float4 cR, float4 cG, float4 cB,
+                                      float4 averages)
+{
+    float3 FssEss = FresnelBasisSplitSum(basisLut, linearClamp, NdotV, perceptualRoughness, cR, cG, cB);
+    float Ems = 1.0 - schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0).b;
+    float3 Favg = saturate(float3(dot(cR, averages), dot(cG, averages), dot(cB, averages)));
+    return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
+}

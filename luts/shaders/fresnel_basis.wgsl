@@ -28,3 +28,15 @@ fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, Ndo
     let scaleBias = textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
+
+// Multiple-scattering compensation (Fdez-Aguera 2019; Kulla and Conty 2017): E = the Schlick table's B channel
+// (GGX albedo without Fresnel), Favg = sum_k c_k avg(b_k) with avg = basis.json "hemispherical_averages"
+// (exact for coloured edge tints); the result is 1 in a white furnace.
+fn fresnelBasisMultipleScattering(basisLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler,
+                                  NdotV: f32, perceptualRoughness: f32, cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>,
+                                  averages: vec4<f32>) -> vec3<f32> {
+    let FssEss = fresnelBasisSplitSum(basisLut, linearClamp, NdotV, perceptualRoughness, cR, cG, cB);
+    let Ems = 1.0 - textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).b;
+    let Favg = clamp(vec3<f32>(dot(cR, averages), dot(cG, averages), dot(cB, averages)), vec3<f32>(0.0), vec3<f32>(1.0));
+    return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
+}

@@ -20,10 +20,11 @@ import subprocess
 import numpy as np
 import pytest
 
-from basis import coefficients_from_nk
+from basis import coefficients_from_nk, default_basis
 from basis.storage import shipped_path
 from preintegrate.exr import read_lut
 from preintegrate.lut import SCHLICK_LUT, lut_lookup, shipped_lut
+from preintegrate.multiple_scattering import basis_albedo
 
 INCLUDE = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
 GOLD = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77])  # (3, 4)
@@ -50,13 +51,15 @@ FRAGMENT = """#version 330
 uniform sampler2D basisLut;
 uniform sampler2D schlickLut;
 uniform sampler2D inputs;
-uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec3 F0;
+uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec3 F0; uniform vec4 averages;
 layout(location = 0) out vec4 basisOut;
 layout(location = 1) out vec4 schlickOut;
+layout(location = 2) out vec4 multipleOut;
 void main() {{
     vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
     basisOut = vec4(fresnelBasisSplitSum(basisLut, q.x, q.y, cR, cG, cB), 1.0);
     schlickOut = vec4(fresnelSchlickSplitSum(schlickLut, q.x, q.y, F0), 1.0);
+    multipleOut = vec4(fresnelBasisMultipleScattering(basisLut, schlickLut, q.x, q.y, cR, cG, cB, averages), 1.0);
 }}
 """
 VERTEX = """#version 330
@@ -96,34 +99,36 @@ def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
         for k, name in enumerate(("cR", "cG", "cB")):
             program[name] = tuple(GOLD[k])
         program["F0"] = tuple(F0)
-        targets = [context.texture((32, 32), 4, dtype="f4") for _ in range(2)]
+        program["averages"] = tuple(default_basis().hemispherical_averages)
+        targets = [context.texture((32, 32), 4, dtype="f4") for _ in range(3)]
         framebuffer = context.framebuffer(color_attachments=targets)
         framebuffer.use()
         quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
         context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
-        basis_out, schlick_out = (np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4")
-                                  .reshape(1024, 4)[:, :3] for k in range(2))
-        return basis_out, schlick_out
+        return tuple(np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
+                     for k in range(3))
     finally:
         context.release()
 
 
-def _expected() -> tuple[np.ndarray, np.ndarray]:
+def _expected() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     n_dot_v, roughness = (np.clip(values, 0.0, 1.0) for values in _grid())
     basis_table, schlick_table = read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
     basis = lut_lookup(basis_table, n_dot_v, roughness) @ GOLD.T
     scale_bias = lut_lookup(schlick_table, n_dot_v, roughness)
-    return basis, F0 * scale_bias[:, :1] + scale_bias[:, 1:2]
+    multiple = basis_albedo(GOLD, n_dot_v, roughness, tables=(basis_table, schlick_table))
+    return basis, F0 * scale_bias[:, :1] + scale_bias[:, 1:2], multiple
 
 
 @pytest.mark.parametrize("mipmaps", [False, True], ids=["plain texture", "mipmapped texture"])
 def test_glsl_on_mesa_llvmpipe_matches_the_python_api(mipmaps):
     """Measured: max |GPU − Python| 1.1e-7 (float32) with and without mipmaps; the former include's texture()
     was off by 0.63 on the mipmapped table (a coarse level picked from the fragments' derivatives)."""
-    basis, schlick = _render(mipmaps)
-    expected_basis, expected_schlick = _expected()
+    basis, schlick, multiple = _render(mipmaps)
+    expected_basis, expected_schlick, expected_multiple = _expected()
     np.testing.assert_allclose(basis, expected_basis, rtol=0, atol=1e-6)
     np.testing.assert_allclose(schlick, expected_schlick, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(multiple, expected_multiple, rtol=0, atol=2e-6)  # the multiple-scattering terms
 
 
 def _validator():
@@ -247,6 +252,6 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
     compute.end()
     device.queue.submit([encoder.finish()])
     output = np.frombuffer(device.queue.read_buffer(output_buffer), np.float32).reshape(len(inputs), 2, 4)
-    expected_basis, expected_schlick = _expected()
+    expected_basis, expected_schlick, _ = _expected()
     np.testing.assert_allclose(output[:, 0, :3], expected_basis, rtol=0, atol=1e-6)
     np.testing.assert_allclose(output[:, 1, :3], expected_schlick, rtol=0, atol=1e-6)

@@ -1,0 +1,62 @@
+"""Multiple-scattering compensation of single-scattering GGX, from the same LUTs, exact in the furnace.
+
+Public objects: ``compensated_albedo``, ``basis_albedo``.
+
+Single-scattering GGX loses the energy that bounces more than once on the microsurface: its albedo without
+Fresnel, E(μo, α) (the Schlick table's B channel), is below 1 at high roughness. Engines add it back with
+the Fdez-Agüera (2019) form of Kulla and Conty's (2017) compensation, per colour channel:
+
+    E_ms = 1 − E,   F_ms = F̄_ss F_avg / (1 − E_ms F_avg),   F̄ = F̄_ss + F_ms E_ms,
+
+with F̄_ss the single-scattering split sum and F_avg the hemispherical average of F. Engines take F_avg from
+F0; with the basis it is exact for any curve the coefficients fit: F_avg = Σ c_k avg(b_k)
+(:attr:`basis.eigenbasis.Basis.hemispherical_averages`, stored in ``basis.json``). In a white furnace
+(F = 1: F̄_ss = E, F_avg = 1) the result is 1 exactly.
+
+References
+----------
+:cite:`KullaConty2017` C. Kulla, A. Conty, "Revisiting Physically Based Shading at Imageworks", SIGGRAPH 2017
+    course notes.
+:cite:`FdezAguera2019` C. J. Fdez-Agüera, "A Multiple-Scattering Microfacet Model for Real-Time Image-based
+    Lighting", JCGT 8(1), 2019 (the F_ss E_ss + F_ms E_ms form).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from basis.eigenbasis import Basis, resolve_basis
+from basis.validation import as_float_array, check_range, check_shape_last
+
+from .exr import read_lut
+from .lut import SCHLICK_LUT, lut_lookup, shipped_lut
+
+__all__ = ["basis_albedo", "compensated_albedo"]
+
+
+def compensated_albedo(single_scattering, albedo, average_fresnel) -> np.ndarray:
+    """F̄_ss + F_ms E_ms (module docstring): ``single_scattering`` F̄_ss (..., C), ``albedo`` E (...) of GGX
+    without Fresnel, ``average_fresnel`` F_avg (..., C), broadcast."""
+    single_scattering = as_float_array("single_scattering", single_scattering)
+    albedo = check_range("albedo", albedo, 0.0, 1.0)[..., None]
+    average_fresnel = check_range("average_fresnel", average_fresnel, 0.0, 1.0)
+    lost = 1.0 - albedo
+    return single_scattering + single_scattering * average_fresnel / (1.0 - lost * average_fresnel) * lost
+
+
+def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, multiple_scattering: bool = True,
+                 tables: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """F̄ per colour channel (..., 3) of a material's coefficients (3, K) at (μo, r) from the shipped LUTs
+    (or ``tables`` = (basis table, Schlick table)), bilinear as a GPU reads them, compensated for multiple
+    scattering unless ``multiple_scattering`` is False."""
+    basis = resolve_basis(basis)
+    coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
+    mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
+    roughness = check_range("roughness", roughness, 0.0, 1.0)
+    basis_table, schlick_table = tables if tables is not None else (read_lut(shipped_lut())[0],
+                                                                    read_lut(shipped_lut(SCHLICK_LUT))[0])
+    single = lut_lookup(basis_table, mu_o, roughness) @ np.swapaxes(coefficients, -1, -2)
+    if not multiple_scattering:
+        return single
+    albedo = np.clip(lut_lookup(schlick_table, mu_o, roughness)[..., 2], 0.0, 1.0)
+    return compensated_albedo(single, albedo, np.clip(coefficients @ basis.hemispherical_averages, 0.0, 1.0))
