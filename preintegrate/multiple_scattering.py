@@ -1,6 +1,6 @@
 """Multiple-scattering compensation of single-scattering GGX, from the same LUTs, exact in the furnace.
 
-Public objects: ``compensated_albedo``, ``basis_albedo``.
+Public objects: ``compensated_albedo``, ``compensate_lookup``, ``basis_albedo``, ``average_albedo``.
 
 Single-scattering GGX loses the energy that bounces more than once on the microsurface: its albedo without
 Fresnel, E(μo, α) (the Schlick table's B channel), is below 1 at high roughness. Engines add it back with
@@ -12,6 +12,9 @@ with F̄_ss the single-scattering split sum and F_avg the hemispherical average 
 F0; with the basis it is exact for any curve the coefficients fit: F_avg = Σ c_k avg(b_k)
 (:attr:`basis.eigenbasis.Basis.hemispherical_averages`, stored in ``basis.json``). In a white furnace
 (F = 1: F̄_ss = E, F_avg = 1) the result is 1 exactly.
+
+Kulla and Conty's original lobe, f_ms = (1 − E(μo))(1 − E(μi)) / (π (1 − E_avg)), also needs the
+hemispherical average of the albedo, E_avg(α) = 2 ∫₀¹ E(μ, α) μ dμ: :func:`average_albedo`.
 
 References
 ----------
@@ -29,9 +32,25 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import as_float_array, check_range, check_shape_last
 
 from .exr import read_lut
+from .ggx import roughness_to_alpha
 from .lut import SCHLICK_LUT, lut_lookup, shipped_lut
+from .quadrature import directional_albedo
 
-__all__ = ["basis_albedo", "compensated_albedo"]
+__all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo"]
+
+#: Gauss–Legendre nodes in μ for E_avg: μ E(μ) is smooth, and 64 nodes agree with 128 to 1e-9.
+AVERAGE_NODES = 64
+
+
+def average_albedo(roughness, visibility: str = "height-correlated") -> np.ndarray:
+    """E_avg(r) = 2 ∫₀¹ E(μ, α(r)) μ dμ (Kulla and Conty 2017), E the GGX albedo without Fresnel, for
+    perceptual roughness ``roughness`` (any shape): the 1-D table of their multiple-scattering lobe."""
+    roughness = check_range("roughness", roughness, 0.0, 1.0)
+    nodes, weights = np.polynomial.legendre.leggauss(AVERAGE_NODES)
+    mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
+    albedo = directional_albedo(lambda x: np.ones(x.shape + (1,)), mu, roughness_to_alpha(roughness)[..., None],
+                                visibility=visibility)[..., 0]
+    return 2.0 * albedo @ (weights * mu)
 
 
 def compensated_albedo(single_scattering, albedo, average_fresnel) -> np.ndarray:
@@ -58,5 +77,13 @@ def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, mult
     single = lut_lookup(basis_table, mu_o, roughness) @ np.swapaxes(coefficients, -1, -2)
     if not multiple_scattering:
         return single
-    albedo = np.clip(lut_lookup(schlick_table, mu_o, roughness)[..., 2], 0.0, 1.0)
-    return compensated_albedo(single, albedo, np.clip(coefficients @ basis.hemispherical_averages, 0.0, 1.0))
+    return compensate_lookup(single, lut_lookup(schlick_table, mu_o, roughness), coefficients, basis)
+
+
+def compensate_lookup(single_scattering, schlick_texels, coefficients, basis: Basis) -> np.ndarray:
+    """:func:`compensated_albedo` of a basis split sum (..., 3) from Schlick-table texels (..., ≥ 2): E =
+    scale + bias (the B channel where there is one), F_avg = Σ c_k avg(b_k); both clipped to [0, 1], which
+    float32 rounding and out-of-gamut colours (an sRGB F_avg above 1) can leave."""
+    albedo = np.clip(schlick_texels[..., 0] + schlick_texels[..., 1], 0.0, 1.0)
+    average = np.clip(np.asarray(coefficients) @ basis.hemispherical_averages, 0.0, 1.0)
+    return compensated_albedo(single_scattering, albedo, average)

@@ -34,11 +34,13 @@ from collections.abc import Callable
 
 import numpy as np
 
+from basis.eigenbasis import default_basis
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, check_positive_int, check_range
 
 from .estimators import contributions
 from .lut import lut_lookup, texel_centres
+from .multiple_scattering import compensate_lookup
 
 __all__ = [
     "DEFAULT_SCENES",
@@ -168,7 +170,8 @@ def sphere_geometry(size: int) -> tuple[np.ndarray, np.ndarray]:
 
 def render_split_sum(material: RenderMaterial, roughness: float, size: int, basis_lut: np.ndarray,
                      schlick_lut: np.ndarray, environment: Environment = STUDIO) -> dict[str, np.ndarray]:
-    """Linear RGB images (S, S, 3) of the split sum with the Schlick and the basis LUTs, and their time."""
+    """Linear RGB images (S, S, 3) of the split sum with the Schlick and the basis LUTs, the basis one
+    compensated for multiple scattering (:mod:`preintegrate.multiple_scattering`), and their time."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
     started = time.perf_counter()
     normals, mask = sphere_geometry(size)
@@ -177,10 +180,13 @@ def render_split_sum(material: RenderMaterial, roughness: float, size: int, basi
     reflected = 2.0 * mu_o[..., None] * normals - view
     prefiltered = environment.prefiltered(reflected, roughness**2)
     f0 = material.curve(np.array(1.0))
-    schlick = lut_lookup(schlick_lut, mu_o, roughness)  # (S, S, 2)
+    schlick = lut_lookup(schlick_lut, mu_o, roughness)  # (S, S, 2 or 3): scale, bias[, E]
+    basis = lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T
     images = {
         "schlick": prefiltered * (schlick[..., :1] * f0 + schlick[..., 1:2]),
-        "basis": prefiltered * (lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T),
+        "basis": prefiltered * basis,
+        "basis_multiple_scattering": prefiltered * compensate_lookup(basis, schlick, material.coefficients,
+                                                                     default_basis()),
     }
     for image in images.values():
         image[~mask] = 0.0
