@@ -48,7 +48,7 @@ from basis.validation import ParameterError, check_positive_int
 
 from .channels import basis_channels, channel_set, combine, schlick_table_channels
 from .exr import write_luts
-from .formats import FORMATS, c_header, png16_bytes
+from .formats import FORMATS, c_header, ktx2_bytes, png16_bytes
 from .ggx import VISIBILITIES
 from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, pixel_convention
 from .progress import Progress, peak_rss_mib
@@ -140,7 +140,7 @@ def command_build(arguments) -> int:
 
 
 def _formats(text: str) -> list[str]:
-    """``--format exr,png16,header``: the formats to write, each known, at least one."""
+    """``--format exr,ktx2,png16,header``: the formats to write, each known, at least one."""
     names = [name.strip() for name in str(text).split(",") if name.strip()]
     unknown = [name for name in names if name not in FORMATS]
     if not names or unknown:
@@ -153,6 +153,9 @@ def _write_formats(items, arguments) -> list[Path]:
     formats = _formats(arguments.format)
     extra = []
     for path, table, channel_names, attributes in items:
+        if "ktx2" in formats:
+            extra.append((path.with_suffix(".ktx2"), lambda temporary, table=table, attributes=attributes:
+                          temporary.write_bytes(ktx2_bytes(table, attributes, half=arguments.half))))
         if "png16" in formats:
             extra.append((path.with_suffix(".png"), lambda temporary, table=table, attributes=attributes:
                           temporary.write_bytes(png16_bytes(table, attributes))))
@@ -454,8 +457,9 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     build.add_argument("--half", action="store_true", help="store half floats instead of float32")
-    build.add_argument("--format", default="exr", help="exr, png16 (16-bit PNG, offset and scale per channel in "
-                       "the file) and/or header (C/C++ float arrays), comma-separated (default exr)")
+    build.add_argument("--format", default="exr", help="exr, ktx2 (RGBA32F, RGBA16F with --half), png16 (16-bit "
+                       "PNG, offset and scale per channel in the file) and/or header (C/C++ float arrays), "
+                       "comma-separated (default exr)")
     build.add_argument("--visibility", default="height-correlated", choices=sorted(VISIBILITIES),
                        help="Smith masking-shadowing of the engine's BRDF: height-correlated (default; most real-time "
                             "engines) or separable G1(o) G1(i) (several offline renderers)")

@@ -40,6 +40,14 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
     table = np.asarray(table, dtype=np.float64)
     if table.ndim != 3 or table.shape[2] != len(channel_names):
         raise ParameterError(f"table must have shape (H, W, {len(channel_names)}), got {table.shape}")
+    table = stored_values(table, half)
+    return {name: np.ascontiguousarray(table[:, :, k]) for k, name in enumerate(channel_names)}
+
+
+def stored_values(table: np.ndarray, half: bool) -> np.ndarray:
+    """The table as a LUT file stores it, float32 or half (subnormal halves written as 0), refusing NaN,
+    inf and values beyond the type's range: the one rule of every float format (EXR, KTX2)."""
+    table = np.asarray(table, dtype=np.float64)
     if not np.all(np.isfinite(table)):
         raise ParameterError("table contains NaN or inf; refusing to write it")
     if half and np.max(np.abs(table)) > HALF_MAX:
@@ -48,8 +56,7 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
         raise ParameterError(f"table exceeds the float32 range ({FLOAT32_MAX:.4g}); refusing to write inf")
     if half:
         table = np.where(np.abs(table) < HALF_MIN_NORMAL, 0.0, table)
-    dtype = np.float16 if half else np.float32
-    return {name: np.ascontiguousarray(table[:, :, k].astype(dtype)) for k, name in enumerate(channel_names)}
+    return table.astype(np.float16 if half else np.float32)
 
 
 def content_hash(attributes: Mapping[str, str], channels: Mapping[str, np.ndarray]) -> str:

@@ -1,7 +1,13 @@
-"""LUT files for engines that do not read EXR: 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
+"""LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
 
-Public objects: ``FORMATS``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
+Public objects: ``FORMATS``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
 
+* **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
+  ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a three-channel table is padded with
+  A = 1 (no GPU API samples three-channel float textures everywhere; WebGPU has none). The data format
+  descriptor is the one libktx derives from that format (RGBSDA, BT.709 primaries, linear transfer,
+  signed float samples with bounds −1.0f and 1.0f); the attributes are key/value pairs (``fresnel:…``)
+  beside ``KTXorientation`` = ``rd`` and ``KTXwriter``.
 * **16-bit PNG** (``png16``): each channel is stored as round((value − offset) / scale · 65535), with
   offset and scale per channel chosen from the table's own range, so a signed channel (the basis table's
   A, b̄3 from −0.64 to 1) survives where a unorm texture would clip it. The engine recovers
@@ -16,6 +22,9 @@ A table is always written through :func:`basis.storage.write_together` (atomic, 
 
 References
 ----------
+:cite:`KTX2` Khronos, "KTX File Format Specification, version 2.0": Sections 3 (header, index, level
+    index), 3.10 (key/value data, sorted keys, 4-byte padding), 3.9 (level alignment lcm(texel size, 4)).
+:cite:`KDFS` Khronos, "Data Format Specification 1.3", Section 5 (basic descriptor block, sample words).
 :cite:`PNG2003` W3C, "Portable Network Graphics (PNG) Specification (Second Edition)", 2003: chunks
     IHDR (bit depth 16, colour types 0, 4, 2, 6), IDAT (zlib), tEXt, IEND; CRC-32 over type and data.
 """
@@ -31,10 +40,62 @@ import numpy as np
 
 from basis.validation import ParameterError
 
-__all__ = ["FORMATS", "c_header", "png16_bytes", "png16_encoding"]
+from .exr import stored_values
+
+__all__ = ["FORMATS", "c_header", "ktx2_bytes", "png16_bytes", "png16_encoding"]
 
 #: File formats of ``fresnel-lut build --format`` beside ``exr``: name → file suffix.
-FORMATS = {"exr": ".exr", "png16": ".png", "header": ".h"}
+FORMATS = {"exr": ".exr", "ktx2": ".ktx2", "png16": ".png", "header": ".h"}
+
+KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
+#: VkFormat of an RGBA float table by bytes per channel.
+KTX2_FORMATS = {4: 109, 2: 97}  # VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT
+_FLOAT_SIGNED = 0x80 | 0x40  # KHR_DF_SAMPLE_DATATYPE_FLOAT | KHR_DF_SAMPLE_DATATYPE_SIGNED
+_ALPHA = 15  # KHR_DF_CHANNEL_RGBSDA_ALPHA
+
+
+def _ktx2_descriptor(bytes_per_channel: int) -> bytes:
+    """The data format descriptor of RGBA signed float: total size, then one basic block (KDFS §5)."""
+    samples = b"".join(
+        struct.pack("<HBB4xff", 8 * bytes_per_channel * channel, 8 * bytes_per_channel - 1,
+                    (_ALPHA if channel == 3 else channel) | _FLOAT_SIGNED, -1.0, 1.0)
+        for channel in range(4)
+    )
+    block = struct.pack("<IHHBBBB4B8B", 0, 2, 24 + len(samples), 1, 1, 1, 0, 0, 0, 0, 0,
+                        4 * bytes_per_channel, 0, 0, 0, 0, 0, 0, 0) + samples
+    return struct.pack("<I", 4 + len(block)) + block
+
+
+def _ktx2_key_values(attributes: dict[str, str], writer: str) -> bytes:
+    pairs = {"KTXorientation": "rd", "KTXwriter": writer,
+             **{f"fresnel:{key}": value for key, value in attributes.items()}}
+    data = b""
+    for key in sorted(pairs, key=lambda name: name.encode("utf-8")):
+        entry = key.encode("utf-8") + b"\x00" + pairs[key].encode("utf-8") + b"\x00"
+        data += struct.pack("<I", len(entry)) + entry + b"\x00" * (-len(entry) % 4)
+    return data
+
+
+def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False) -> bytes:
+    """A KTX2 file of a table (H, W, K ≤ 4) as RGBA float (module docstring), rows in file order."""
+    table = np.asarray(table, dtype=np.float64)
+    if table.ndim != 3 or not 1 <= table.shape[2] <= 4:
+        raise ParameterError(f"a KTX2 LUT holds a table of 1 to 4 channels, got shape {table.shape}")
+    height, width, channels = table.shape
+    size = 2 if half else 4
+    rgba = np.concatenate([table, np.zeros((height, width, max(0, 3 - channels))),
+                           np.ones((height, width, 4 - max(channels, 3)))], axis=2)
+    texels = stored_values(rgba, half).astype("<f2" if half else "<f4").tobytes()
+    descriptor = _ktx2_descriptor(size)
+    key_values = _ktx2_key_values(attributes, attributes.get("generator", "fresnel-basis"))
+    header_size = 80 + 24  # header and index, one level
+    key_values_offset = header_size + len(descriptor)
+    end = key_values_offset + len(key_values)
+    level_offset = end + (-end % (4 * size))  # lcm(texel size, 4)
+    header = KTX2_IDENTIFIER + struct.pack("<9I", KTX2_FORMATS[size], size, width, height, 0, 0, 1, 1, 0)
+    index = struct.pack("<4I2Q", header_size, len(descriptor), key_values_offset, len(key_values), 0, 0)
+    levels = struct.pack("<3Q", level_offset, len(texels), len(texels))
+    return header + index + levels + descriptor + key_values + b"\x00" * (level_offset - end) + texels
 
 #: PNG colour type by channel count: grey, grey + alpha, RGB, RGBA.
 _COLOUR_TYPE = {1: 0, 2: 4, 3: 2, 4: 6}

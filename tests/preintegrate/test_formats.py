@@ -1,6 +1,8 @@
 """LUT files beside EXR (preintegrate/formats.py), read back by consumers that share no code with the writers:
-16-bit PNG decoded by pypng, the C header compiled and run by gcc. Each round-trips to the EXR within its
-precision: the PNG within half a 16-bit step of its stated scale, the header exactly (float32)."""
+16-bit PNG decoded by pypng, the C header compiled and run by gcc, KTX2 read by a reader typed from the
+specification (tests/references/ktx2.py). Each round-trips to the EXR within its precision: the PNG
+within half a 16-bit step of its stated scale, the header and KTX2 exactly (float32, or half as the
+half EXR)."""
 
 import json
 import shutil
@@ -82,3 +84,42 @@ def test_formats_are_checked_before_the_work_and_png_alone_works(tmp_path, capsy
     assert not (tmp_path / "x").exists()
     assert run(["build", "--size", 8, "--format", "png16", "--out", tmp_path / "png"]) == 0
     assert sorted(path.name for path in (tmp_path / "png").iterdir()) == ["ggx_basis_rgba.png", "ggx_schlick_rgb.png"]
+
+
+@pytest.mark.parametrize("half", [False, True])
+@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb"])
+def test_ktx2_is_valid_and_round_trips_to_the_exr(tmp_path_factory, name, half):
+    """KTX2 read by a reader typed from the specification (tests/references/ktx2.py: every offset,
+    alignment, descriptor word and key/value rule): RGBA32F equals the float32 EXR exactly, RGBA16F the
+    half EXR exactly (one rounding rule, exr.stored_values); the Schlick table gains A = 1; the signed
+    basis A survives."""
+    from tests.references.ktx2 import read_ktx2
+
+    out = tmp_path_factory.mktemp("ktx2")
+    options = ["--half"] if half else []
+    assert run(["build", "--size", 16, "--format", "exr,ktx2", "--out", out, *options]) == 0
+    table, header = read_lut(out / f"{name}.exr")
+    ktx = read_ktx2((out / f"{name}.ktx2").read_bytes())
+    assert ktx["format"] == (97 if half else 109) and (ktx["width"], ktx["height"]) == (16, 16)
+    channels = table.shape[2]
+    np.testing.assert_array_equal(ktx["texels"][..., :channels], table)
+    if channels == 3:
+        np.testing.assert_array_equal(ktx["texels"][..., 3], 1.0)
+    else:
+        assert ktx["texels"][..., 3].min() < -0.1
+    key_values = ktx["key_values"]
+    assert key_values["KTXorientation"] == "rd" and key_values["KTXwriter"].startswith("fresnel-basis")
+    assert key_values["fresnel:convention"] == header["convention"]
+    assert key_values["fresnel:channels"] == header["channels"]
+
+
+def test_ktx2_refuses_tables_it_cannot_hold():
+    from basis.validation import ParameterError
+    from preintegrate.formats import ktx2_bytes
+
+    with pytest.raises(ParameterError, match="NaN or inf"):
+        ktx2_bytes(np.full((2, 2, 4), np.nan), {})
+    with pytest.raises(ParameterError, match="1 to 4 channels"):
+        ktx2_bytes(np.zeros((2, 2, 5)), {})
+    with pytest.raises(ParameterError, match="half-float range"):
+        ktx2_bytes(np.full((2, 2, 4), 1e6), {}, half=True)
