@@ -30,6 +30,7 @@ __all__ = [
     "CHANNEL_SETS",
     "ChannelSet",
     "albedo_channels",
+    "average_albedo_channels",
     "basis_channels",
     "channel_set",
     "combine",
@@ -67,6 +68,17 @@ def albedo_channels() -> ChannelSet:
         functions=lambda x: np.ones(np.shape(x) + (1,)),
         channel_names=("B",),
         combination="B = E = R + G: the GGX directional albedo without Fresnel",
+    )
+
+
+def average_albedo_channels() -> ChannelSet:
+    """The one-column E_avg table's single channel Y (a luminance channel: every EXR reader loads it)."""
+    return ChannelSet(
+        name="albedo_average",
+        functions=albedo_channels().functions,
+        channel_names=("Y",),
+        combination="Y = E_avg(r) = 2 * integral of E(mu, r) mu dmu over [0, 1], E = the Schlick table's B "
+                    "(Kulla and Conty 2017); one column, rows as in the other tables",
     )
 
 

@@ -46,11 +46,12 @@ from basis.training import build_basis
 from basis.training.builder import MAX_GRID
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import basis_channels, channel_set, combine, schlick_table_channels
+from .channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
 from .exr import write_luts
 from .formats import FORMATS, c_header, ktx2_bytes, png16_bytes
 from .ggx import VISIBILITIES
-from .lut import BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, pixel_convention
+from .lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, lut_axes, pixel_convention
+from .multiple_scattering import AVERAGE_NODES, average_albedo
 from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
 
@@ -116,7 +117,7 @@ def command_build(arguments) -> int:
         return _build_model_table(arguments, size, out, order)
     basis = _load_basis(arguments.basis)
     started = time.perf_counter()
-    basis_set, schlick_set = basis_channels(basis), schlick_table_channels()
+    basis_set, schlick_set, average_set = basis_channels(basis), schlick_table_channels(), average_albedo_channels()
     combined = combine(basis_set, schlick_set)
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     table = build_table(combined, size, order=order, progress=progress, visibility=arguments.visibility)
@@ -130,6 +131,10 @@ def command_build(arguments) -> int:
             basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))),
         (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
          lut_attributes(schlick_set, size, size, "fresnel-lut build", convention, quadrature=quadrature)),
+        (out / AVERAGE_LUT, average_albedo(lut_axes(size)[1], arguments.visibility, order)[:, None, None],
+         average_set.channel_names, lut_attributes(
+             average_set, 1, size, "fresnel-lut build", f"one column; rows as in: {convention}",
+             quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}")),
     ]
     paths = _write_formats(items, arguments)
     elapsed = time.perf_counter() - started

@@ -1,6 +1,6 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
-Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``texel_centres``, ``lut_axes``,
+Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``, ``texel_centres``, ``lut_axes``,
 ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
@@ -26,10 +26,12 @@ from .ggx import VISIBILITIES, roughness_to_alpha
 from .quadrature import DEFAULT_ORDER, directional_albedo
 
 __all__ = [
+    "AVERAGE_LUT",
     "BASIS_LUT",
     "LUT_METHODS",
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
+    "SHIPPED_LUTS",
     "build_table",
     "pixel_convention",
     "interpolation_weights",
@@ -43,6 +45,9 @@ __all__ = [
 #: File names of the default build's tables (``luts/``).
 BASIS_LUT = "ggx_basis_rgba.exr"
 SCHLICK_LUT = "ggx_schlick_rgb.exr"
+#: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
+AVERAGE_LUT = "ggx_albedo_average.exr"
+SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 
@@ -56,8 +61,8 @@ PIXEL_CONVENTION = (
 
 def shipped_lut(name: str = BASIS_LUT) -> Path:
     """Path of a LUT shipped with the package (``luts/`` beside it), whatever the working folder."""
-    if name not in (BASIS_LUT, SCHLICK_LUT):
-        raise ParameterError(f"shipped LUT must be one of {[BASIS_LUT, SCHLICK_LUT]}, got {name!r}")
+    if name not in SHIPPED_LUTS:
+        raise ParameterError(f"shipped LUT must be one of {list(SHIPPED_LUTS)}, got {name!r}")
     return shipped_path(name)
 
 

@@ -34,7 +34,7 @@ from basis.validation import as_float_array, check_range, check_shape_last
 from .exr import read_lut
 from .ggx import roughness_to_alpha
 from .lut import SCHLICK_LUT, lut_lookup, shipped_lut
-from .quadrature import directional_albedo
+from .quadrature import DEFAULT_ORDER, directional_albedo
 
 __all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo"]
 
@@ -42,14 +42,15 @@ __all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_a
 AVERAGE_NODES = 64
 
 
-def average_albedo(roughness, visibility: str = "height-correlated") -> np.ndarray:
+def average_albedo(roughness, visibility: str = "height-correlated", order=DEFAULT_ORDER) -> np.ndarray:
     """E_avg(r) = 2 ∫₀¹ E(μ, α(r)) μ dμ (Kulla and Conty 2017), E the GGX albedo without Fresnel, for
-    perceptual roughness ``roughness`` (any shape): the 1-D table of their multiple-scattering lobe."""
+    perceptual roughness ``roughness`` (any shape): the 1-D table of their multiple-scattering lobe
+    (``luts/ggx_albedo_average.exr``). ``order``: the quadrature of each E."""
     roughness = check_range("roughness", roughness, 0.0, 1.0)
     nodes, weights = np.polynomial.legendre.leggauss(AVERAGE_NODES)
     mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
     albedo = directional_albedo(lambda x: np.ones(x.shape + (1,)), mu, roughness_to_alpha(roughness)[..., None],
-                                visibility=visibility)[..., 0]
+                                order=order, visibility=visibility)[..., 0]
     return 2.0 * albedo @ (weights * mu)
 
 

@@ -23,7 +23,7 @@ from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
 from preintegrate.channels import basis_channels, schlick_table_channels
 from preintegrate.exr import read_lut
-from preintegrate.lut import PIXEL_CONVENTION
+from preintegrate.lut import PIXEL_CONVENTION, SHIPPED_LUTS
 from preintegrate.progress import Progress
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
@@ -65,7 +65,7 @@ def test_build_writes_both_luts_with_convention(built):
     """build --size 32 writes RGBA basis and RGB Schlick EXRs (R = scale, G = bias, B = E = R + G), 32×32, finite,
     header = PIXEL_CONVENTION and default basis hash (exact)."""
     out, stdout = built
-    assert sorted(p.name for p in out.iterdir()) == sorted([BASIS_LUT, SCHLICK_LUT])
+    assert sorted(p.name for p in out.iterdir()) == sorted(SHIPPED_LUTS)
     basis_table, basis_attributes = read_lut(out / BASIS_LUT)
     schlick_table, schlick_attributes = read_lut(out / SCHLICK_LUT)
     assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 3)
@@ -139,7 +139,7 @@ def test_build_half(tmp_path, capsys):
     assert run(["build", "--size", 8, "--out", tmp_path / "f"]) == 0
     assert run(["build", "--size", 8, "--half", "--out", tmp_path / "h"]) == 0
     assert "half" in capsys.readouterr().out
-    for name in (BASIS_LUT, SCHLICK_LUT):
+    for name in SHIPPED_LUTS:
         raw = OpenEXR.File(str(tmp_path / "h" / name), separate_channels=True)
         assert all(channel.pixels.dtype == np.float16 for channel in raw.channels().values())
         half, attributes = read_lut(tmp_path / "h" / name)
@@ -154,7 +154,7 @@ def test_build_is_deterministic(tmp_path):
     """Two builds with the same arguments give byte-identical EXR files."""
     assert run(["build", "--size", 8, "--out", tmp_path / "a"]) == 0
     assert run(["build", "--size", 8, "--out", tmp_path / "b"]) == 0
-    for name in (BASIS_LUT, SCHLICK_LUT):
+    for name in SHIPPED_LUTS:
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
 
 
@@ -165,7 +165,7 @@ def test_build_via_subprocess(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "Traceback" not in result.stderr
     assert run(["build", "--size", 8, "--out", tmp_path / "inproc"]) == 0
-    for name in (BASIS_LUT, SCHLICK_LUT):
+    for name in SHIPPED_LUTS:
         assert (tmp_path / "sub" / name).read_bytes() == (tmp_path / "inproc" / name).read_bytes()
 
 
@@ -394,7 +394,7 @@ def previous(tmp_path):
     """A folder holding a previous size-8 build: (folder, {name: bytes})."""
     out = tmp_path / "luts"
     assert run(["build", "--size", 8, "--out", out]) == 0
-    return out, {name: (out / name).read_bytes() for name in (BASIS_LUT, SCHLICK_LUT)}
+    return out, {name: (out / name).read_bytes() for name in SHIPPED_LUTS}
 
 
 def _assert_untouched(out, before):

@@ -36,7 +36,7 @@ def _png16(path):
     return texels / 65535.0, text
 
 
-@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb"])
+@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_albedo_average"])
 def test_png16_round_trips_to_the_exr_within_its_step(built, name):
     table, header = read_lut(built / f"{name}.exr")
     texels, text = _png16(built / f"{name}.png")
@@ -83,15 +83,16 @@ def test_formats_are_checked_before_the_work_and_png_alone_works(tmp_path, capsy
     assert_one_line_error(capsys.readouterr().err)
     assert not (tmp_path / "x").exists()
     assert run(["build", "--size", 8, "--format", "png16", "--out", tmp_path / "png"]) == 0
-    assert sorted(path.name for path in (tmp_path / "png").iterdir()) == ["ggx_basis_rgba.png", "ggx_schlick_rgb.png"]
+    assert sorted(path.name for path in (tmp_path / "png").iterdir()) == ["ggx_albedo_average.png", "ggx_basis_rgba.png",
+                                                                         "ggx_schlick_rgb.png"]
 
 
 @pytest.mark.parametrize("half", [False, True])
-@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb"])
+@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_albedo_average"])
 def test_ktx2_is_valid_and_round_trips_to_the_exr(tmp_path_factory, name, half):
     """KTX2 read by a reader typed from the specification (tests/references/ktx2.py: every offset,
     alignment, descriptor word and key/value rule): RGBA32F equals the float32 EXR exactly, RGBA16F the
-    half EXR exactly (one rounding rule, exr.stored_values); the Schlick table gains A = 1; the signed
+    half EXR exactly (one rounding rule, exr.stored_values); three- and one-channel tables are padded (0, A = 1); the signed
     basis A survives."""
     from tests.references.ktx2 import read_ktx2
 
@@ -100,10 +101,11 @@ def test_ktx2_is_valid_and_round_trips_to_the_exr(tmp_path_factory, name, half):
     assert run(["build", "--size", 16, "--format", "exr,ktx2", "--out", out, *options]) == 0
     table, header = read_lut(out / f"{name}.exr")
     ktx = read_ktx2((out / f"{name}.ktx2").read_bytes())
-    assert ktx["format"] == (97 if half else 109) and (ktx["width"], ktx["height"]) == (16, 16)
+    assert ktx["format"] == (97 if half else 109) and (ktx["height"], ktx["width"]) == table.shape[:2]
     channels = table.shape[2]
     np.testing.assert_array_equal(ktx["texels"][..., :channels], table)
-    if channels == 3:
+    if channels < 4:  # padded: missing colours 0, alpha 1
+        np.testing.assert_array_equal(ktx["texels"][..., channels:3], 0.0)
         np.testing.assert_array_equal(ktx["texels"][..., 3], 1.0)
     else:
         assert ktx["texels"][..., 3].min() < -0.1

@@ -163,3 +163,15 @@ def test_against_a_random_walk_on_the_microsurface(mu_o, roughness, gap):
     assert np.all(np.abs(split_sum - single) < 4.0 * single_error + 5e-3)
     assert np.all(np.abs(compensated - total) < np.abs(split_sum - total))
     assert np.all(np.abs(compensated - total) < gap + 4.0 * total_error)
+
+
+def test_shipped_average_table_is_the_api_and_reads_with_its_header():
+    """luts/ggx_albedo_average.exr: one column of E_avg at the rows' roughness (float32 of the API's
+    values), a single Y channel, its own convention; the roughest row loses about 59 % (0.41 measured)."""
+    from preintegrate.lut import AVERAGE_LUT
+
+    table, header = read_lut(shipped_lut(AVERAGE_LUT))
+    assert table.shape == (128, 1, 1) and header["channels"] == "Y" and header["convention"].startswith("one column")
+    roughness = texel_centres(128)
+    np.testing.assert_array_equal(table[:, 0, 0], average_albedo(roughness).astype(np.float32))
+    assert 0.38 < table[-1, 0, 0] < 0.45

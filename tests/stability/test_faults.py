@@ -23,6 +23,7 @@ import pytest
 
 from basis.eigenbasis import shipped_basis_path
 from preintegrate import cli, exr
+from preintegrate.lut import SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 
 BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
@@ -456,7 +457,7 @@ def test_build_twice_is_bit_identical(half, tmp_path, monkeypatch, capsys):
     _set_cores(monkeypatch, 1)
     assert run(["build", "--size", "16", "--out", tmp_path / "b", *extra]) == 0
     capsys.readouterr()
-    for name in (BASIS_LUT, SCHLICK_LUT):
+    for name in SHIPPED_LUTS:
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
 
 

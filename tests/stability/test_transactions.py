@@ -15,6 +15,7 @@ from pathlib import Path
 
 from preintegrate import exr
 from preintegrate.exr import read_lut
+from preintegrate.lut import AVERAGE_LUT, SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -82,7 +83,8 @@ def test_kill_between_renames_is_finished_by_the_next_reader(tmp_path, capsys):
     basis_table, basis_header = read_lut(out / "ggx_basis_rgba.exr")  # the reader finishes the group
     schlick_table, schlick_header = read_lut(out / "ggx_schlick_rgb.exr")
     assert basis_table.shape[:2] == schlick_table.shape[:2] == (8, 8)
-    assert sorted(path.name for path in out.iterdir()) == ["ggx_basis_rgba.exr", "ggx_schlick_rgb.exr"]
+    assert read_lut(out / AVERAGE_LUT)[0].shape[:2] == (8, 1)  # the whole group, whichever was renamed
+    assert sorted(path.name for path in out.iterdir()) == sorted(SHIPPED_LUTS)
 
 
 def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
@@ -91,7 +93,7 @@ def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
     (out / ".ggx_basis_rgba.exr.abc12345.tmp").write_bytes(b"left by a killed build")
     (out / ".my.own.notes.tmp").write_bytes(b"a user's file: not ours to remove")
     assert run(["build", "--size", "6", "--out", out]) == 0
-    assert sorted(path.name for path in out.iterdir()) == [".my.own.notes.tmp", "ggx_basis_rgba.exr", "ggx_schlick_rgb.exr"]
+    assert sorted(path.name for path in out.iterdir()) == sorted([".my.own.notes.tmp", *SHIPPED_LUTS])
 
 
 def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
