@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from basis.eigenbasis import Basis, resolve_basis
-from basis.validation import as_float_array, check_range, check_shape_last
+from basis.validation import ParameterError, as_float_array, check_range, check_shape_last
 
 from .exr import read_lut
 from .ggx import roughness_to_alpha
@@ -38,7 +38,7 @@ from .quadrature import DEFAULT_ORDER, directional_albedo
 
 __all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo"]
 
-#: Gauss–Legendre nodes in μ for E_avg: μ E(μ) is smooth, and 64 nodes agree with 128 to 1e-9.
+#: Gauss–Legendre nodes in μ for E_avg: μ E(μ) is smooth; 64 nodes agree with 128 to 2.2e-9 over r in [0, 1].
 AVERAGE_NODES = 64
 
 
@@ -69,6 +69,8 @@ def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, mult
     """F̄ per colour channel (..., 3) of a material's coefficients (3, K) at (μo, r) from the shipped LUTs
     (or ``tables`` = (basis table, Schlick table)), bilinear as a GPU reads them, compensated for multiple
     scattering unless ``multiple_scattering`` is False."""
+    if tables is None and basis is not None and resolve_basis(basis).content_hash != resolve_basis(None).content_hash:
+        raise ParameterError("the shipped LUTs belong to the shipped basis: pass the tables built for this basis")
     basis = resolve_basis(basis)
     coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)

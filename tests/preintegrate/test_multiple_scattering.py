@@ -105,6 +105,17 @@ def test_basis_albedo_refuses_wrong_shapes(tables):
         basis_albedo(material_coefficients("Gold"), 0.5, 1.5, tables=tables)
 
 
+def test_basis_albedo_refuses_the_shipped_tables_for_another_basis():
+    from basis.eigenbasis import Basis
+
+    shipped = default_basis()
+    curves = shipped.curves.copy()
+    curves[3] *= 1.01
+    other = Basis(theta=shipped.theta, curves=curves, fit_angles=shipped.fit_angles)
+    with pytest.raises(ParameterError, match="belong to the shipped basis"):
+        basis_albedo(material_coefficients("Gold"), 0.5, 0.5, basis=other)
+
+
 def test_average_albedo_against_the_shipped_table_and_its_limits(tables):
     """E_avg(r) against the midpoint rule over the shipped table's 128 columns of E (B channel; midpoint
     error ≤ 2e-4 here); 1 at the mirror; falling with roughness."""
