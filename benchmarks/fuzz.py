@@ -33,7 +33,7 @@ import basis
 from basis.eigenbasis import Basis, shipped_basis_path
 from basis.presets import material_preset, material_presets, shipped_presets_path
 from basis.validation import ParameterError
-from preintegrate import cli
+from preintegrate import cli, formats, multiple_scattering
 from preintegrate.scene import read_scene
 
 #: Values that break naive readers: every JSON/TOML type, non-finite and extreme numbers, odd text.
@@ -236,6 +236,11 @@ API = {
     "gulbrandsen_to_nk": lambda r: basis.gulbrandsen_to_nk(_random_value(r), _random_value(r)),
     "nk_to_gulbrandsen": lambda r: basis.nk_to_gulbrandsen(_random_value(r), _random_value(r)),
     "coefficients_from_curve": lambda r: basis.coefficients_from_curve(lambda x: np.full(int(r.integers(1, 6)), 0.5)),
+    "compensated_albedo": lambda r: multiple_scattering.compensated_albedo(_random_value(r), _random_value(r),
+                                                                           _random_value(r)),
+    "basis_albedo": lambda r: multiple_scattering.basis_albedo(_random_value(r), _random_value(r), _random_value(r)),
+    "average_albedo": lambda r: multiple_scattering.average_albedo(_random_value(r)),
+    "ktx2_bytes": lambda r: formats.ktx2_bytes(_random_value(r), {}, half=bool(r.integers(2))),
 }
 
 

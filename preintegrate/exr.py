@@ -19,7 +19,7 @@ import numpy as np
 import OpenEXR
 
 from basis.storage import recover_folder, write_together
-from basis.validation import ParameterError
+from basis.validation import ParameterError, as_float_array
 
 __all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]
 
@@ -37,7 +37,7 @@ class LutFileError(ParameterError):
 
 
 def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarray]:
-    table = np.asarray(table, dtype=np.float64)
+    table = as_float_array("table", table, finite=False)
     if table.ndim != 3 or table.shape[2] != len(channel_names):
         raise ParameterError(f"table must have shape (H, W, {len(channel_names)}), got {table.shape}")
     table = stored_values(table, half)
@@ -47,7 +47,7 @@ def _prepare(table: np.ndarray, channel_names, half: bool) -> dict[str, np.ndarr
 def stored_values(table: np.ndarray, half: bool) -> np.ndarray:
     """The table as a LUT file stores it, float32 or half (subnormal halves written as 0), refusing NaN,
     inf and values beyond the type's range: the one rule of every float format (EXR, KTX2)."""
-    table = np.asarray(table, dtype=np.float64)
+    table = as_float_array("table", table, finite=False)
     if not np.all(np.isfinite(table)):
         raise ParameterError("table contains NaN or inf; refusing to write it")
     if half and np.max(np.abs(table)) > HALF_MAX:

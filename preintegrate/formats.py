@@ -38,7 +38,7 @@ import zlib
 
 import numpy as np
 
-from basis.validation import ParameterError
+from basis.validation import ParameterError, as_float_array
 
 from .exr import stored_values
 
@@ -52,6 +52,16 @@ KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 KTX2_FORMATS = {4: 109, 2: 97}  # VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT
 _FLOAT_SIGNED = 0x80 | 0x40  # KHR_DF_SAMPLE_DATATYPE_FLOAT | KHR_DF_SAMPLE_DATATYPE_SIGNED
 _ALPHA = 15  # KHR_DF_CHANNEL_RGBSDA_ALPHA
+
+
+def _checked_table(what: str, table, attributes) -> tuple[np.ndarray, dict[str, str]]:
+    """A non-empty (H, W, 1…4) float table and text attributes, or an error naming the format."""
+    table = as_float_array("table", table, finite=False)
+    if table.ndim != 3 or table.shape[0] < 1 or table.shape[1] < 1 or not 1 <= table.shape[2] <= 4:
+        raise ParameterError(f"{what} holds a non-empty table of 1 to 4 channels, got shape {table.shape}")
+    if not isinstance(attributes, dict):
+        raise ParameterError(f"attributes must be a dict of texts, got {type(attributes).__name__}")
+    return table, {str(key): str(value) for key, value in attributes.items()}
 
 
 def _ktx2_descriptor(bytes_per_channel: int) -> bytes:
@@ -78,9 +88,7 @@ def _ktx2_key_values(attributes: dict[str, str], writer: str) -> bytes:
 
 def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False) -> bytes:
     """A KTX2 file of a table (H, W, K ≤ 4) as RGBA float (module docstring), rows in file order."""
-    table = np.asarray(table, dtype=np.float64)
-    if table.ndim != 3 or not 1 <= table.shape[2] <= 4:
-        raise ParameterError(f"a KTX2 LUT holds a table of 1 to 4 channels, got shape {table.shape}")
+    table, attributes = _checked_table("a KTX2 LUT", table, attributes)
     height, width, channels = table.shape
     size = 2 if half else 4
     rgba = np.concatenate([table, np.zeros((height, width, max(0, 3 - channels))),
@@ -117,9 +125,9 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
 
 def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
     """A 16-bit PNG of a table (H, W, K ≤ 4), rows in file order, with its encoding and attributes in tEXt."""
-    table = np.asarray(table, dtype=np.float64)
-    if table.ndim != 3 or table.shape[2] not in _COLOUR_TYPE or not np.all(np.isfinite(table)):
-        raise ParameterError(f"a 16-bit PNG holds a finite table of 1 to 4 channels, got shape {table.shape}")
+    table, attributes = _checked_table("a 16-bit PNG", table, attributes)
+    if not np.all(np.isfinite(table)):
+        raise ParameterError("table contains NaN or inf; refusing to write it")
     height, width, channels = table.shape
     offset, scale = png16_encoding(table)
     texels = np.round(np.clip((table - offset) / scale, 0.0, 1.0) * 65535.0).astype(">u2")
@@ -137,8 +145,8 @@ def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
 def c_header(table: np.ndarray, name: str, channel_names, attributes: dict[str, str]) -> str:
     """A C/C++ header with the table as ``static const float NAME[H * W * K]`` (row 0 first, channels
     interleaved) and its size, channels and convention."""
-    table = np.asarray(table, dtype=np.float64)
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+    table, attributes = _checked_table("a C header", table, attributes)
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
         raise ParameterError(f"a C name must be an identifier, got {name!r}")
     height, width, channels = table.shape
     values = table.astype(np.float32).ravel()

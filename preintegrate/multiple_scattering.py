@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from basis.eigenbasis import Basis, resolve_basis
-from basis.validation import ParameterError, as_float_array, check_range, check_shape_last
+from basis.validation import ParameterError, as_float_array, check_broadcast, check_range, check_shape_last
 
 from .exr import read_lut
 from .ggx import roughness_to_alpha
@@ -60,6 +60,7 @@ def compensated_albedo(single_scattering, albedo, average_fresnel) -> np.ndarray
     single_scattering = as_float_array("single_scattering", single_scattering)
     albedo = check_range("albedo", albedo, 0.0, 1.0)[..., None]
     average_fresnel = check_range("average_fresnel", average_fresnel, 0.0, 1.0)
+    check_broadcast(single_scattering=single_scattering, albedo=albedo, average_fresnel=average_fresnel)
     lost = 1.0 - albedo
     return single_scattering + single_scattering * average_fresnel / (1.0 - lost * average_fresnel) * lost
 
@@ -75,8 +76,9 @@ def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, mult
     coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     roughness = check_range("roughness", roughness, 0.0, 1.0)
-    basis_table, schlick_table = tables if tables is not None else (read_lut(shipped_lut())[0],
-                                                                    read_lut(shipped_lut(SCHLICK_LUT))[0])
+    if tables is None:
+        tables = read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
+    basis_table, schlick_table = _check_tables(tables, basis.n_terms)
     single = lut_lookup(basis_table, mu_o, roughness) @ np.swapaxes(coefficients, -1, -2)
     if not multiple_scattering:
         return single
@@ -90,3 +92,16 @@ def compensate_lookup(single_scattering, schlick_texels, coefficients, basis: Ba
     albedo = np.clip(schlick_texels[..., 0] + schlick_texels[..., 1], 0.0, 1.0)
     average = np.clip(np.asarray(coefficients) @ basis.hemispherical_averages, 0.0, 1.0)
     return compensated_albedo(single_scattering, albedo, average)
+
+
+def _check_tables(tables, terms: int) -> tuple[np.ndarray, np.ndarray]:
+    """(basis table (H, W, K), Schlick table (H', W', ≥ 2)), finite, or an error naming what is wrong."""
+    if not isinstance(tables, (tuple, list)) or len(tables) != 2:
+        raise ParameterError(f"tables must be (basis table, Schlick table), got {type(tables).__name__}")
+    basis_table = as_float_array("basis table", tables[0])
+    schlick_table = as_float_array("Schlick table", tables[1])
+    if basis_table.ndim != 3 or basis_table.shape[2] != terms or min(basis_table.shape[:2]) < 2:
+        raise ParameterError(f"basis table must have shape (H ≥ 2, W ≥ 2, {terms}), got {basis_table.shape}")
+    if schlick_table.ndim != 3 or schlick_table.shape[2] < 2 or min(schlick_table.shape[:2]) < 2:
+        raise ParameterError(f"Schlick table must have shape (H ≥ 2, W ≥ 2, 2 or 3), got {schlick_table.shape}")
+    return basis_table, schlick_table

@@ -117,11 +117,17 @@ def test_ktx2_is_valid_and_round_trips_to_the_exr(tmp_path_factory, name, half):
 
 def test_ktx2_refuses_tables_it_cannot_hold():
     from basis.validation import ParameterError
-    from preintegrate.formats import ktx2_bytes
+    from preintegrate.formats import c_header, ktx2_bytes, png16_bytes
 
     with pytest.raises(ParameterError, match="NaN or inf"):
         ktx2_bytes(np.full((2, 2, 4), np.nan), {})
     with pytest.raises(ParameterError, match="1 to 4 channels"):
         ktx2_bytes(np.zeros((2, 2, 5)), {})
+    for writer in (lambda table: ktx2_bytes(table, {}), lambda table: png16_bytes(table, {}),
+                   lambda table: c_header(table, "name", ["R"], {})):
+        with pytest.raises(ParameterError, match="non-empty table"):
+            writer(np.zeros((0, 2, 4)))
+        with pytest.raises(ParameterError, match="table must be a real number"):
+            writer("Gold")
     with pytest.raises(ParameterError, match="half-float range"):
         ktx2_bytes(np.full((2, 2, 4), 1e6), {}, half=True)

@@ -91,6 +91,7 @@ def test_compensation_of_a_dielectric_is_small(tables):
         ((np.ones(3), 1.2, np.ones(3)), "albedo"),
         ((np.ones(3), 0.5, np.full(3, np.nan)), "average_fresnel"),
         ((np.ones(3), -0.1, np.ones(3)), "albedo"),
+        ((np.ones((2, 3)), np.full(4, 0.5), np.full(3, 0.5)), "must broadcast"),
     ],
 )
 def test_compensated_albedo_refuses_bad_input(arguments, message):
@@ -99,6 +100,12 @@ def test_compensated_albedo_refuses_bad_input(arguments, message):
 
 
 def test_basis_albedo_refuses_wrong_shapes(tables):
+    gold = material_coefficients("Gold")
+    for wrong, message in [("x", "tables must be"), ((np.zeros((2, 2)), tables[1]), "basis table"),
+                           ((tables[0], tables[0][..., :1]), "Schlick table"),
+                           ((np.full_like(tables[0], np.nan), tables[1]), "finite")]:
+        with pytest.raises(ParameterError, match=message):
+            basis_albedo(gold, 0.5, 0.5, tables=wrong)
     with pytest.raises(ParameterError, match="coefficients"):
         basis_albedo(np.ones((3, 2)), 0.5, 0.5, tables=tables)
     with pytest.raises(ParameterError, match="roughness"):
