@@ -1,6 +1,7 @@
 """Multiple-scattering compensation of single-scattering GGX, from the same LUTs, exact in the furnace.
 
-Public objects: ``compensated_albedo``, ``compensate_lookup``, ``basis_albedo``, ``average_albedo``.
+Public objects: ``compensated_albedo``, ``compensate_lookup``, ``basis_albedo``, ``average_albedo``,
+``shipped_tables``.
 
 Single-scattering GGX loses the energy that bounces more than once on the microsurface: its albedo without
 Fresnel, E(μo, α) (the Schlick table's B channel), is below 1 at high roughness. Engines add it back with
@@ -36,10 +37,15 @@ from .ggx import roughness_to_alpha
 from .lut import SCHLICK_LUT, lut_lookup, shipped_lut
 from .quadrature import DEFAULT_ORDER, directional_albedo
 
-__all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo"]
+__all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo", "shipped_tables"]
 
 #: Gauss–Legendre nodes in μ for E_avg: μ E(μ) is smooth; 64 nodes agree with 128 to 2.2e-9 over r in [0, 1].
 AVERAGE_NODES = 64
+
+
+def shipped_tables() -> tuple[np.ndarray, np.ndarray]:
+    """(basis table, Schlick table) of the shipped LUTs, as :func:`preintegrate.exr.read_lut` checks them."""
+    return read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
 
 
 def average_albedo(roughness, visibility: str = "height-correlated", order=DEFAULT_ORDER) -> np.ndarray:
@@ -76,9 +82,7 @@ def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, mult
     coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     roughness = check_range("roughness", roughness, 0.0, 1.0)
-    if tables is None:
-        tables = read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
-    basis_table, schlick_table = _check_tables(tables, basis.n_terms)
+    basis_table, schlick_table = _check_tables(shipped_tables() if tables is None else tables, basis.n_terms)
     single = lut_lookup(basis_table, mu_o, roughness) @ np.swapaxes(coefficients, -1, -2)
     if not multiple_scattering:
         return single

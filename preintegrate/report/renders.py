@@ -23,10 +23,9 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000
 from basis.models.formulas import schlick_curve  # unchecked: an sRGB F0 may leave [0, 1]
-from basis.storage import shipped_path
 
-from ..exr import read_lut, write_luts
-from ..lut import BASIS_LUT, SCHLICK_LUT
+from ..exr import write_luts
+from ..multiple_scattering import shipped_tables
 from ..render import (
     DEFAULT_SCENES,
     render_reference,
@@ -43,15 +42,11 @@ SPACE = "sRGB"
 EXPOSURE = 1.0
 
 
-def _luts() -> tuple[np.ndarray, np.ndarray]:
-    return read_lut(shipped_path(BASIS_LUT))[0], read_lut(shipped_path(SCHLICK_LUT))[0]
-
-
 def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
     """Images and ΔE2000 statistics of every scene and roughness (module docstring)."""
     # lattice references: 256 spp are less noisy than 512 independent samples were (tests/preintegrate/test_render.py)
     size, samples = (128, 128) if quick else (256, 256)
-    basis_lut, schlick_lut = _luts()
+    basis_lut, schlick_lut = shipped_tables()
     results = []
     names = list(DEFAULT_SCENES) if scenes is None else scenes
     for scene in names:

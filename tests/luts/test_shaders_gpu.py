@@ -25,8 +25,8 @@ from basis import coefficients_from_nk, default_basis
 from basis.storage import shipped_path
 from preintegrate.exr import read_lut
 from preintegrate.formats import ktx2_bytes
-from preintegrate.lut import SCHLICK_LUT, lut_lookup, shipped_lut
-from preintegrate.multiple_scattering import basis_albedo
+from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_lookup, shipped_lut
+from preintegrate.multiple_scattering import basis_albedo, shipped_tables
 
 INCLUDE = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
 GOLD = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77])  # (3, 4)
@@ -81,8 +81,8 @@ def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
         _missing(f"a headless OpenGL context (Mesa's EGL: {error})")
     try:
         tables = []
-        for unit, name in enumerate(("ggx_basis_rgba.exr", SCHLICK_LUT)):
-            table = read_lut(shipped_lut(name))[0].astype("f4")
+        for unit, table in enumerate(shipped_tables()):
+            table = table.astype("f4")
             texture = context.texture(table.shape[1::-1], table.shape[2], table.tobytes(), dtype="f4")
             texture.repeat_x = texture.repeat_y = False  # clamp to edge
             if mipmaps:
@@ -115,7 +115,7 @@ def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
 
 def _expected() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     n_dot_v, roughness = (np.clip(values, 0.0, 1.0) for values in _grid())
-    basis_table, schlick_table = read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
+    basis_table, schlick_table = shipped_tables()
     basis = lut_lookup(basis_table, n_dot_v, roughness) @ GOLD.T
     scale_bias = lut_lookup(schlick_table, n_dot_v, roughness)
     multiple = basis_albedo(GOLD, n_dot_v, roughness, tables=(basis_table, schlick_table))
@@ -247,7 +247,7 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
                                          + WGSL_MAIN)
     pipeline = device.create_compute_pipeline(layout="auto", compute={"module": module, "entry_point": "main"})
     group = device.create_bind_group(layout=pipeline.get_bind_group_layout(0), entries=[
-        {"binding": 0, "resource": view("ggx_basis_rgba.exr")}, {"binding": 1, "resource": view(SCHLICK_LUT)},
+        {"binding": 0, "resource": view(BASIS_LUT)}, {"binding": 1, "resource": view(SCHLICK_LUT)},
         {"binding": 2, "resource": sampler}, {"binding": 3, "resource": {"buffer": input_buffer}},
         {"binding": 4, "resource": {"buffer": output_buffer}}, {"binding": 5, "resource": {"buffer": uniform_buffer}}])
     encoder = device.create_command_encoder()

@@ -18,13 +18,13 @@ from basis.validation import ParameterError
 from preintegrate.exr import read_lut
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import SCHLICK_LUT, shipped_lut, texel_centres
-from preintegrate.multiple_scattering import average_albedo, basis_albedo, compensated_albedo
+from preintegrate.lut import shipped_lut, texel_centres
+from preintegrate.multiple_scattering import average_albedo, basis_albedo, compensated_albedo, shipped_tables
 
 
 @pytest.fixture(scope="module")
 def tables():
-    return read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
+    return shipped_tables()
 
 
 def _average(curve):

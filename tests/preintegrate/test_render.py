@@ -21,7 +21,8 @@ from preintegrate.render import (
     to_srgb8,
     tone_map,
 )
-from preintegrate.report.renders import _luts, render_study
+from preintegrate.multiple_scattering import shipped_tables
+from preintegrate.report.renders import render_study
 
 
 def test_prefiltered_radiance_against_monte_carlo_of_the_lobe():
@@ -67,7 +68,7 @@ def test_split_sum_spheres_against_the_reference(scene, roughness, basis_mean, r
     Schlick's (0.91, 7.30): the basis carries the edge tint that Schlick cannot."""
     from basis.colorimetry import delta_E_2000
 
-    basis_lut, schlick_lut = _luts()
+    basis_lut, schlick_lut = shipped_tables()
     material = DEFAULT_SCENES[scene]("sRGB")
     size = 64
     split = render_split_sum(material, roughness, size, basis_lut, schlick_lut)
@@ -84,7 +85,7 @@ def test_multiple_scattering_render_matches_the_api():
     only adds energy, more when rougher."""
     from preintegrate.multiple_scattering import basis_albedo
 
-    basis_lut, schlick_lut = _luts()
+    basis_lut, schlick_lut = shipped_tables()
     material = DEFAULT_SCENES["gold"]("sRGB")
     normals, mask = sphere_geometry(32)
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)[mask]
@@ -113,7 +114,7 @@ def test_display_helpers_and_errors():
     np.testing.assert_allclose(tone_map(np.array([0.5, 0.8])), [0.5, 0.8])
     assert tone_map(np.array([100.0]))[0] < 1.0
     with pytest.raises(ParameterError, match="roughness"):
-        render_split_sum(DEFAULT_SCENES["gold"]("sRGB"), 1.5, 8, *_luts())
+        render_split_sum(DEFAULT_SCENES["gold"]("sRGB"), 1.5, 8, *shipped_tables())
     with pytest.raises(ParameterError, match="samples"):
         render_reference(DEFAULT_SCENES["gold"]("sRGB"), 0.3, 8, 0)
     with pytest.raises(ParameterError, match="sampling"):
