@@ -3,7 +3,8 @@
 Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN`` (:mod:`.domain`, the seeded training
 set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
 ``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``
-(:mod:`.builder`); ``holdout_materials`` (:mod:`.holdout`, never used in training).
+(:mod:`.builder`); ``holdout_materials`` (:mod:`.holdout`, never used in training); ``refine_basis`` (:mod:`.refine`, the
+minimax refinement of the curves and fit angles).
 
 References
 ----------
@@ -13,6 +14,7 @@ References
 from .builder import NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
 from .domain import DEFAULT_DOMAIN, Component, TrainingDomain
 from .holdout import holdout_materials
+from .refine import refine_basis
 from .svd import MIN_SPAN, GramAccumulator, build_curves
 
 __all__ = [
@@ -28,4 +30,5 @@ __all__ = [
     "choose_fit_angles",
     "holdout_fit_errors",
     "holdout_materials",
+    "refine_basis",
 ]
