@@ -27,7 +27,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from ..angles import check_theta_grid, theta_spline
-from ..eigenbasis import Basis
+from ..eigenbasis import Basis, default_basis
 from ..parallel import one_blas_thread
 from ..validation import ParameterError, as_float_array, check_positive_int
 from .svd import build_curves
@@ -37,12 +37,22 @@ __all__ = ["refine_basis"]
 #: Fit angles stay in [ANGLE_BOUNDS]: away from 0 and π/2, whose rows the four-point system already holds.
 ANGLE_BOUNDS = (0.2, 0.5 * np.pi - 0.005)
 
+#: An SVD element whose residual RMS before it is below this share of the first one's is noise, not shape.
+RANK_TOLERANCE = 1e-9
+
+#: Most SVD elements computed (basis terms and dictionary together), as :func:`.svd.build_curves` allows.
+MAX_ELEMENTS = 16
+
 
 class _Objective:
-    """L_p of the four-point error and its gradient in (dictionary weights, fit angles)."""
+    """L_p of the four-point error and its gradient in (dictionary weights, fit angles).
 
-    def __init__(self, theta, curves, tolerances, start, dictionary):
-        self.curves, self.tolerances = curves, tolerances
+    ``blocks`` are (rows of ``curves``, operator): the error of those curves is measured as it is, or, with
+    an operator W (P, M), as W applied to it (e.g. texel weights: the error of F̄ instead of F).
+    """
+
+    def __init__(self, theta, curves, tolerances, start, dictionary, blocks):
+        self.curves, self.tolerances, self.blocks = curves, tolerances, blocks
         self.n_terms, self.size = start.shape[0], dictionary.shape[0]
         self.spline = theta_spline(theta, np.concatenate([start, dictionary]).T, axis=0)
         self.on_grid = self.spline(theta)  # (M, K + D)
@@ -62,27 +72,33 @@ class _Objective:
         return x[:cut], np.concatenate([[0.0, 0.5 * np.pi], x[cut:]])
 
     def errors(self, x: np.ndarray):
+        """The scaled errors, one array per block, and what the gradient needs."""
         weights, angles = self.split(x)
         mixing = self.mixing(weights)
         system = self.spline(angles) @ mixing
         inverse = np.linalg.inv(system)
         coefficients = self.target_spline(angles).T @ inverse.T
         on_grid = self.on_grid @ mixing
-        scaled = (coefficients @ on_grid.T - self.curves) / self.tolerances[:, None]
+        residual = coefficients @ on_grid.T - self.curves
+        scaled = [(residual[rows] if operator is None else residual[rows] @ operator.T) / self.tolerances[rows, None]
+                  for rows, operator in self.blocks]
         return scaled, (mixing, angles, inverse, coefficients, on_grid)
 
     def __call__(self, x: np.ndarray) -> tuple[float, np.ndarray]:
         scaled, (mixing, angles, inverse, coefficients, on_grid) = self.errors(x)
-        largest = float(np.max(np.abs(scaled)))
+        largest = max(float(np.max(np.abs(block))) for block in scaled)
         if not np.isfinite(largest):
             return np.inf, np.zeros_like(x)
         p = self.power
-        unit = scaled / largest
-        mean = float(np.mean(np.abs(unit) ** p))
+        count = sum(block.size for block in scaled)
+        mean = sum(float(np.sum(np.abs(block / largest) ** p)) for block in scaled) / count
         loss = largest * mean ** (1.0 / p)
         # ∂L/∂e = mean^{1/p − 1} |u|^{p−1} sign(u) / n with u = e / max|e| (L is homogeneous of degree 1)
-        gradient = mean ** (1.0 / p - 1.0) * np.abs(unit) ** (p - 1.0) * np.sign(unit) / unit.size
-        gradient /= self.tolerances[:, None]
+        gradient = np.zeros_like(self.curves)
+        for (rows, operator), block in zip(self.blocks, scaled):
+            unit = block / largest
+            piece = mean ** (1.0 / p - 1.0) * np.abs(unit) ** (p - 1.0) * np.sign(unit) / count / self.tolerances[rows, None]
+            gradient[rows] = piece if operator is None else piece @ operator
         d_grid = gradient.T @ coefficients
         d_coefficients = gradient @ on_grid
         d_system = -inverse.T @ d_coefficients.T @ coefficients
@@ -97,7 +113,7 @@ class _Objective:
 
 def refine_basis(
     theta,
-    groups: Mapping[str, tuple[np.ndarray, float]],
+    groups: Mapping[str, tuple],
     n_terms: int = 4,
     start: Basis | None = None,
     dictionary_terms: int = 10,
@@ -112,13 +128,16 @@ def refine_basis(
     theta : array_like
         (M,) increasing grid over [0, π/2] on which the training curves are sampled; the new basis lives on it.
     groups : mapping
-        name → (curves (N, M) of F(θ_j), tolerance > 0): the error of a curve counts as error / tolerance.
+        name → (curves (N, M) of F(θ_j), tolerance > 0) or (curves, tolerance, operator): the error of a curve
+        counts as error / tolerance, where the error is the fit's over θ, or the operator (P, M) applied to it
+        (e.g. :func:`preintegrate.quadrature.texel_weights` over a material's roughness range: the error of F̄).
     n_terms : int
         K in [3, 8].
     start : Basis, optional
-        The basis to refine (its angles are the starting angles); default the plain SVD of the curves.
+        The basis to refine (its angles are the starting angles); default the plain SVD of the curves, whose
+        elements beyond the curves' rank (fewer distinct curves than terms) are the shipped basis' smooth ones.
     dictionary_terms : int
-        D, the SVD curves each b_k may mix in, in [1, 32].
+        D, the SVD curves each b_k may mix in, in [1, 32] (fewer when the curves' rank is lower).
     powers : sequence of float
         The p of each continuation stage, each ≥ 2.
     iterations : int
@@ -137,32 +156,47 @@ def refine_basis(
     iterations = check_positive_int("iterations", iterations, low=1, high=100_000)
     if not groups:
         raise ParameterError("refine_basis needs at least one group of curves")
-    names, parts, tolerances = [], [], []
-    for name, (curves, tolerance) in groups.items():
+    names, parts, tolerances, blocks, start_row = [], [], [], [], 0
+    for name, group in groups.items():
+        if not isinstance(group, tuple) or len(group) not in (2, 3):
+            raise ParameterError(f"groups[{name!r}] must be (curves, tolerance) or (curves, tolerance, operator)")
+        curves, tolerance, operator = (*group, None)[:3]
         curves = as_float_array(f"groups[{name!r}] curves", curves)
         if curves.ndim != 2 or curves.shape[1] != theta.size or not np.all(np.isfinite(curves)):
             raise ParameterError(f"groups[{name!r}] curves must be finite, of shape (N, {theta.size})")
         if not (np.isfinite(tolerance) and tolerance > 0):
             raise ParameterError(f"groups[{name!r}] tolerance must be positive, got {tolerance!r}")
+        if operator is not None:
+            operator = as_float_array(f"groups[{name!r}] operator", operator)
+            if operator.ndim != 2 or operator.shape[1] != theta.size or not np.all(np.isfinite(operator)):
+                raise ParameterError(f"groups[{name!r}] operator must be finite, of shape (P, {theta.size})")
         names += [name] * curves.shape[0]
         parts.append(curves)
         tolerances.append(np.full(curves.shape[0], float(tolerance)))
+        blocks.append((slice(start_row, start_row + curves.shape[0]), operator))
+        start_row += curves.shape[0]
     powers = [float(p) for p in powers]
     if not powers or min(powers) < 2:
         raise ParameterError(f"powers must be a non-empty sequence of numbers >= 2, got {powers}")
     curves, tolerances, names = np.concatenate(parts), np.concatenate(tolerances), np.array(names)
     with one_blas_thread():  # the same bits whatever the machine's BLAS threads
-        svd, _ = build_curves(theta, [curves], n_terms + dictionary_terms)
+        svd, stats = build_curves(theta, [curves], min(n_terms + dictionary_terms, MAX_ELEMENTS))
+        # an element after the residual has vanished (fewer distinct curves than terms) is rounding noise
+        residual = np.asarray(stats["residual_rms"])
+        meaningful = 2 + int(np.count_nonzero(residual[1:-1] > RANK_TOLERANCE * max(residual[0], 1e-300)))
         if start is None:
-            start_curves, dictionary = svd[:n_terms], svd[n_terms:]
-            angles = np.linspace(1.45, 1.2, n_terms - 2)
+            filler = default_basis().evaluate(theta).T
+            start_curves = np.concatenate([svd[:min(n_terms, meaningful)], filler[min(n_terms, meaningful):n_terms]])
+            if start_curves.shape[0] < n_terms:
+                raise ParameterError(f"the shipped basis has {filler.shape[0]} terms: too few to fill {n_terms}")
+            dictionary, angles = svd[n_terms:meaningful], np.linspace(1.45, 1.2, n_terms - 2)
         else:
             if start.n_terms != n_terms:
                 raise ParameterError(f"start has {start.n_terms} terms, expected {n_terms}")
-            start_curves, dictionary, angles = start.evaluate(theta).T, svd[2:2 + dictionary_terms], start.fit_angles[2:]
-        objective = _Objective(theta, curves, tolerances, start_curves, dictionary)
-        x = np.concatenate([np.zeros((n_terms - 1) * dictionary_terms), angles])
-        bounds = [(None, None)] * ((n_terms - 1) * dictionary_terms) + [ANGLE_BOUNDS] * (n_terms - 2)
+            start_curves, dictionary, angles = start.evaluate(theta).T, svd[2:meaningful][:dictionary_terms], start.fit_angles[2:]
+        objective = _Objective(theta, curves, tolerances, start_curves, dictionary, blocks)
+        x = np.concatenate([np.zeros((n_terms - 1) * dictionary.shape[0]), angles])
+        bounds = [(None, None)] * ((n_terms - 1) * dictionary.shape[0]) + [ANGLE_BOUNDS] * (n_terms - 2)
         for power in powers:
             objective.power = power
             result = minimize(objective, x, jac=True, method="L-BFGS-B", bounds=bounds, options={"maxiter": iterations})
@@ -172,11 +206,12 @@ def refine_basis(
                 progress(f"refine: p = {power:g}, L_p = {result.fun:.4g} after {result.nit} iterations")
         scaled, (mixing, angles, *_rest) = objective.errors(x)
         refined = objective.on_grid @ mixing
-    worst = np.max(np.abs(scaled), axis=1) * tolerances
+    worst = np.concatenate([np.max(np.abs(block), axis=1) for block in scaled]) * tolerances
     achieved = {name: float(np.max(worst[names == name])) for name in groups}
     return Basis(theta, _conventional(refined.T), np.concatenate([[0.0, 0.5 * np.pi], np.round(angles[2:], 6)]), {
         "refinement": {
             "groups": {name: {"curves": int(np.count_nonzero(names == name)), "tolerance": float(groups[name][1]),
+                              "measure": "F" if len(groups[name]) == 2 or groups[name][2] is None else "operator",
                               "max_abs_error": achieved[name]} for name in groups},
             "dictionary_terms": dictionary_terms, "powers": powers, "iterations": iterations,
             "start": start.content_hash if start is not None else "svd",

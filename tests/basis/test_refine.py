@@ -45,7 +45,8 @@ def test_gradient_matches_finite_differences(groups):
     curves = np.concatenate([curves_of(*pair) for pair in groups.values()])
     tolerances = np.linspace(0.003, 0.01, curves.shape[0])
     dictionary, _ = build_curves(THETA, [curves], 10)
-    objective = _Objective(THETA, curves, tolerances, default_basis().evaluate(THETA).T, dictionary[2:8])
+    objective = _Objective(THETA, curves, tolerances, default_basis().evaluate(THETA).T, dictionary[2:8],
+                           [(slice(0, 100), None), (slice(100, None), np.random.default_rng(1).uniform(0, 0.01, (30, THETA.size)))])
     objective.power = 8.0
     x = np.concatenate([np.random.default_rng(0).normal(0.0, 0.01, 18), [1.45, 1.2]])
     _, gradient = objective(x)
