@@ -1,9 +1,10 @@
 """Building the eigen-basis: the training set, the iterative SVD, the fit angles, the held-out materials.
 
-Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN`` (:mod:`.domain`, the seeded training
+Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN`` (:mod:`.domain`, the seeded training
 set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
 ``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``
-(:mod:`.builder`); ``holdout_materials`` (:mod:`.holdout`, never used in training); ``refine_basis`` (:mod:`.refine`, the
+(:mod:`.builder`); ``holdout_materials``, ``validation_groups``, ``FIGURE_2``, ``VALIDATION_SEED`` (:mod:`.holdout`, never used in
+training); ``refine_basis`` (:mod:`.refine`, the
 minimax refinement of the curves and fit angles).
 
 References
@@ -12,16 +13,19 @@ References
 """
 
 from .builder import NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
-from .domain import DEFAULT_DOMAIN, Component, TrainingDomain
-from .holdout import holdout_materials
+from .domain import DEFAULT_DOMAIN, NOTEBOOK_DOMAIN, Component, TrainingDomain
+from .holdout import FIGURE_2, VALIDATION_SEED, holdout_materials, validation_groups
 from .refine import refine_basis
 from .svd import MIN_SPAN, GramAccumulator, build_curves
 
 __all__ = [
     "DEFAULT_DOMAIN",
+    "FIGURE_2",
     "MIN_SPAN",
+    "NOTEBOOK_DOMAIN",
     "NOTEBOOK_ANGLES",
     "TALK_ANGLES",
+    "VALIDATION_SEED",
     "Component",
     "GramAccumulator",
     "TrainingDomain",
@@ -30,5 +34,6 @@ __all__ = [
     "choose_fit_angles",
     "holdout_fit_errors",
     "holdout_materials",
+    "validation_groups",
     "refine_basis",
 ]

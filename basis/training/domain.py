@@ -29,7 +29,7 @@ from ..gulbrandsen import gulbrandsen_to_nk
 from ..parallel import worker_count
 from ..validation import ParameterError, check_positive_int
 
-__all__ = ["DEFAULT_DOMAIN", "Component", "TrainingDomain"]
+__all__ = ["DEFAULT_DOMAIN", "NOTEBOOK_DOMAIN", "Component", "TrainingDomain"]
 
 @dataclasses.dataclass(frozen=True)
 class Component:
@@ -137,5 +137,15 @@ DEFAULT_DOMAIN = TrainingDomain(
         Component("dielectrics", "nk", first=(1.01, 3.0), second=(0.0, 0.0), share=0.94),
         Component("gulbrandsen-g1", "gulbrandsen", first=(0.0, 0.999), second=(1.0, 1.0), share=0.01),
         Component("metals", "nk", first=(0.1, 4.0), second=(1.0, 8.0), share=0.05),
+    )
+)
+
+
+#: The authors' public notebook: 99 % dielectrics η ∈ [1.01, 3] and 1 % Gulbrandsen g = 1 conductors (with
+#: ``grid_kind="mu"``, uniform in cos θ): the comparison point of the report's basis-fidelity section.
+NOTEBOOK_DOMAIN = TrainingDomain(
+    (
+        Component("dielectrics", "nk", first=(1.01, 3.0), second=(0.0, 0.0), share=0.99),
+        Component("gulbrandsen-g1", "gulbrandsen", first=(0.0, 0.999), second=(1.0, 1.0), share=0.01),
     )
 )
