@@ -28,10 +28,12 @@ from .quadrature import DEFAULT_ORDER, directional_albedo
 __all__ = [
     "AVERAGE_LUT",
     "BASIS_LUT",
+    "RGBA",
     "LUT_METHODS",
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
     "SHIPPED_LUTS",
+    "rgba_parts",
     "build_table",
     "pixel_convention",
     "interpolation_weights",
@@ -48,6 +50,20 @@ SCHLICK_LUT = "ggx_schlick_rgb.exr"
 #: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
 AVERAGE_LUT = "ggx_albedo_average.exr"
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
+
+#: Channels of one texture an engine samples.
+RGBA = ("R", "G", "B", "A")
+
+
+def rgba_parts(path, n_channels: int) -> list[tuple[Path, slice, tuple[str, ...]]]:
+    """How a table of ``n_channels`` ≤ 8 basis terms is stored: terms 0 … 3 in ``path`` (R, G, B, A), terms
+    4 … 7 in a second RGBA texture ``<stem>_2<suffix>`` (one more fetch in the shader)."""
+    n_channels = check_positive_int("n_channels", n_channels, low=1, high=8)
+    path = Path(path)
+    parts = [(path, slice(0, min(n_channels, 4)), RGBA[: min(n_channels, 4)])]
+    if n_channels > 4:
+        parts.append((path.with_name(f"{path.stem}_2{path.suffix}"), slice(4, n_channels), RGBA[: n_channels - 4]))
+    return parts
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 

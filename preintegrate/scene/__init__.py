@@ -21,14 +21,22 @@ the Fresnel equations of (η, κ) or of Gulbrandsen's (r, g), Schlick for ``f0``
 ``f0`` + ``f82``, any model of :data:`basis.approximations.APPROXIMATE_MODELS` for ``model``.
 
 **Candidate layouts** of a material: the Schlick table with F0 = F(0°) (exact for the Schlick family),
-the first K basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
-c0 + c1 = F90 kept exact), and, for a material given by a linear model of the references (F0 + F82,
-Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while
-its clamp is inactive). **Tables**: any combination of the Schlick table, one basis table and the
-models' own tables; the one with the fewest channels that lets every material meet the tolerance with
-one of its layouts. **Rows**: cropped to the union of the
+the first K generic basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
+c0 + c1 = F90 kept exact), a **scene basis** — four terms trained on the scene's own curves (every channel
+of every material), refined to minimise the worst error of F̄ over each material's roughness range
+(:func:`basis.training.refine_basis`), with four-point coefficients at its own fit angles; then five, six,
+… up to eight terms while the trained error stays above half of one 10-bit step (terms 4–7 go to a second
+RGBA table, ``<name>_2.exr``) — and, for a material given by a linear model of the references (F0 + F82,
+Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while its
+clamp is inactive). The scene basis is written beside its tables as ``scene_basis.json`` (curves, fit
+angles, content hash; every table and material entry names that hash), so the coefficients and the table
+always travel together. **Accuracy first**: a material that some layout holds to one 10-bit step
+(:data:`preintegrate.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
+**Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'
+own tables; the one with the fewest channels that holds every material to its aim with one of its layouts,
+then the fewest tables, then the most accurate. **Rows**: cropped to the union of the
 materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi − r_lo)/(H − 1)), with
-the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still meet the tolerance.
+the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim.
 
 **Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the
 midpoints between them (μo from 0.5/size up: below the first centre every engine reads the edge texel,

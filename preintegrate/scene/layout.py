@@ -1,7 +1,7 @@
 """The tables a scene may ship: a :class:`Layout` names one, its channels on the basis grid, and the
 weights with which a material reads it.
 
-Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``.
+Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``, ``scene_basis_layouts``.
 
 References
 ----------
@@ -15,29 +15,34 @@ import dataclasses
 import numpy as np
 
 from basis.angles import cos_theta
-from basis.coefficients import coefficients_least_squares_from_table
+from basis.coefficients import coefficients_from_table, coefficients_least_squares_from_table
 from basis.eigenbasis import Basis
 from basis.models import fresnel_model
+from basis.training import refine_basis
 
 from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
-from .files import SceneMaterial
+from .files import Scene, SceneMaterial
 
-__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout"]
+__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout", "scene_basis_layouts"]
 
 
 @dataclasses.dataclass(frozen=True)
 class Layout:
-    """One candidate table: Schlick's two channels, the first ``terms`` basis terms, or a linear model's own
-    channels (``model`` with the ``shape`` parameters that fix them)."""
+    """One candidate table: Schlick's two channels, the first ``terms`` basis terms, a linear model's own
+    channels (``model`` with the ``shape`` parameters that fix them), or the ``terms`` of a basis ``trained``
+    on the scene's own curves (on the generic basis' θ grid)."""
 
-    kind: str  # "schlick", "basis" or "model"
+    kind: str  # "schlick", "basis", "model" or "scene"
     terms: int = 0
     model: str = ""
     shape: tuple[tuple[str, float], ...] = ()
+    trained: Basis | None = dataclasses.field(default=None, compare=False, repr=False)
 
     @property
     def name(self) -> str:
-        """``schlick``, ``basis-K`` or ``model:NAME[:shape=value,…]``: the name in reports and files."""
+        """``schlick``, ``basis-K``, ``scene-basis`` or ``model:NAME[:shape=value,…]``: the name in reports and files."""
+        if self.kind == "scene":
+            return f"scene-basis-{self.terms}"
         if self.kind == "model":
             shape = ",".join(f"{key}={value!r}" for key, value in self.shape)
             return f"model:{self.model}" + (f":{shape}" if shape else "")
@@ -49,25 +54,31 @@ class Layout:
             return schlick_channels()
         if self.kind == "model":
             return model_channels(self.model, **dict(self.shape))
-        return basis_channels(_truncated(basis, self.terms))
+        return basis_channels(self.trained if self.kind == "scene" else _truncated(basis, self.terms))
 
     def values(self, basis: Basis) -> np.ndarray:
         """(M, n) channel functions on ``basis.theta`` (the basis curves exactly, on their own grid)."""
         if self.kind == "basis":
             return basis.curves[: self.terms].T
+        if self.kind == "scene":
+            return self.trained.evaluate(basis.theta)
         return self.channel_set(basis).functions(cos_theta(basis.theta))
 
     def file_name(self) -> str:
         if self.kind == "schlick":
             return "ggx_schlick_rg.exr"  # a scene keeps Schlick's two channels (the default build adds E as B)
+        if self.kind == "scene":
+            return "ggx_scene_basis_rgba.exr"  # terms 4 … 7, if any, go to a second table (lut.rgba_parts)
         if self.kind == "model":
             return f"ggx_{self.model}" + "".join(f"_{key}{value:g}" for key, value in self.shape) + ".exr"
         return f"ggx_basis_{'rgba'[: self.terms]}.exr"
 
     def coefficients(self, material: SceneMaterial, basis: Basis) -> np.ndarray | None:
         """(3, n) weights of a material: Schlick (F0, 1), the first K basis terms by least squares (c0 = F0
-        and c0 + c1 = F90 exact), or a linear model's own weights; None where the layout cannot represent
-        the material (another model's table)."""
+        and c0 + c1 = F90 exact), the scene basis' four-point fit (what it was refined for), or a linear
+        model's own weights; None where the layout cannot represent the material (another model's table)."""
+        if self.kind == "scene":
+            return coefficients_from_table(basis.theta, material.curve.T, self.trained)
         if self.kind == "model":
             if own_layout(material) != self:
                 return None
@@ -107,3 +118,23 @@ def own_layout(material: SceneMaterial) -> Layout | None:
     if model.channel_functions(**dict(shape)) == fresnel_model("schlick").channel_functions():
         return None
     return Layout("model", model=name, shape=shape)
+
+
+#: Terms of a scene basis: four (one RGBA table, as the generic one), then up to eight (a second RGBA table).
+SCENE_BASIS_TERMS = (4, 5, 6, 7, 8)
+
+
+def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], goal: float) -> list[Layout]:
+    """Bases trained on the scene's own curves (every channel of every material, on ``basis.theta``), each
+    refined (:func:`basis.training.refine_basis`) to minimise the worst error of F̄ over the materials'
+    roughness ranges (``operators``: name → texel weights (P, M)). Four terms, then one more at a time
+    while the worst trained error stays above half of ``goal`` (the other half is left to the table lookup)."""
+    groups = {material.name: (material.curve.T, scene.tolerance, operators[material.name]) for material in scene.materials}
+    layouts = []
+    for terms in SCENE_BASIS_TERMS:
+        trained = refine_basis(basis.theta, groups, n_terms=terms)
+        layouts.append(Layout("scene", terms=terms, trained=trained))
+        achieved = max(group["max_abs_error"] for group in trained.training["refinement"]["groups"].values())
+        if achieved <= 0.5 * goal:
+            break
+    return layouts

@@ -16,12 +16,19 @@ from basis.eigenbasis import Basis, resolve_basis
 from ..lut import interpolation_weights, texel_centres
 from ..quadrature import texel_weights
 from .files import Scene, SceneError
-from .layout import SCHLICK, Layout, basis_layout, own_layout
+from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts
 
-__all__ = ["ScenePlan", "plan_scene"]
+__all__ = ["ACCURACY_GOAL", "ScenePlan", "plan_scene"]
+
+#: What a scene build holds a material to before it saves bytes, where some layout can: one 10-bit step.
+#: The tolerance is the most a build may give away; a material whose best layout reaches this goal keeps it.
+ACCURACY_GOAL = 1.0 / 1023.0
 
 #: Roughness samples of the error grid: 2 × 17 − 1 over the scene's range.
 _EVAL_ROUGHNESS = 17
+#: The scene bases' training set: every 4th view cosine of the error grid, 5 roughnesses per material.
+_TRAINING_STRIDE = 4
+_TRAINING_ROUGHNESS = 5
 
 
 @dataclasses.dataclass
@@ -29,7 +36,7 @@ class ScenePlan:
     """What :func:`plan_scene` decided, with every material's achieved error."""
 
     scene: Scene
-    tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "model:…"
+    tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "scene-basis", "model:…"
     roughness_range: tuple[float, float]
     rows: int
     layouts: dict[str, str]
@@ -39,6 +46,7 @@ class ScenePlan:
     default_build_errors: dict[str, float]
     candidates: dict[str, Layout]
     table_values: dict[str, np.ndarray]  # the tables to write: (rows, columns, channels) per name of ``tables``
+    aims: dict[str, float]  # per material: the error the build held it to (ACCURACY_GOAL where reachable)
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
@@ -61,17 +69,24 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
-    own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
-    candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
-                  **{name: own_layouts[name] for name in sorted(own_layouts)}}
-    own = sorted(own_layouts)
-    functions = {name: layout.values(basis) for name, layout in candidates.items()}  # (M, n) on the θ grid
-
     # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
     w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
     exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
-    del w_eval
+    # the scene bases are trained on a coarser set of the same functionals (every 4th view cosine, 5 roughnesses
+    # per material): 1/25 of the work, and the plan below measures them on the full set like every layout
+    mu_train = mu_eval[::_TRAINING_STRIDE]
+    operators = {m.name: texel_weights(theta, mu_train[None, :], (np.linspace(*m.roughness, _TRAINING_ROUGHNESS)**2)[:, None])
+                 .reshape(-1, theta.size) for m in scene.materials}
+    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL)
+    del w_eval, operators
+    own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
+    candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
+                  **{layout.name: layout for layout in scene_bases},
+                  **{name: own_layouts[name] for name in sorted(own_layouts)}}
+    own = sorted(own_layouts)
+    functions = {name: layout.values(basis) for name, layout in candidates.items()}  # (M, n) on the θ grid
+
     w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
     table_rows = {name: w_rows @ values for name, values in functions.items()}  # the candidate tables (H, W, n)
     del w_rows
@@ -115,25 +130,32 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
             f"{best[worst]:.3g}; use tolerance >= {best[worst] * 1.01:.3g} (or another model for it)"
             + (f"; also failing: {sorted(set(failing) - {worst})}" if len(failing) > 1 else "")
         )
-    channels = {"schlick": 2, "basis-2": 2, "basis-3": 3, "basis-4": 4,
-                **{layout: functions[layout].shape[-1] for layout in own}}
-    # every combination of at most one basis table, the Schlick table and the models' own tables
+    # accuracy first: a material that some layout holds to ACCURACY_GOAL is held to it, the rest to the tolerance
+    aims = {name: min(tolerance, ACCURACY_GOAL) if value <= ACCURACY_GOAL else tolerance for name, value in best.items()}
+    channels = {name: functions[name].shape[-1] for name in functions}
+    # every combination of at most one basis table (generic or the scene's), the Schlick table and the models' own
     options = [tuple(x for x in (schlick, basis_table, *extra) if x)
-               for schlick in ("", "schlick") for basis_table in ("", "basis-2", "basis-3", "basis-4")
+               for schlick in ("", "schlick")
+               for basis_table in ("", "basis-2", "basis-3", "basis-4", *(layout.name for layout in scene_bases))
                for count in range(len(own) + 1) for extra in itertools.combinations(own, count)]
     options = [option for option in options if option]
 
     def assign(tables, errors) -> dict[str, str] | None:
         layouts = {}
         for material in scene.materials:
-            fitting = [t for t in tables if errors[t][material.name] <= tolerance]
+            fitting = [t for t in tables if errors[t][material.name] <= aims[material.name]]
             if not fitting:
                 return None
             layouts[material.name] = min(fitting, key=lambda t: errors[t][material.name])
         return layouts
 
+    def worst_share(tables) -> float:
+        layouts = assign(tables, full_errors)
+        return max(full_errors[layouts[m.name]][m.name] / aims[m.name] for m in scene.materials)
+
     feasible = [tables for tables in options if assign(tables, full_errors) is not None]
-    tables = min(feasible, key=lambda t: (sum(channels[x] for x in t), len(t)))
+    # fewest channels, then fewest tables, then the more accurate (e.g. the scene basis over the generic one)
+    tables = min(feasible, key=lambda t: (sum(channels[x] for x in t), len(t), worst_share(t)))
     # fewest nested rows that still meet the tolerance
     chosen_rows, chosen_errors = full, full_errors
     for level in range(levels + 1):
@@ -154,4 +176,5 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
         default_build_errors=default_best,
         candidates={name: candidates[name] for name in tables},
         table_values={name: table_rows[name][chosen_rows] for name in tables},
+        aims=aims,
     )

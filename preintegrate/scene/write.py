@@ -1,4 +1,5 @@
-"""Write a planned scene: its tables, ``scene_coefficients.json`` and ``scene_report.md``, as one transaction.
+"""Write a planned scene: its tables, ``scene_coefficients.json``, ``scene_report.md`` and, when a table holds
+the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), as one transaction.
 
 Public objects: ``write_scene``.
 """
@@ -13,21 +14,26 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
 
 from ..exr import write_luts
-from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes
-from .plan import ScenePlan
+from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_parts
+from .plan import ACCURACY_GOAL, ScenePlan
 
 __all__ = ["write_scene"]
 
 
-def _previous_tables(coefficients_path: Path) -> set[str]:
-    """The table files a scene built earlier into the same folder lists (``lut`` of its materials)."""
+#: The scene basis beside its table: the coefficients of ``scene_coefficients.json`` are on these curves.
+SCENE_BASIS_FILE = "scene_basis.json"
+
+
+def _previous_files(coefficients_path: Path) -> set[str]:
+    """The tables (``lut`` of its materials) and the scene basis a scene built earlier into the same folder lists."""
     try:
         document = json.loads(coefficients_path.read_text(encoding="utf-8"))
-        names = {entry["lut"] for entry in document["materials"].values()}
+        names = {entry.get(key) for entry in document["materials"].values() for key in ("lut", "second_lut")}
+        names.add((document.get("scene_basis") or {}).get("file"))
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return set()
-    return {name for name in names if isinstance(name, str) and Path(name).name == name and name.startswith("ggx_")
-            and name.endswith(".exr")}
+    return {name for name in names if isinstance(name, str) and Path(name).name == name
+            and ((name.startswith("ggx_") and name.endswith(".exr")) or name == SCENE_BASIS_FILE)}
 
 
 def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None) -> dict:
@@ -44,22 +50,36 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         if plan.rows > 1 else f"one row, at perceptual roughness r = {low:.6g} (engine: v = 0.5)"
     )
     convention = PIXEL_CONVENTION.replace("row j <-> perceptual roughness r = (j + 0.5) / height", rows_text)
-    items, names = [], {}
+    items, names, texts = [], {}, []
+    trained = {table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None}
     for table in plan.tables:
         layout = plan.candidates[table]
         channels = layout.channel_set(basis)
-        path = out / layout.file_name()
-        names[table] = path.name
-        items.append((path, plan.table_values[table], channels.channel_names, lut_attributes(
-            channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}", convention,
-            channel_set=table, roughness_range=f"{low:.9g},{high:.9g}", basis_hash=basis.content_hash,
-        )))
+        values = plan.table_values[table]
+        parts = (rgba_parts(out / layout.file_name(), channels.n_channels) if layout.kind in ("basis", "scene")
+                 else [(out / layout.file_name(), slice(None), channels.channel_names)])
+        names[table] = [path.name for path, _, _ in parts]
+        for path, terms, channel_names in parts:
+            attributes = lut_attributes(
+                channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}", convention,
+                channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
+                basis_hash=trained[table].content_hash if table in trained else basis.content_hash,
+                **({"terms": f"{terms.start}-{terms.stop - 1} of {channels.n_channels}"} if len(parts) > 1 else {}),
+            )
+            attributes["channels"] = ",".join(channel_names)  # this file's part of the channels
+            items.append((path, values[..., terms], channel_names, attributes))
+    scene_basis = next(iter(trained.values()), None)
+    if scene_basis is not None:
+        texts.append((out / SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
     materials = {
         material.name: {
             "target": material.description,
             "roughness": list(material.roughness),
             "layout": plan.layouts[material.name],
-            "lut": names[plan.layouts[material.name]],
+            "lut": names[plan.layouts[material.name]][0],
+            **({"second_lut": names[plan.layouts[material.name]][1]} if len(names[plan.layouts[material.name]]) > 1 else {}),
+            "basis_hash": (trained[plan.layouts[material.name]].content_hash if plan.layouts[material.name] in trained
+                           else basis.content_hash),
             "coefficients": plan.coefficients[material.name].tolist(),
             "max_abs_error_fbar": plan.errors[material.name],
             "max_abs_error_fbar_full_default_build": plan.default_build_errors[material.name],
@@ -69,9 +89,13 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     document = {
         "scene": Path(plan.scene.source).name, "basis_hash": basis.content_hash, "tolerance": plan.scene.tolerance,
         "space": plan.scene.space, "roughness_range": [low, high], "rows": plan.rows, "columns": plan.scene.size,
-        "layout": "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k",
+        "layout": ("coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
+                   "4-7 of a basis of more than four terms are R, G, B, A of second_lut"),
         "materials": materials,
     }
+    if scene_basis is not None:
+        document["scene_basis"] = {"file": SCENE_BASIS_FILE, "content_hash": scene_basis.content_hash,
+                                   "fit_angles": scene_basis.fit_angles.tolist()}
     # the tables, the coefficients and the report are renamed into place together (or not at all); the
     # report quotes the tables' sizes, so the tables are first encoded in a scratch folder of the system's
     # (nothing appears in ``out`` before the transaction, nothing is left there by a kill)
@@ -82,31 +106,36 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     full = {name: (reference_folder / name).stat().st_size for name in (BASIS_LUT, SCHLICK_LUT)
             if (reference_folder / name).exists()}
     left_out = [name for name in ("schlick", "basis-4") if name not in plan.tables]
+    scene_layouts = [name for name in plan.full_errors if name.startswith("scene-basis")]
+    table_list = ", ".join(f"{' + '.join(names[table])} ({table})" for table in plan.tables)
     report = [
         f"# Scene build: {Path(plan.scene.source).name}", "",
         (f"Tolerance {plan.scene.tolerance:.4g} on Fbar (max over each material's roughness range and all view "
-         f"angles, bilinear lookup), space {plan.scene.space}, basis {basis.content_hash}."), "",
+         f"angles, bilinear lookup), held to {ACCURACY_GOAL:.4g} (10 bits) where a layout can; space "
+         f"{plan.scene.space}, basis {basis.content_hash}"
+         + (f", scene basis {scene_basis.content_hash} ({SCENE_BASIS_FILE})" if scene_basis is not None else "") + "."), "",
         ("| material | roughness | layout | max abs error of Fbar | full default build | "
-         "error with Schlick, basis 2, 3, 4 terms (all rows) |"),
+         "error with Schlick, basis 2, 3, 4 terms, scene basis of 4… terms (all rows) |"),
         "|---|---|---|---|---|---|",
         *[f"| {m.name} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
           f"{plan.default_build_errors[m.name]:.2e} | "
-          + ", ".join(f"{plan.full_errors[layout][m.name]:.1e}" for layout in ("schlick", "basis-2", "basis-3", "basis-4"))
+          + ", ".join(f"{plan.full_errors[layout][m.name]:.1e}"
+                      for layout in ("schlick", "basis-2", "basis-3", "basis-4", *scene_layouts))
           + " |" for m in plan.scene.materials],
         "",
-        (f"Tables: {', '.join(f'{names[t]} ({t})' for t in plan.tables)}; {plan.rows} rows over roughness "
+        (f"Tables: {table_list}; {plan.rows} rows over roughness "
          f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.scene.size} columns."),
         f"Left out: {', '.join(left_out) if left_out else 'no table'}"
-        + ("" if "basis-4" in plan.tables or not any(t.startswith("basis") for t in plan.tables)
+        + ("" if "basis-4" in plan.tables or any(t.startswith("scene") for t in plan.tables) or not any(t.startswith("basis") for t in plan.tables)
            else f" (basis terms beyond {plan.tables[-1].split('-')[1]})") + ".",
         (f"Bytes: {sum(written.values()):,} written against {sum(full.values()):,} for the full default build "
          f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
     ]
     coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
-    previous = _previous_tables(coefficients_path)
-    paths = write_luts(items, texts=[(coefficients_path, json.dumps(document, indent=1) + "\n"),
+    previous = _previous_files(coefficients_path)
+    paths = write_luts(items, texts=[*texts, (coefficients_path, json.dumps(document, indent=1) + "\n"),
                                      (report_path, "\n".join(report) + "\n")])
-    for stale in previous - {path.name for path in paths}:  # tables of the scene built here before
+    for stale in previous - {path.name for path in paths}:  # tables (and scene basis) of the scene built here before
         (out / stale).unlink(missing_ok=True)
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "full_bytes": full, "text": "\n".join(report)}

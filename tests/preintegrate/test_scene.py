@@ -89,26 +89,33 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
 
 
 def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):
-    for tolerance, expected in ((DEFAULT_TOLERANCE, 4), (0.013, 3)):
-        plan = plan_scene(read_scene(scene_file(tmp_path, f"tolerance = {tolerance}\n" + DIELECTRICS)))
-        assert plan.tables == (f"basis-{expected}",)
-        full = plan.full_errors
-        assert all(full[f"basis-{expected}"][name] <= tolerance for name in plan.layouts)
-        assert any(full[f"basis-{expected - 1}"][name] > tolerance for name in plan.layouts)  # one term fewer fails
-        assert any(full["schlick"][name] > tolerance for name in plan.layouts)
+    """Four channels at 1/255, and then the scene's own basis, more accurate than the generic one; three
+    generic terms at 0.013, where one term fewer or Schlick fail."""
+    plan = plan_scene(read_scene(scene_file(tmp_path, f"tolerance = {DEFAULT_TOLERANCE}\n" + DIELECTRICS)))
+    full = plan.full_errors
+    assert plan.tables == ("scene-basis-4",)
+    assert all(full["scene-basis-4"][name] < full["basis-4"][name] for name in plan.layouts)
+    assert any(full["basis-3"][name] > DEFAULT_TOLERANCE for name in plan.layouts)
+    plan = plan_scene(read_scene(scene_file(tmp_path, "tolerance = 0.013\n" + DIELECTRICS)))
+    full = plan.full_errors
+    assert plan.tables == ("basis-3",)
+    assert all(full["basis-3"][name] <= 0.013 for name in plan.layouts)
+    assert any(full["basis-2"][name] > 0.013 for name in plan.layouts)  # one term fewer fails
+    assert any(full["schlick"][name] > 0.013 for name in plan.layouts)
 
 
 def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
     plan = plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS)))
     write_scene(plan, tmp_path / "out")
-    cropped, header = read_lut(tmp_path / "out" / "ggx_basis_rgba.exr")
+    cropped, header = read_lut(tmp_path / "out" / "ggx_scene_basis_rgba.exr")
     assert header["roughness_range"] == "0.2,0.5" and cropped.shape[0] == plan.rows < SIZE
+    channels = basis_channels(plan.candidates["scene-basis-4"].trained)
     rows = np.linspace(0.2, 0.5, plan.rows)
     # exact: the rows are integrated at their own roughness
-    direct = directional_albedo(basis_channels().functions, ((np.arange(SIZE) + 0.5) / SIZE)[None, :], (rows**2)[:, None])
+    direct = directional_albedo(channels.functions, ((np.arange(SIZE) + 0.5) / SIZE)[None, :], (rows**2)[:, None])
     np.testing.assert_allclose(cropped, direct, atol=2e-6)
-    # the full default-layout table, interpolated linearly in r, agrees within its interpolation error
-    full = build_table(basis_channels(), SIZE)
+    # the full table of the same channels, interpolated linearly in r, agrees within its interpolation error
+    full = build_table(channels, SIZE)
     centres = (np.arange(SIZE) + 0.5) / SIZE
     interpolated = np.stack([[np.interp(rows, centres, full[:, i, k]) for k in range(4)] for i in range(SIZE)]).transpose(2, 0, 1)
     curvature = np.max(np.abs(np.diff(full, 2, axis=0)), axis=0) / (1.0 / SIZE) ** 2  # max |∂²F̄/∂r²| per texel column
@@ -272,6 +279,6 @@ def test_a_device_or_huge_file_is_refused_unread(tmp_path):
 def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_path):
     out = tmp_path / "out"
     write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
-    assert (out / "ggx_basis_rgba.exr").exists()
+    assert (out / "ggx_scene_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
     assert sorted(p.name for p in out.iterdir()) == ["ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]

@@ -1,0 +1,95 @@
+"""Scene bases (issue 14): four to eight terms trained on a scene's own curves, written with their tables.
+
+Independent checks, for every example scene that a scene basis serves: texels of the written tables,
+combined with the written coefficients, against VNDF Monte Carlo of the material's exact curve (within the
+error the plan reports plus 4σ) and of the fitted curve Σ c_k b_k (4σ); the coefficients against a
+four-point fit recomputed from the written ``scene_basis.json`` (read and hash-checked by ``Basis.read``).
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from basis.angles import theta_spline
+from basis.coefficients import coefficients_from_table
+from basis.eigenbasis import Basis, default_basis
+from preintegrate.estimators import monte_carlo_albedo
+from preintegrate.exr import read_lut
+from preintegrate.lut import lut_lookup
+from preintegrate.scene import DEFAULT_TOLERANCE, plan_scene, read_scene, write_scene
+from preintegrate.scene.plan import ACCURACY_GOAL
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+#: What each example scene holds with the default tolerance (128 columns), measured by ``fresnel-lut scene``:
+#: the layout, and the materials a 128-column lookup keeps above one 10-bit step (bilinear in μo near
+#: grazing at roughness 0.15–0.2: the scene basis fits their curves to 3e-5, the table lookup costs 1.5e-3).
+EXPECTED = {
+    "metals_mid_roughness": ("scene-basis-4", set()),
+    "dielectrics": ("scene-basis-4", {"window", "pond", "ring stone"}),
+    "showcase": ("scene-basis-7", {"gold"}),
+}
+
+
+@pytest.fixture(scope="module", params=sorted(EXPECTED))
+def built(request, tmp_path_factory):
+    out = tmp_path_factory.mktemp(request.param)
+    plan = plan_scene(read_scene(EXAMPLES / f"{request.param}.toml"))
+    write_scene(plan, out)
+    return request.param, plan, out
+
+
+def test_the_scene_basis_is_chosen_and_holds_ten_bits_where_the_lookup_allows(built):
+    name, plan, _ = built
+    layout, lookup_limited = EXPECTED[name]
+    assert plan.tables == (layout,)
+    for material, error in plan.errors.items():
+        generic = plan.full_errors["basis-4"][material]
+        if material in lookup_limited:
+            assert ACCURACY_GOAL < error <= DEFAULT_TOLERANCE and error < generic
+        else:
+            assert error <= ACCURACY_GOAL < generic or error <= ACCURACY_GOAL
+
+
+def test_tables_coefficients_and_basis_travel_together(built):
+    _, plan, out = built
+    document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
+    trained = Basis.read(out / "scene_basis.json")  # verifies the file's hash against its numbers
+    assert document["scene_basis"]["content_hash"] == trained.content_hash
+    theta = default_basis().theta
+    for material in plan.scene.materials:
+        entry = document["materials"][material.name]
+        assert entry["basis_hash"] == trained.content_hash
+        for key in ("lut", "second_lut"):
+            if key in entry:
+                assert read_lut(out / entry[key])[1]["basis_hash"] == trained.content_hash
+        expected = coefficients_from_table(theta, material.curve.T, trained)
+        np.testing.assert_allclose(entry["coefficients"], expected, rtol=0, atol=1e-12)
+        assert ("second_lut" in entry) == (trained.n_terms > 4)
+
+
+def test_written_tables_against_monte_carlo(built):
+    _, plan, out = built
+    document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
+    trained = Basis.read(out / "scene_basis.json")
+    theta = default_basis().theta
+    low, high = plan.roughness_range
+    for index, material in enumerate(plan.scene.materials):
+        entry = document["materials"][material.name]
+        tables = [read_lut(out / entry[key])[0] for key in ("lut", "second_lut") if key in entry]
+        table = np.concatenate(tables, axis=-1)  # (rows, columns, K)
+        coefficients = np.array(entry["coefficients"])  # (3, K)
+        exact = theta_spline(theta, material.curve, axis=0)  # (3,) channels of the exact curve, spline in θ
+        roughness = material.roughness[1]
+        row = (roughness - low) / (high - low) * (plan.rows - 1) if plan.rows > 1 else 0.0
+        for column in (plan.scene.size // 2, plan.scene.size - 3):
+            mu_o = (column + 0.5) / plan.scene.size
+            fbar = coefficients @ lut_lookup(table, mu_o, (row + 0.5) / plan.rows)
+            mean, sigma = monte_carlo_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2,
+                                             samples=1_000_000, seed=index)
+            assert np.all(np.abs(fbar - mean) <= plan.errors[material.name] + 4.0 * sigma)
+            fitted, sigma = monte_carlo_albedo(lambda x: trained.evaluate_mu(np.clip(x, 0, 1)) @ coefficients.T, mu_o,
+                                               roughness**2, samples=1_000_000, seed=index)
+            assert np.all(np.abs(fbar - fitted) <= 4.0 * sigma + 2e-6)
