@@ -1,6 +1,7 @@
 // fresnel-basis: split-sum Fresnel from the preintegrated LUTs (GLSL 3.30+, 4.x, Vulkan; ES 3.00 / WebGL 2).
 //
-// Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
+// Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch;
+//                                                                                 5 to 8 terms, two)
 // Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
 //
 // LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
@@ -27,6 +28,18 @@ vec3 fresnelBasisSplitSum(sampler2D basisLut, float NdotV, float perceptualRough
 {
     vec4 b = textureLod(basisLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0);
     return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
+}
+
+// Five to eight terms (fresnel-lut basis --terms K; build and scene builds write terms 4..K-1 as R, G, B, A of a
+// second table <name>_2.exr): one more fetch. eR, eG, eB hold c4..c7; give 0 for the terms a K < 8 table
+// lacks (a texture without G, B or A reads them as 0, 0 and 1).
+vec3 fresnelBasisSplitSum8(sampler2D basisLut, sampler2D basisLut2, float NdotV, float perceptualRoughness,
+                           vec4 cR, vec4 cG, vec4 cB, vec4 eR, vec4 eG, vec4 eB)
+{
+    vec2 uv = fresnelLutCoordinates(NdotV, perceptualRoughness);
+    vec4 b = textureLod(basisLut, uv, 0.0);
+    vec4 e = textureLod(basisLut2, uv, 0.0);
+    return vec3(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
 }
 
 // Schlick's split sum for comparison: F0 per colour channel.

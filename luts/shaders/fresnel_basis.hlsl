@@ -23,6 +23,19 @@ float3 FresnelBasisSplitSum(Texture2D<float4> basisLut, SamplerState linearClamp
     return float3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
+// Five to eight terms (fresnel-lut basis --terms K; build and scene builds write terms 4..K-1 as R, G, B, A of a
+// second table <name>_2.exr): one more fetch. eR, eG, eB hold c4..c7; give 0 for the terms a K < 8 table
+// lacks (a texture without G, B or A reads them as 0, 0 and 1).
+float3 FresnelBasisSplitSum8(Texture2D<float4> basisLut, Texture2D<float4> basisLut2, SamplerState linearClamp,
+                             float NdotV, float perceptualRoughness, float4 cR, float4 cG, float4 cB,
+                             float4 eR, float4 eG, float4 eB)
+{
+    float2 uv = FresnelLutCoordinates(NdotV, perceptualRoughness);
+    float4 b = basisLut.SampleLevel(linearClamp, uv, 0);
+    float4 e = basisLut2.SampleLevel(linearClamp, uv, 0);
+    return float3(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
+}
+
 float3 FresnelSchlickSplitSum(Texture2D<float2> schlickLut, SamplerState linearClamp, float NdotV,
                               float perceptualRoughness, float3 F0)
 {

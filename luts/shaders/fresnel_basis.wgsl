@@ -23,6 +23,18 @@ fn fresnelBasisSplitSum(basisLut: texture_2d<f32>, linearClamp: sampler, NdotV: 
     return vec3<f32>(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
+// Five to eight terms (fresnel-lut basis --terms K; build and scene builds write terms 4..K-1 as R, G, B, A of a
+// second table <name>_2.exr): one more fetch. eR, eG, eB hold c4..c7; give 0 for the terms a K < 8 table
+// lacks (a texture without G, B or A reads them as 0, 0 and 1).
+fn fresnelBasisSplitSum8(basisLut: texture_2d<f32>, basisLut2: texture_2d<f32>, linearClamp: sampler, NdotV: f32,
+                         perceptualRoughness: f32, cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>, eR: vec4<f32>,
+                         eG: vec4<f32>, eB: vec4<f32>) -> vec3<f32> {
+    let uv = fresnelLutCoordinates(NdotV, perceptualRoughness);
+    let b = textureSampleLevel(basisLut, linearClamp, uv, 0.0);
+    let e = textureSampleLevel(basisLut2, linearClamp, uv, 0.0);
+    return vec3<f32>(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
+}
+
 fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, perceptualRoughness: f32,
                           F0: vec3<f32>) -> vec3<f32> {
     let scaleBias = textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;

@@ -122,6 +122,72 @@ def _expected() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return basis, F0 * scale_bias[:, :1] + scale_bias[:, 1:2], multiple
 
 
+SIX_TERMS_FRAGMENT = """#version 330
+{include}
+uniform sampler2D basisLut;
+uniform sampler2D basisLut2;
+uniform sampler2D inputs;
+uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec4 eR; uniform vec4 eG; uniform vec4 eB;
+layout(location = 0) out vec4 basisOut;
+void main() {{
+    vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
+    basisOut = vec4(fresnelBasisSplitSum8(basisLut, basisLut2, q.x, q.y, cR, cG, cB, eR, eG, eB), 1.0);
+}}
+"""
+
+
+def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path):
+    """A six-term basis (``basis --terms 6``, then ``build``): terms 0-3 in ggx_basis_rgba.exr, 4-5 in the R, G
+    of ggx_basis_rgba_2.exr, a two-channel texture whose A reads as 1 (its coefficient is 0). Measured:
+    max |GPU − Python| 1.4e-7."""
+    try:
+        import moderngl
+    except ImportError:
+        _missing("moderngl (the 'gpu' extra)")
+    from basis.training import build_basis
+    from preintegrate.cli import main
+
+    basis = build_basis(count=5000, n_terms=6, grid_size=128)
+    basis.write(tmp_path / "basis6.json")
+    assert main(["build", "--basis", str(tmp_path / "basis6.json"), "--size", "32", "--out", str(tmp_path)]) == 0
+    first, header = read_lut(tmp_path / BASIS_LUT)
+    second, second_header = read_lut(tmp_path / "ggx_basis_rgba_2.exr")
+    assert first.shape[-1] == 4 and second.shape[-1] == 2 and second_header["terms"] == "4-5 of 6"
+    coefficients = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77], basis)  # (3, 6)
+    try:
+        context = moderngl.create_standalone_context(backend="egl")
+    except Exception as error:  # noqa: BLE001 - no EGL/Mesa: a missing system library
+        _missing(f"a headless OpenGL context (Mesa's EGL: {error})")
+    try:
+        for unit, table in enumerate((first, second)):
+            texture = context.texture(table.shape[1::-1], table.shape[2], table.astype("f4").tobytes(), dtype="f4")
+            texture.repeat_x = texture.repeat_y = False
+            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            texture.use(unit)
+        n_dot_v, roughness = _grid()
+        inputs = context.texture((32, 32), 2, np.stack([n_dot_v, roughness], -1).astype("f4").tobytes(), dtype="f4")
+        inputs.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        inputs.use(2)
+        program = context.program(vertex_shader=VERTEX, fragment_shader=SIX_TERMS_FRAGMENT.format(include=INCLUDE))
+        program["basisLut"], program["basisLut2"], program["inputs"] = 0, 1, 2
+        extra = np.zeros((3, 4))
+        extra[:, :2] = coefficients[:, 4:]
+        for k, colour in enumerate("RGB"):
+            program[f"c{colour}"] = tuple(coefficients[k, :4])
+            program[f"e{colour}"] = tuple(extra[k])
+        target = context.texture((32, 32), 4, dtype="f4")
+        framebuffer = context.framebuffer(color_attachments=[target])
+        framebuffer.use()
+        quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
+        context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
+        gpu = np.frombuffer(framebuffer.read(components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
+    finally:
+        context.release()
+    clipped = [np.clip(values, 0.0, 1.0) for values in _grid()]
+    expected = lut_lookup(np.concatenate([first, second], axis=-1), *clipped) @ coefficients.T
+    np.testing.assert_allclose(gpu, expected, rtol=0, atol=1e-6)
+
+
 @pytest.mark.parametrize("mipmaps", [False, True], ids=["plain texture", "mipmapped texture"])
 def test_glsl_on_mesa_llvmpipe_matches_the_python_api(mipmaps):
     """Measured: max |GPU − Python| 1.1e-7 (float32) with and without mipmaps, 2.2e-7 with the multiple-
@@ -158,6 +224,8 @@ def test_glsl_include_compiles(version, tmp_path):
     source.write_text(head + INCLUDE + declarations + """
 void main() {
     colour = vec4(fresnelBasisSplitSum(lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25))
+                  + fresnelBasisSplitSum8(lut, lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25), vec4(0.1), vec4(0.2),
+                                          vec4(0.3))
                   + fresnelSchlickSplitSum(lut, 0.5, 0.3, vec3(0.04)), 1.0);
 }
 """, encoding="utf-8")
@@ -180,6 +248,9 @@ float4 PixelMain(float4 position : SV_Position) : SV_Target
 {
     return float4(FresnelBasisSplitSum(basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0), float4(0, 1, 0, 0),
                                        float4(0, 0, 1, 0))
+                  + FresnelBasisSplitSum8(basisLut, basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0),
+                                          float4(0, 1, 0, 0), float4(0, 0, 1, 0), float4(1, 0, 0, 0), float4(0, 1, 0, 0),
+                                          float4(0, 0, 1, 0))
                   + FresnelSchlickSplitSum(schlickLut, linearClamp, 0.5, 0.3, float3(0.04, 0.04, 0.04)), 1.0);
 }
 """, encoding="utf-8")
