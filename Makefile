@@ -4,11 +4,12 @@
 #   make report error against run time (report/README.md and plots, about 70 s; installs the plot extra)
 #   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
 #   make render     pictures: report/render/ (about 45 s)
+#   make fidelity   basis fidelity: report/fidelity.md and its plot (validation groups, frontier, error vs K; about 45 s)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: luts test basis report materials render clean-venv
+.PHONY: luts test basis report materials render fidelity clean-venv
 
 # what the shader tests run on: the GLSL/HLSL reference compiler, Mesa's software OpenGL with headless EGL and
 # its software Vulkan driver (WebGPU's backend here)
@@ -40,6 +41,9 @@ report: $(STAMP)
 materials: $(STAMP)
 	$(VENV)/bin/fresnel-lut materials
 	$(VENV)/bin/fresnel-lut report --materials --out report
+
+fidelity: $(STAMP)
+	$(VENV)/bin/fresnel-lut report --fidelity --out report
 
 render: $(STAMP)
 	$(VENV)/bin/fresnel-lut render --out report/render

@@ -10,7 +10,7 @@ Usage::
     fresnel-lut materials [--presets FILE] [--from-database]
     fresnel-lut scene FILE --out DIR
     fresnel-lut render [--out DIR] [--quick]
-    fresnel-lut report [--out DIR] [--quick | --materials]
+    fresnel-lut report [--out DIR] [--quick | --materials | --fidelity [--quick]]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
 leaves every previously written file untouched. This module is the only one that knows about both
@@ -418,6 +418,8 @@ def command_report(arguments) -> int:
     folder = _output_folder("--out", arguments.out)
     if arguments.materials:
         return _materials_report(folder)
+    if arguments.fidelity:
+        return _fidelity_report(folder, arguments.quick)
     from .report import write_report  # imports the studies only when asked
 
     result = write_report(folder, quick=arguments.quick)
@@ -426,6 +428,25 @@ def command_report(arguments) -> int:
         print(f"  {path}  {_size_text(path)}")
     for target, measured, reached in result["targets"]:
         print(f"  target: {target}: {measured} -> {reached}")
+    return 0
+
+
+def _fidelity_report(folder: Path, quick: bool) -> int:
+    from .report.basis_fidelity import TARGETS, fidelity_markdown, fidelity_study, plot_fidelity
+
+    result = fidelity_study(quick=quick, progress=lambda text: print(f"  {text}", flush=True))
+    markdown = folder / "fidelity.md"
+    write_text(markdown, "# Basis fidelity (issue 14)\n\n" + fidelity_markdown(result))
+    written = [markdown]
+    try:
+        written.append(plot_fidelity(result, folder / "basis_fidelity.png"))
+    except ParameterError as error:  # matplotlib is the optional plot extra
+        print(f"  no plot: {error}")
+    shipped = result["errors"]["shipped"]["four-point"]
+    for group, (measure, bound) in TARGETS.items():
+        print(f"  shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})")
+    for path in written:
+        print(f"  {path}  {_size_text(path)}")
     return 0
 
 
@@ -537,6 +558,8 @@ def make_parser() -> argparse.ArgumentParser:
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")
     report.add_argument("--quick", action="store_true", help="small tables and sets (about 7 s; the full report about 70 s)")
+    report.add_argument("--fidelity", action="store_true",
+                        help="basis fidelity only: the validation groups, the frontier and error against K (fidelity.md)")
     report.add_argument("--materials", action="store_true",
                         help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)")
     report.set_defaults(run=command_report)

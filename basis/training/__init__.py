@@ -1,6 +1,6 @@
 """Building the eigen-basis: the training set, the iterative SVD, the fit angles, the held-out materials.
 
-Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN`` (:mod:`.domain`, the seeded training
+Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN``, ``REFINEMENT_DOMAINS`` (:mod:`.domain`, the seeded training
 set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
 ``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``
 (:mod:`.builder`); ``holdout_materials``, ``validation_groups``, ``FIGURE_2``, ``VALIDATION_SEED`` (:mod:`.holdout`, never used in
@@ -13,7 +13,7 @@ References
 """
 
 from .builder import NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
-from .domain import DEFAULT_DOMAIN, NOTEBOOK_DOMAIN, Component, TrainingDomain
+from .domain import DEFAULT_DOMAIN, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, Component, TrainingDomain
 from .holdout import FIGURE_2, VALIDATION_SEED, holdout_materials, validation_groups
 from .refine import refine_basis
 from .svd import MIN_SPAN, GramAccumulator, build_curves
@@ -23,6 +23,7 @@ __all__ = [
     "FIGURE_2",
     "MIN_SPAN",
     "NOTEBOOK_DOMAIN",
+    "REFINEMENT_DOMAINS",
     "NOTEBOOK_ANGLES",
     "TALK_ANGLES",
     "VALIDATION_SEED",

@@ -29,7 +29,7 @@ from ..gulbrandsen import gulbrandsen_to_nk
 from ..parallel import worker_count
 from ..validation import ParameterError, check_positive_int
 
-__all__ = ["DEFAULT_DOMAIN", "NOTEBOOK_DOMAIN", "Component", "TrainingDomain"]
+__all__ = ["DEFAULT_DOMAIN", "NOTEBOOK_DOMAIN", "REFINEMENT_DOMAINS", "Component", "TrainingDomain"]
 
 @dataclasses.dataclass(frozen=True)
 class Component:
@@ -149,3 +149,18 @@ NOTEBOOK_DOMAIN = TrainingDomain(
         Component("gulbrandsen-g1", "gulbrandsen", first=(0.0, 0.999), second=(1.0, 1.0), share=0.01),
     )
 )
+
+
+#: The groups a minimax refinement (:func:`basis.training.refine_basis`) of a generic basis weighs against each
+#: other: the validation groups' boxes (drawn with their own seed) and, for the talk's Figure 2 material, the
+#: "showcase" box around it (Gulbrandsen r 0.3–0.6 with g = 0 or 1: η up to 5.8 dielectrics and g = 1
+#: conductors), never the material itself.
+REFINEMENT_DOMAINS = {
+    "dielectrics": TrainingDomain((Component("dielectrics", "nk", first=(1.2, 2.9), second=(0.0, 0.0), share=1.0),)),
+    "metals": TrainingDomain((Component("metals", "nk", first=(0.1, 4.0), second=(1.0, 8.0), share=1.0, first_log=True),)),
+    "showcase": TrainingDomain((
+        Component("showcase-g0", "gulbrandsen", first=(0.3, 0.6), second=(0.0, 0.0), share=0.5),
+        Component("showcase-g1", "gulbrandsen", first=(0.3, 0.6), second=(1.0, 1.0), share=0.5),
+    )),
+    "gulbrandsen": TrainingDomain((Component("gulbrandsen", "gulbrandsen", first=(0.0, 0.9), second=(0.0, 1.0), share=1.0),)),
+}

@@ -132,7 +132,7 @@ def refine_basis(
         counts as error / tolerance, where the error is the fit's over θ, or the operator (P, M) applied to it
         (e.g. :func:`preintegrate.quadrature.texel_weights` over a material's roughness range: the error of F̄).
     n_terms : int
-        K in [3, 8].
+        K in [2, 8] (with K = 2 only the shape of b1 moves: the fit is F0 and F90).
     start : Basis, optional
         The basis to refine (its angles are the starting angles); default the plain SVD of the curves, whose
         elements beyond the curves' rank (fewer distinct curves than terms) are the shipped basis' smooth ones.
@@ -151,7 +151,7 @@ def refine_basis(
     from scipy.optimize import minimize
 
     theta = check_theta_grid("theta", theta)
-    n_terms = check_positive_int("n_terms", n_terms, low=3, high=8)
+    n_terms = check_positive_int("n_terms", n_terms, low=2, high=8)
     dictionary_terms = check_positive_int("dictionary_terms", dictionary_terms, low=1, high=32)
     iterations = check_positive_int("iterations", iterations, low=1, high=100_000)
     if not groups:
