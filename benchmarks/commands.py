@@ -44,8 +44,9 @@ def _jobs(folder: Path, full: bool, tree: Path | None) -> list[tuple[str, list[s
         ("fresnel-lut build", lut + ["build", "--out", str(folder / "build")], "<= 1.3 s"),
         ("coefficients_from_nk, 10^6 materials (in-process time)", [sys.executable, "-c", COEFFICIENTS_1E6], "0.30 s"),
     ]
+    # the showcase trains its scene basis up to seven terms (issue 14); the others stop at four
     jobs += [(f"fresnel-lut scene examples/{scene.name}", lut + ["scene", str(scene), "--out", str(folder / scene.stem)],
-              "<= 3 s") for scene in sorted((ROOT / "examples").glob("*.toml"))]
+              "<= 8 s" if scene.stem == "showcase" else "<= 3 s") for scene in sorted((ROOT / "examples").glob("*.toml"))]
     jobs += [
         ("fresnel-lut materials", lut + ["materials", "--presets", str(folder / "materials.json")], "<= 30 s"),
         ("fresnel-lut basis --count 1000000", lut + ["basis", "--count", "1000000", "--out", str(folder / "b.json")], "<= 20 s"),

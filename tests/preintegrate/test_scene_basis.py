@@ -112,3 +112,16 @@ def test_one_material_alone_is_reproduced_to_1e_4_at_the_texels(tmp_path):
     exact = theta_spline(default_basis().theta, material.curve, axis=0)
     direct = directional_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o[None, :], (rows**2)[:, None])
     assert np.max(np.abs(table @ plan.coefficients["figure 2"].T - direct)) <= 1e-4
+
+
+def test_a_scene_build_is_reproducible_whatever_the_blas_threads(tmp_path):
+    """The same scene gives the same bytes (tables, scene basis, coefficients) with 1 or 2 BLAS threads."""
+    from threadpoolctl import threadpool_limits
+
+    outputs = []
+    for threads in (1, 2):
+        with threadpool_limits(limits=threads, user_api="blas"):
+            write_scene(plan_scene(read_scene(EXAMPLES / "metals_mid_roughness.toml")), tmp_path / str(threads))
+        outputs.append({path.name: path.read_bytes() for path in sorted((tmp_path / str(threads)).iterdir())})
+    assert outputs[0].keys() == outputs[1].keys() and "scene_basis.json" in outputs[0]
+    assert all(outputs[0][name] == outputs[1][name] for name in outputs[0])
