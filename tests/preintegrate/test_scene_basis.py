@@ -89,10 +89,10 @@ def test_written_tables_against_monte_carlo(built):
             mu_o = (column + 0.5) / plan.scene.size
             fbar = coefficients @ lut_lookup(table, mu_o, (row + 0.5) / plan.rows)
             mean, sigma = monte_carlo_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2,
-                                             samples=1_000_000, seed=index)
+                                             samples=400_000, seed=index)
             assert np.all(np.abs(fbar - mean) <= plan.errors[material.name] + 4.0 * sigma)
             fitted, sigma = monte_carlo_albedo(lambda x: trained.evaluate_mu(np.clip(x, 0, 1)) @ coefficients.T, mu_o,
-                                               roughness**2, samples=1_000_000, seed=index)
+                                               roughness**2, samples=400_000, seed=index)
             assert np.all(np.abs(fbar - fitted) <= 4.0 * sigma + 2e-6)
 
 
@@ -121,7 +121,7 @@ def test_a_scene_build_is_reproducible_whatever_the_blas_threads(tmp_path):
     outputs = []
     for threads in (1, 2):
         with threadpool_limits(limits=threads, user_api="blas"):
-            write_scene(plan_scene(read_scene(EXAMPLES / "metals_mid_roughness.toml")), tmp_path / str(threads))
+            write_scene(plan_scene(read_scene(EXAMPLES / "dielectrics.toml")), tmp_path / str(threads))
         outputs.append({path.name: path.read_bytes() for path in sorted((tmp_path / str(threads)).iterdir())})
     assert outputs[0].keys() == outputs[1].keys() and "scene_basis.json" in outputs[0]
     assert all(outputs[0][name] == outputs[1][name] for name in outputs[0])
