@@ -390,11 +390,11 @@ def command_scene(arguments) -> int:
     scene = read_scene(arguments.file)
     print(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {scene.size} columns) ...",
           flush=True)
-    plan = plan_scene(scene)  # refuses before anything is written
+    plan = plan_scene(scene, progress=lambda text: print(f"  {text}", flush=True))  # refuses before anything is written
     result = write_scene(plan, out)
     print(result["text"])
     print(f"scene built in {time.perf_counter() - started:.1f} s:")
-    for path in [*result["tables"], result["coefficients"], result["report"]]:
+    for path in [*result["tables"], *result["scene_basis"], result["coefficients"], result["report"]]:
         print(f"  {path}  {_size_text(path)}")
     return 0
 

@@ -11,6 +11,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 
 import numpy as np
 
@@ -124,7 +125,8 @@ def own_layout(material: SceneMaterial) -> Layout | None:
 SCENE_BASIS_TERMS = (4, 5, 6, 7, 8)
 
 
-def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], goal: float) -> list[Layout]:
+def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], goal: float,
+                        progress: Callable[[str], None] | None = None) -> list[Layout]:
     """Bases trained on the scene's own curves (every channel of every material, on ``basis.theta``), each
     refined (:func:`basis.training.refine_basis`) to minimise the worst error of F̄ over the materials'
     roughness ranges (``operators``: name → texel weights (P, M)). Four terms, then one more at a time
@@ -137,6 +139,8 @@ def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndar
         trained = refine_basis(basis.theta, groups, n_terms=terms, dictionary_terms=6, powers=(64.0,), iterations=150)
         layouts.append(Layout("scene", terms=terms, trained=trained))
         achieved = max(group["max_abs_error"] for group in trained.training["refinement"]["groups"].values())
+        if progress is not None:
+            progress(f"scene basis of {terms} terms: worst trained Fbar error {achieved:.2e}")
         if achieved <= 0.5 * goal:
             break
     return layouts

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -49,9 +50,10 @@ class ScenePlan:
     aims: dict[str, float]  # per material: the error the build held it to (ACCURACY_GOAL where reachable)
 
 
-def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
+def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str], None] | None = None) -> ScenePlan:
     """Choose tables, layouts and rows (module docstring); raises :class:`SceneError` if a material cannot
-    meet the tolerance with any layout, naming it and the smallest tolerance that would do."""
+    meet the tolerance with any layout, naming it and the smallest tolerance that would do. ``progress``
+    receives a line per trained scene basis."""
     basis = resolve_basis(basis)
     theta = basis.theta
     low = min(m.roughness[0] for m in scene.materials)
@@ -78,7 +80,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None) -> ScenePlan:
     mu_train = mu_eval[::_TRAINING_STRIDE]
     operators = {m.name: texel_weights(theta, mu_train[None, :], (np.linspace(*m.roughness, _TRAINING_ROUGHNESS)**2)[:, None])
                  .reshape(-1, theta.size) for m in scene.materials}
-    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL)
+    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
     del w_eval, operators
     own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
     candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},

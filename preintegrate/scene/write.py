@@ -138,4 +138,5 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     for stale in previous - {path.name for path in paths}:  # tables (and scene basis) of the scene built here before
         (out / stale).unlink(missing_ok=True)
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
+            "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
             "full_bytes": full, "text": "\n".join(report)}
