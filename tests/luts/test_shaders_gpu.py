@@ -70,7 +70,11 @@ void main() { gl_Position = vec4(position, 0.0, 1.0); }
 """
 
 
-def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
+def _draw(fragment: str, tables, uniforms: dict, outputs: int, mipmaps: bool = False) -> list[np.ndarray]:
+    """Run ``fragment`` on Mesa's llvmpipe (headless EGL) over a 32 × 32 framebuffer whose fragments read
+    their (NdotV, r) of :func:`_grid` from texture unit len(tables); ``tables`` are bound to units 0, 1, …
+    with bilinear filtering and clamp to edge (and mipmaps if asked). The first three channels of each of
+    the ``outputs`` colour attachments, as (1024, 3) arrays."""
     try:
         import moderngl
     except ImportError:
@@ -80,9 +84,8 @@ def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
     except Exception as error:  # noqa: BLE001 - no EGL/Mesa: a missing system library
         _missing(f"a headless OpenGL context (Mesa's EGL: {error})")
     try:
-        tables = []
-        for unit, table in enumerate(shipped_tables()):
-            table = table.astype("f4")
+        for unit, table in enumerate(tables):
+            table = np.asarray(table, dtype="f4")
             texture = context.texture(table.shape[1::-1], table.shape[2], table.tobytes(), dtype="f4")
             texture.repeat_x = texture.repeat_y = False  # clamp to edge
             if mipmaps:
@@ -91,26 +94,29 @@ def _render(mipmaps: bool) -> tuple[np.ndarray, np.ndarray]:
             else:
                 texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             texture.use(unit)
-            tables.append(texture)
         n_dot_v, roughness = _grid()
         inputs = context.texture((32, 32), 2, np.stack([n_dot_v, roughness], -1).astype("f4").tobytes(), dtype="f4")
         inputs.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        inputs.use(2)
-        program = context.program(vertex_shader=VERTEX, fragment_shader=FRAGMENT.format(include=INCLUDE))
-        program["basisLut"], program["schlickLut"], program["inputs"] = 0, 1, 2
-        for k, name in enumerate(("cR", "cG", "cB")):
-            program[name] = tuple(GOLD[k])
-        program["F0"] = tuple(F0)
-        program["averages"] = tuple(default_basis().hemispherical_averages)
-        targets = [context.texture((32, 32), 4, dtype="f4") for _ in range(3)]
+        inputs.use(len(tables))
+        program = context.program(vertex_shader=VERTEX, fragment_shader=fragment)
+        program["inputs"] = len(tables)
+        for name, value in uniforms.items():
+            program[name] = value
+        targets = [context.texture((32, 32), 4, dtype="f4") for _ in range(outputs)]
         framebuffer = context.framebuffer(color_attachments=targets)
         framebuffer.use()
         quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
         context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
-        return tuple(np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
-                     for k in range(3))
+        return [np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
+                for k in range(outputs)]
     finally:
         context.release()
+
+
+def _render(mipmaps: bool) -> list[np.ndarray]:
+    uniforms = {"basisLut": 0, "schlickLut": 1, **{name: tuple(GOLD[k]) for k, name in enumerate(("cR", "cG", "cB"))},
+                "F0": tuple(F0), "averages": tuple(default_basis().hemispherical_averages)}
+    return _draw(FRAGMENT.format(include=INCLUDE), shipped_tables(), uniforms, outputs=3, mipmaps=mipmaps)
 
 
 def _expected() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -140,10 +146,6 @@ def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path)
     """A six-term basis (``basis --terms 6``, then ``build``): terms 0-3 in ggx_basis_rgba.exr, 4-5 in the R, G
     of ggx_basis_rgba_2.exr, a two-channel texture whose A reads as 1 (its coefficient is 0). Measured:
     max |GPU − Python| 1.4e-7."""
-    try:
-        import moderngl
-    except ImportError:
-        _missing("moderngl (the 'gpu' extra)")
     from basis.training import build_basis
     from preintegrate.cli import main
 
@@ -154,35 +156,11 @@ def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path)
     second, second_header = read_lut(tmp_path / "ggx_basis_rgba_2.exr")
     assert first.shape[-1] == 4 and second.shape[-1] == 2 and second_header["terms"] == "4-5 of 6"
     coefficients = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77], basis)  # (3, 6)
-    try:
-        context = moderngl.create_standalone_context(backend="egl")
-    except Exception as error:  # noqa: BLE001 - no EGL/Mesa: a missing system library
-        _missing(f"a headless OpenGL context (Mesa's EGL: {error})")
-    try:
-        for unit, table in enumerate((first, second)):
-            texture = context.texture(table.shape[1::-1], table.shape[2], table.astype("f4").tobytes(), dtype="f4")
-            texture.repeat_x = texture.repeat_y = False
-            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            texture.use(unit)
-        n_dot_v, roughness = _grid()
-        inputs = context.texture((32, 32), 2, np.stack([n_dot_v, roughness], -1).astype("f4").tobytes(), dtype="f4")
-        inputs.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        inputs.use(2)
-        program = context.program(vertex_shader=VERTEX, fragment_shader=SIX_TERMS_FRAGMENT.format(include=INCLUDE))
-        program["basisLut"], program["basisLut2"], program["inputs"] = 0, 1, 2
-        extra = np.zeros((3, 4))
-        extra[:, :2] = coefficients[:, 4:]
-        for k, colour in enumerate("RGB"):
-            program[f"c{colour}"] = tuple(coefficients[k, :4])
-            program[f"e{colour}"] = tuple(extra[k])
-        target = context.texture((32, 32), 4, dtype="f4")
-        framebuffer = context.framebuffer(color_attachments=[target])
-        framebuffer.use()
-        quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
-        context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
-        gpu = np.frombuffer(framebuffer.read(components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
-    finally:
-        context.release()
+    extra = np.zeros((3, 4))
+    extra[:, :2] = coefficients[:, 4:]
+    uniforms = {"basisLut": 0, "basisLut2": 1, **{f"c{colour}": tuple(coefficients[k, :4]) for k, colour in enumerate("RGB")},
+                **{f"e{colour}": tuple(extra[k]) for k, colour in enumerate("RGB")}}
+    (gpu,) = _draw(SIX_TERMS_FRAGMENT.format(include=INCLUDE), (first, second), uniforms, outputs=1)
     clipped = [np.clip(values, 0.0, 1.0) for values in _grid()]
     expected = lut_lookup(np.concatenate([first, second], axis=-1), *clipped) @ coefficients.T
     np.testing.assert_allclose(gpu, expected, rtol=0, atol=1e-6)
