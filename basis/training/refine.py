@@ -135,9 +135,10 @@ def refine_basis(
         K in [2, 8] (with K = 2 only the shape of b1 moves: the fit is F0 and F90).
     start : Basis, optional
         The basis to refine (its angles are the starting angles); default the plain SVD of the curves, whose
-        elements beyond the curves' rank (fewer distinct curves than terms) are the shipped basis' smooth ones.
+        elements beyond the curves' rank (fewer distinct shapes than terms) are smooth fillers: the shipped
+        basis' elements, then sin(jπ cos θ).
     dictionary_terms : int
-        D, the SVD curves each b_k may mix in, in [1, 32] (fewer when the curves' rank is lower).
+        D, the SVD curves each b_k may mix in, in [1, 14] (fewer when the curves' rank is lower).
     powers : sequence of float
         The p of each continuation stage, each ≥ 2.
     iterations : int
@@ -152,7 +153,7 @@ def refine_basis(
 
     theta = check_theta_grid("theta", theta)
     n_terms = check_positive_int("n_terms", n_terms, low=2, high=8)
-    dictionary_terms = check_positive_int("dictionary_terms", dictionary_terms, low=1, high=32)
+    dictionary_terms = check_positive_int("dictionary_terms", dictionary_terms, low=1, high=MAX_ELEMENTS - 2)
     iterations = check_positive_int("iterations", iterations, low=1, high=100_000)
     if not groups:
         raise ParameterError("refine_basis needs at least one group of curves")
@@ -185,10 +186,8 @@ def refine_basis(
         residual = np.asarray(stats["residual_rms"])
         meaningful = 2 + int(np.count_nonzero(residual[1:-1] > RANK_TOLERANCE * max(residual[0], 1e-300)))
         if start is None:
-            filler = default_basis().evaluate(theta).T
-            start_curves = np.concatenate([svd[:min(n_terms, meaningful)], filler[min(n_terms, meaningful):n_terms]])
-            if start_curves.shape[0] < n_terms:
-                raise ParameterError(f"the shipped basis has {filler.shape[0]} terms: too few to fill {n_terms}")
+            shaped = min(n_terms, meaningful)
+            start_curves = np.concatenate([svd[:shaped], _smooth_fillers(theta, shaped)[: n_terms - shaped]])
             dictionary, angles = svd[n_terms:meaningful], np.linspace(1.45, 1.2, n_terms - 2)
         else:
             if start.n_terms != n_terms:
@@ -217,6 +216,14 @@ def refine_basis(
             "start": start.content_hash if start is not None else "svd",
         }
     })
+
+
+def _smooth_fillers(theta: np.ndarray, first: int) -> np.ndarray:
+    """Smooth elements for a basis whose training curves have fewer shapes than terms: the shipped basis'
+    elements from index ``first`` on, then sin(jπ cos θ), j = 1, 2, … (even in θ, zero at 0 and π/2)."""
+    shipped = default_basis().evaluate(theta).T[max(first, 2):]
+    waves = np.sin(np.arange(1, MAX_ELEMENTS + 1)[:, None] * np.pi * np.cos(theta)[None, :])
+    return np.concatenate([shipped, waves])
 
 
 def _conventional(curves: np.ndarray) -> np.ndarray:

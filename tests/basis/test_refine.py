@@ -97,3 +97,15 @@ def test_refinement_is_reproducible(groups):
 def test_bad_groups_are_refused(bad, message):
     with pytest.raises(ParameterError, match=message):
         refine_basis(THETA, bad)
+
+
+def test_more_terms_than_shapes_are_filled_with_smooth_curves():
+    """Two distinct curves and eight terms: the elements beyond their rank are smooth fillers (the shipped
+    basis' and sine waves in cos θ), the system stays solvable and the two curves are fitted to 1e-4."""
+    eta, kappa = np.array([1.5, 0.2]), np.array([0.0, 3.0])
+    refined = refine_basis(THETA, {"two": (curves_of(eta, kappa), 1e-3)}, n_terms=8, iterations=50)
+    assert refined.n_terms == 8 and np.linalg.cond(refined.evaluate(refined.fit_angles)) < 1e6
+    assert four_point_error(refined, eta, kappa) < 1e-4
+    # a rounding-noise element (scaled to max 1) flips sign between samples: second differences of order 1;
+    # measured here 0.12 (the filler sin(4π cos θ) and its refined mixtures, on this 129-point grid)
+    assert np.max(np.abs(np.diff(refined.curves, 2, axis=1))) < 0.3
