@@ -135,7 +135,8 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     previous = _previous_files(coefficients_path)
     paths = write_luts(items, texts=[*texts, (coefficients_path, json.dumps(document, indent=1) + "\n"),
                                      (report_path, "\n".join(report) + "\n")])
-    for stale in previous - {path.name for path in paths}:  # tables (and scene basis) of the scene built here before
+    written_now = {path.name for path in paths} | {Path(path).name for path, _ in texts}
+    for stale in previous - written_now:  # tables (and scene basis) of the scene built here before
         (out / stale).unlink(missing_ok=True)
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],

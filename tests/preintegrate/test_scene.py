@@ -278,7 +278,8 @@ def test_a_device_or_huge_file_is_refused_unread(tmp_path):
 
 def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_path):
     out = tmp_path / "out"
-    write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
-    assert (out / "ggx_scene_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
+    for _ in range(2):  # the same scene again: its own scene basis is not taken for a stale file
+        write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
+        assert (out / "ggx_scene_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
     assert sorted(p.name for p in out.iterdir()) == ["ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
