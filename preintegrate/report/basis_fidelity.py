@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.angles import cos_theta
-from basis.coefficients import coefficients_least_squares_from_table
+from basis.coefficients import coefficients_from_samples, coefficients_from_table, coefficients_least_squares_from_table
 from basis.eigenbasis import Basis, default_basis
 from basis.training import (FIGURE_2, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, build_basis, refine_basis,
                             validation_groups)
@@ -99,7 +99,7 @@ def refined_basis(tolerances: dict[str, float], start: Basis | None = None, per_
 
 def _coefficients(basis: Basis, group: Callable, fit: str) -> np.ndarray:
     if fit == "four-point":
-        return np.linalg.solve(basis.evaluate(basis.fit_angles), group(cos_theta(basis.fit_angles)).T).T
+        return coefficients_from_samples(group(cos_theta(basis.fit_angles)), basis)
     return coefficients_least_squares_from_table(basis.theta, group(cos_theta(basis.theta)), basis, weight="minimax")
 
 
@@ -129,9 +129,10 @@ def _figure_2_at_its_roughness(basis: Basis, theta: np.ndarray) -> float:
 
 def terms_sweep(terms, groups, theta, weights, count: int, progress=None, columns: int = 64) -> dict:
     """Error against K: the generic build (``n_terms=K``, the default domain, greedy fit angles) per group, and
-    a scene basis of ``examples/showcase.toml`` trained on its F̄ (max over its materials of max |ΔF̄| at
-    ``columns`` view cosines and 9 roughnesses of its range)."""
+    a scene basis of ``examples/showcase.toml`` trained as ``fresnel-lut scene`` trains it (max over its
+    materials of max |ΔF̄| at ``columns`` view cosines and the training roughnesses of each range)."""
     from ..scene import read_scene
+    from ..scene.layout import train_scene_basis, training_operators
 
     generic = {}
     for k in terms:
@@ -141,31 +142,19 @@ def terms_sweep(terms, groups, theta, weights, count: int, progress=None, column
             progress(f"K = {k}: generic basis")
     scene = read_scene(Path(__file__).resolve().parents[2] / "examples" / "showcase.toml")
     shipped = default_basis()
-    operators = {}
-    for material in scene.materials:
-        mu_o = lut_axes(columns)[0]
-        alpha = roughness_to_alpha(np.linspace(*material.roughness, 9))
-        operators[material.name] = texel_weights(shipped.theta, mu_o[None, :], alpha[:, None]).reshape(-1, shipped.theta.size)
+    operators = training_operators(scene, shipped, lut_axes(columns)[0])
     scene_errors = {}
     for k in terms:
-        trained = refine_basis(shipped.theta, {m.name: (m.curve.T, 1.0, operators[m.name]) for m in scene.materials},
-                               n_terms=k)
+        trained = train_scene_basis(scene, shipped, operators, k)
         values = trained.evaluate(shipped.theta)
         worst = {}
         for material in scene.materials:
-            coefficients = np.linalg.solve(trained.evaluate(trained.fit_angles),
-                                           _spline_at(shipped.theta, material.curve, trained.fit_angles)).T
+            coefficients = coefficients_from_table(shipped.theta, material.curve.T, trained)
             worst[material.name] = float(np.max(np.abs((coefficients @ values.T - material.curve.T) @ operators[material.name].T)))
         scene_errors[k] = worst
         if progress is not None:
             progress(f"K = {k}: scene basis")
     return {"generic": generic, "scene": scene_errors, "scene_file": "examples/showcase.toml"}
-
-
-def _spline_at(theta, curve, angles):
-    from basis.angles import theta_spline
-
-    return theta_spline(theta, curve, axis=0)(angles)  # (len(angles), 3)
 
 
 def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:

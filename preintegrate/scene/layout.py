@@ -1,7 +1,8 @@
 """The tables a scene may ship: a :class:`Layout` names one, its channels on the basis grid, and the
 weights with which a material reads it.
 
-Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``, ``scene_basis_layouts``.
+Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``, ``scene_basis_layouts``,
+``train_scene_basis``, ``training_operators``.
 
 References
 ----------
@@ -22,9 +23,10 @@ from basis.models import fresnel_model
 from basis.training import refine_basis
 
 from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
+from ..quadrature import texel_weights
 from .files import Scene, SceneMaterial
 
-__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout", "scene_basis_layouts"]
+__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout", "scene_basis_layouts", "train_scene_basis", "training_operators"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -123,20 +125,33 @@ def own_layout(material: SceneMaterial) -> Layout | None:
 
 #: Terms of a scene basis: four (one RGBA table, as the generic one), then up to eight (a second RGBA table).
 SCENE_BASIS_TERMS = (4, 5, 6, 7, 8)
+#: Roughnesses per material at which a scene basis is trained (its range, end points included).
+TRAINING_ROUGHNESSES = 5
+
+
+def training_operators(scene: Scene, basis: Basis, mu_o: np.ndarray) -> dict[str, np.ndarray]:
+    """name → texel weights (P, M) of each material at the view cosines ``mu_o`` and
+    :data:`TRAINING_ROUGHNESSES` roughnesses of its range: what a scene basis is refined on (F̄, not F)."""
+    return {m.name: texel_weights(basis.theta, mu_o[None, :], (np.linspace(*m.roughness, TRAINING_ROUGHNESSES)**2)[:, None])
+            .reshape(-1, basis.theta.size) for m in scene.materials}
+
+
+def train_scene_basis(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], terms: int) -> Basis:
+    """A ``terms``-term basis of the scene's own curves (every channel of every material, on ``basis.theta``),
+    refined (:func:`basis.training.refine_basis`) to minimise the worst error of F̄ through ``operators``
+    (:func:`training_operators`). One stage at p = 64, six dictionary curves, 150 iterations: on the
+    example scenes within 2 % of the (16, 64) continuation with ten curves and 500 iterations, in half the time."""
+    groups = {material.name: (material.curve.T, scene.tolerance, operators[material.name]) for material in scene.materials}
+    return refine_basis(basis.theta, groups, n_terms=terms, dictionary_terms=6, powers=(64.0,), iterations=150)
 
 
 def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], goal: float,
                         progress: Callable[[str], None] | None = None) -> list[Layout]:
-    """Bases trained on the scene's own curves (every channel of every material, on ``basis.theta``), each
-    refined (:func:`basis.training.refine_basis`) to minimise the worst error of F̄ over the materials'
-    roughness ranges (``operators``: name → texel weights (P, M)). Four terms, then one more at a time
-    while the worst trained error stays above half of ``goal`` (the other half is left to the table lookup).
-    One stage at p = 64, six dictionary curves, 150 iterations: on the example scenes within 2 % of the
-    (16, 64) continuation with ten curves and 500 iterations each, in half the time."""
-    groups = {material.name: (material.curve.T, scene.tolerance, operators[material.name]) for material in scene.materials}
+    """Scene bases (:func:`train_scene_basis`) of four terms, then one more at a time while the worst trained
+    error stays above half of ``goal`` (the other half is left to the table lookup)."""
     layouts = []
     for terms in SCENE_BASIS_TERMS:
-        trained = refine_basis(basis.theta, groups, n_terms=terms, dictionary_terms=6, powers=(64.0,), iterations=150)
+        trained = train_scene_basis(scene, basis, operators, terms)
         layouts.append(Layout("scene", terms=terms, trained=trained))
         achieved = max(group["max_abs_error"] for group in trained.training["refinement"]["groups"].values())
         if progress is not None:

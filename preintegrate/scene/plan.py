@@ -17,7 +17,7 @@ from basis.eigenbasis import Basis, resolve_basis
 from ..lut import interpolation_weights, texel_centres
 from ..quadrature import texel_weights
 from .files import Scene, SceneError
-from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts
+from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
 
 __all__ = ["ACCURACY_GOAL", "ScenePlan", "plan_scene"]
 
@@ -27,9 +27,8 @@ ACCURACY_GOAL = 1.0 / 1023.0
 
 #: Roughness samples of the error grid: 2 × 17 − 1 over the scene's range.
 _EVAL_ROUGHNESS = 17
-#: The scene bases' training set: every 4th view cosine of the error grid, 5 roughnesses per material.
+#: The scene bases' training set: every 4th view cosine of the error grid (and layout.TRAINING_ROUGHNESSES).
 _TRAINING_STRIDE = 4
-_TRAINING_ROUGHNESS = 5
 
 
 @dataclasses.dataclass
@@ -37,7 +36,7 @@ class ScenePlan:
     """What :func:`plan_scene` decided, with every material's achieved error."""
 
     scene: Scene
-    tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "scene-basis", "model:…"
+    tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "scene-basis-K", "model:…"
     roughness_range: tuple[float, float]
     rows: int
     layouts: dict[str, str]
@@ -77,9 +76,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
     # the scene bases are trained on a coarser set of the same functionals (every 4th view cosine, 5 roughnesses
     # per material): 1/25 of the work, and the plan below measures them on the full set like every layout
-    mu_train = mu_eval[::_TRAINING_STRIDE]
-    operators = {m.name: texel_weights(theta, mu_train[None, :], (np.linspace(*m.roughness, _TRAINING_ROUGHNESS)**2)[:, None])
-                 .reshape(-1, theta.size) for m in scene.materials}
+    operators = training_operators(scene, basis, mu_eval[::_TRAINING_STRIDE])
     scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
     del w_eval, operators
     own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
