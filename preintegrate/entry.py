@@ -2,7 +2,8 @@
 
 Ctrl-C at any moment ends the command with exit status 130 and one line, never a traceback. While the
 modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
-import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once. A closed pipe
+import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once; a module
+loaded later, on first use (scipy), is covered by recognising such an ImportError by its cause. A closed pipe
 on standard output (``fresnel-lut … | head``) ends the command quietly. Everything else is
 :func:`preintegrate.cli.main`.
 """
@@ -35,9 +36,26 @@ def main() -> int:
     except KeyboardInterrupt:
         print(INTERRUPTED, file=sys.stderr)
         return 130
+    except ImportError as error:  # a module loaded later (scipy, on first use): Ctrl-C inside its C extension
+        if not _caused_by_interrupt(error):
+            raise
+        print(INTERRUPTED, file=sys.stderr)
+        return 130
     except BrokenPipeError:  # the reader of standard output went away: stop without a message
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+
+
+def _caused_by_interrupt(error: BaseException) -> bool:
+    """Whether a KeyboardInterrupt is in the chain of causes of ``error`` (pybind11 and Cython module
+    initialisation turn it into ``ImportError: initialization failed``)."""
+    seen = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, KeyboardInterrupt):
+            return True
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return False
 
 
 if __name__ == "__main__":

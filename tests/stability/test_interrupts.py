@@ -39,3 +39,28 @@ def test_ctrl_c_during_a_long_build(tmp_path):
     status, error = _interrupted(["build", "--size", "768", "--out", tmp_path / "out"], 1.5)
     assert status == 130 and "Traceback" not in error, error
     assert not (tmp_path / "out").exists()
+
+
+def test_ctrl_c_inside_a_lazily_loaded_c_extension(monkeypatch, capsys):
+    """scipy loads on first use, after the start-up window; Ctrl-C inside its pybind11 module initialisation
+    surfaces as ``ImportError: initialization failed`` caused by KeyboardInterrupt (seen once in a fresh
+    clone's run of test_ctrl_c_while_starting). It ends the command like any Ctrl-C; another ImportError
+    still propagates."""
+    from preintegrate import cli, entry
+
+    def interrupted_import():
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as interrupt:
+            raise ImportError("initialization failed") from interrupt
+
+    monkeypatch.setattr(cli, "main", interrupted_import)
+    assert entry.main() == 130
+    assert capsys.readouterr().err.strip().startswith("fresnel-lut: interrupted")
+
+    def missing_module():
+        raise ImportError("No module named 'nothing'")
+
+    monkeypatch.setattr(cli, "main", missing_module)
+    with pytest.raises(ImportError, match="nothing"):
+        entry.main()
