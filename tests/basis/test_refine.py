@@ -106,6 +106,6 @@ def test_more_terms_than_shapes_are_filled_with_smooth_curves():
     refined = refine_basis(THETA, {"two": (curves_of(eta, kappa), 1e-3)}, n_terms=8, iterations=50)
     assert refined.n_terms == 8 and np.linalg.cond(refined.evaluate(refined.fit_angles)) < 1e6
     assert four_point_error(refined, eta, kappa) < 1e-4
-    # a rounding-noise element (scaled to max 1) flips sign between samples: second differences of order 1;
-    # measured here 0.12 (the filler sin(4π cos θ) and its refined mixtures, on this 129-point grid)
-    assert np.max(np.abs(np.diff(refined.curves, 2, axis=1))) < 0.3
+    # a rounding-noise element turns at almost every sample; these turn a few times (measured: at most 7 of 127 samples)
+    turns = np.count_nonzero(np.diff(np.sign(np.diff(refined.curves, axis=1)), axis=1) != 0, axis=1)
+    assert np.all(turns < 12), turns
