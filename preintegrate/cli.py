@@ -290,17 +290,23 @@ def command_coeffs(arguments) -> int:
                     "eta": eta.tolist(), "kappa": kappa.tolist()}
     if arguments.json:
         print(json.dumps({"basis_hash": basis.content_hash, "material": material,
-                          "coefficients": coefficients.tolist(), "layout": "[channel R,G,B][term c0..c3]"}))
+                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]"}))
     else:
         if preset_given:
             print(f"{material['preset']} ({material['space']}, linear): F0 = "
                   + ", ".join(f"{value:.4f}" for value in material["f0"])
                   + f"; RMS dE2000 basis {material['rms_delta_e2000']['basis']:.3f}, Schlick "
                   f"{material['rms_delta_e2000']['schlick']:.3f}")
-        print(f"basis {basis.content_hash}; Fbar = c0*LUT.r + c1*LUT.g + c2*LUT.b + c3*LUT.a per colour channel")
-        for name, row in zip("RGB", coefficients):
-            print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
+        _print_coefficients(basis, coefficients)
     return 0
+
+
+def _print_coefficients(basis, coefficients) -> None:
+    """The combination rule (terms 4-7 of a basis of more than four are the second table, LUT2) and the rows."""
+    terms = " + ".join(f"c{k}*{'LUT' if k < 4 else 'LUT2'}.{'rgba'[k % 4]}" for k in range(basis.n_terms))
+    print(f"basis {basis.content_hash}; Fbar = {terms} per colour channel")
+    for name, row in zip("RGB", coefficients):
+        print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
 
 
 def command_materials(arguments) -> int:
@@ -367,14 +373,12 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
     material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
     if arguments.json:
         print(json.dumps({"basis_hash": basis.content_hash, "material": material, "fit": fit,
-                          "coefficients": coefficients.tolist(), "layout": "[channel R,G,B][term c0..c3]",
+                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
                           "max_abs_error_over_theta": error.tolist(), "own_split_sum": own}))
         return 0
     print(f"{model.name} ({model.reference}); {fit} projection, max |dF| over theta per channel: "
           + ", ".join(f"{value:.4f}" for value in error))
-    print(f"basis {basis.content_hash}; Fbar = c0*LUT.r + c1*LUT.g + c2*LUT.b + c3*LUT.a per colour channel")
-    for name, row in zip("RGB", coefficients):
-        print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
+    _print_coefficients(basis, coefficients)
     if own is not None:
         print(f"own exact split sum ({'exact' if own['exact'] else 'approximate: the curve is clamped'}): {own['lut']}")
         for name, row in zip("RGB", own["weights"]):
