@@ -93,7 +93,7 @@ def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray
         if not isinstance(item["model"], str):
             raise SceneError(f"material {name!r}: model must be a model's name (text), got {_describe(item['model'])}")
         model = fresnel_model(item["model"])
-        parameters = {key: item[key] for key in keys - {"model"}}
+        parameters = {key: item[key] for key in item if key in keys - {"model"}}  # the file's order, not a set's
         for key, value in parameters.items():
             if not (_is_number(value) or isinstance(value, list) and all(_is_number(element) for element in value)):
                 raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {_describe(value)}")

@@ -283,3 +283,22 @@ def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_pa
         assert (out / "ggx_scene_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
     assert sorted(p.name for p in out.iterdir()) == ["ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
+
+
+def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):
+    """A model material's parameters keep the scene file's order in scene_coefficients.json: with two
+    string-hash seeds the file was written in two orders (a set was iterated)."""
+    import os
+    import subprocess
+    import sys
+
+    path = tmp_path / "scene.toml"
+    path.write_text('size = 16\ntolerance = 0.05\n[[material]]\nname = "lacquer"\nmodel = "adobe"\nf0 = [0.9, 0.7, 0.4]\n'
+                    'tint = [0.6, 0.8, 1.0]\nroughness = [0.3, 0.6]\n', encoding="utf-8")
+    written = []
+    for seed in ("0", "1", "2", "3"):  # 0 and 1 differed
+        out = tmp_path / f"out{seed}"
+        subprocess.run([sys.executable, "-m", "preintegrate.cli", "scene", str(path), "--out", str(out)], check=True,
+                       capture_output=True, env={**os.environ, "PYTHONHASHSEED": seed})
+        written.append((out / "scene_coefficients.json").read_bytes())
+    assert all(text == written[0] for text in written)
