@@ -50,7 +50,7 @@ from .channels import average_albedo_channels, basis_channels, channel_set, comb
 from .exr import write_luts
 from .formats import FORMATS, c_header, ktx2_bytes, png16_bytes
 from .ggx import VISIBILITIES
-from .lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, lut_axes, pixel_convention, rgba_parts
+from .lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, lut_axes, pixel_convention, rgba_items
 from .multiple_scattering import AVERAGE_NODES, average_albedo
 from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
@@ -125,14 +125,10 @@ def command_build(arguments) -> int:
     k = basis_set.n_channels
     quadrature = order.describe()
     convention = pixel_convention(arguments.visibility)
-    items = []
-    for path, terms, channel_names in rgba_parts(out / BASIS_LUT, k):  # terms 4-7 of K > 4: a second RGBA table
-        attributes = lut_attributes(
-            basis_set, size, size, "fresnel-lut build", convention, quadrature=quadrature, basis_hash=basis.content_hash,
-            basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles),
-            **({"terms": f"{terms.start}-{terms.stop - 1} of {k}"} if k > 4 else {}))
-        attributes["channels"] = ",".join(channel_names)
-        items.append((path, table[:, :, terms], channel_names, attributes))
+    basis_header = lut_attributes(basis_set, size, size, "fresnel-lut build", convention, quadrature=quadrature,
+                                  basis_hash=basis.content_hash,
+                                  basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))
+    items = rgba_items(out / BASIS_LUT, table[:, :, :k], basis_header)  # terms 4-7 of K > 4: a second RGBA table
     items += [
         (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
          lut_attributes(schlick_set, size, size, "fresnel-lut build", convention, quadrature=quadrature)),

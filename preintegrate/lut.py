@@ -33,7 +33,7 @@ __all__ = [
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
     "SHIPPED_LUTS",
-    "rgba_parts",
+    "rgba_items",
     "build_table",
     "pixel_convention",
     "interpolation_weights",
@@ -55,15 +55,24 @@ SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 RGBA = ("R", "G", "B", "A")
 
 
-def rgba_parts(path, n_channels: int) -> list[tuple[Path, slice, tuple[str, ...]]]:
-    """How a table of ``n_channels`` ≤ 8 basis terms is stored: terms 0 … 3 in ``path`` (R, G, B, A), terms
-    4 … 7 in a second RGBA texture ``<stem>_2<suffix>`` (one more fetch in the shader)."""
-    n_channels = check_positive_int("n_channels", n_channels, low=1, high=8)
+def rgba_items(path, table: np.ndarray, attributes: dict[str, str]) -> list[tuple[Path, np.ndarray, tuple[str, ...], dict]]:
+    """The files of a table of K ≤ 8 basis terms (H, W, K), as (path, values, channel names, header) items of
+    :func:`preintegrate.exr.write_luts`: terms 0 … 3 in ``path`` (R, G, B, A), terms 4 … 7 in a second RGBA
+    texture ``<stem>_2<suffix>`` (one more fetch in the shader). Each header is ``attributes`` with its own
+    channels and, when there are two files, the terms it holds (``terms = "4-5 of 6"``)."""
+    count = check_positive_int("basis terms", np.shape(table)[-1], low=1, high=8)
     path = Path(path)
-    parts = [(path, slice(0, min(n_channels, 4)), RGBA[: min(n_channels, 4)])]
-    if n_channels > 4:
-        parts.append((path.with_name(f"{path.stem}_2{path.suffix}"), slice(4, n_channels), RGBA[: n_channels - 4]))
-    return parts
+    parts = [(path, slice(0, min(count, 4)))]
+    if count > 4:
+        parts.append((path.with_name(f"{path.stem}_2{path.suffix}"), slice(4, count)))
+    items = []
+    for part_path, terms in parts:
+        names = RGBA[: terms.stop - terms.start]
+        header = {**attributes, "channels": ",".join(names)}
+        if count > 4:
+            header["terms"] = f"{terms.start}-{terms.stop - 1} of {count}"
+        items.append((part_path, table[..., terms], names, header))
+    return items
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 

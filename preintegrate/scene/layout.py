@@ -71,7 +71,7 @@ class Layout:
         if self.kind == "schlick":
             return "ggx_schlick_rg.exr"  # a scene keeps Schlick's two channels (the default build adds E as B)
         if self.kind == "scene":
-            return "ggx_scene_basis_rgba.exr"  # terms 4 … 7, if any, go to a second table (lut.rgba_parts)
+            return "ggx_scene_basis_rgba.exr"  # terms 4 … 7, if any, go to a second table (lut.rgba_items)
         if self.kind == "model":
             return f"ggx_{self.model}" + "".join(f"_{key}{value:g}" for key, value in self.shape) + ".exr"
         return f"ggx_basis_{'rgba'[: self.terms]}.exr"

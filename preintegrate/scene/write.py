@@ -14,7 +14,7 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
 
 from ..exr import write_luts
-from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_parts
+from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_items
 from .plan import ACCURACY_GOAL, ScenePlan
 
 __all__ = ["write_scene"]
@@ -52,22 +52,18 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     convention = PIXEL_CONVENTION.replace("row j <-> perceptual roughness r = (j + 0.5) / height", rows_text)
     items, names, texts = [], {}, []
     trained = {table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None}
+    hashes = {table: trained[table].content_hash if table in trained else basis.content_hash for table in plan.tables}
     for table in plan.tables:
         layout = plan.candidates[table]
         channels = layout.channel_set(basis)
-        values = plan.table_values[table]
-        parts = (rgba_parts(out / layout.file_name(), channels.n_channels) if layout.kind in ("basis", "scene")
-                 else [(out / layout.file_name(), slice(None), channels.channel_names)])
-        names[table] = [path.name for path, _, _ in parts]
-        for path, terms, channel_names in parts:
-            attributes = lut_attributes(
-                channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}", convention,
-                channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
-                basis_hash=trained[table].content_hash if table in trained else basis.content_hash,
-                **({"terms": f"{terms.start}-{terms.stop - 1} of {channels.n_channels}"} if len(parts) > 1 else {}),
-            )
-            attributes["channels"] = ",".join(channel_names)  # this file's part of the channels
-            items.append((path, values[..., terms], channel_names, attributes))
+        header = lut_attributes(channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}",
+                                convention, channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
+                                basis_hash=hashes[table])
+        path, values = out / layout.file_name(), plan.table_values[table]
+        parts = (rgba_items(path, values, header) if layout.kind in ("basis", "scene")
+                 else [(path, values, channels.channel_names, header)])
+        names[table] = [part[0].name for part in parts]
+        items += parts
     scene_basis = next(iter(trained.values()), None)
     if scene_basis is not None:
         texts.append((out / SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
@@ -78,8 +74,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
             "layout": plan.layouts[material.name],
             "lut": names[plan.layouts[material.name]][0],
             **({"second_lut": names[plan.layouts[material.name]][1]} if len(names[plan.layouts[material.name]]) > 1 else {}),
-            "basis_hash": (trained[plan.layouts[material.name]].content_hash if plan.layouts[material.name] in trained
-                           else basis.content_hash),
+            "basis_hash": hashes[plan.layouts[material.name]],
             "coefficients": plan.coefficients[material.name].tolist(),
             "max_abs_error_fbar": plan.errors[material.name],
             "max_abs_error_fbar_full_default_build": plan.default_build_errors[material.name],
