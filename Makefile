@@ -4,7 +4,7 @@
 #   make report error against run time (report/README.md and plots, about 70 s; installs the plot extra)
 #   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
 #   make render     pictures: report/render/ (about 45 s)
-#   make fidelity   basis fidelity: report/fidelity.md and its plot (validation groups, frontier, error vs K; about 45 s)
+#   make fidelity   basis fidelity: report/fidelity.md and its plot (validation groups, frontier, bounds, error vs K; about 2 minutes)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp

@@ -65,7 +65,8 @@ def test_what_the_shipped_basis_holds(shipped):
     assert shipped["gulbrandsen"]["curve"] <= 0.30  # measured 0.29: r near 0.9 with a low g (a Brewster dip)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 14: no four-term basis found meets these (report/fidelity.md frontier)")
+@pytest.mark.xfail(strict=True, reason="issue 14: out of reach for four terms: a basis trained on these very curves "
+                   "ends 1.54x above the targets at once (report/fidelity.md, bounds)")
 @pytest.mark.parametrize("group", ["figure 2", "measured metals", "metals"])
 def test_the_targets_the_four_term_default_misses(shipped, group):
     measure, bound = TARGETS[group]
@@ -80,10 +81,26 @@ def test_six_terms_meet_every_target(weights):
         assert errors[group][measure] <= bound, group
 
 
-def test_quick_study_writes_its_section(tmp_path):
-    result = fidelity_study(quick=True)
+@pytest.fixture(scope="module")
+def quick_study():
+    return fidelity_study(quick=True)
+
+
+def test_a_bound_is_what_its_basis_measures(quick_study):
+    """A bound's worst error / tolerance, measured on the study's grid (513 θ), agrees within 5 % with what the
+    refinement saw on its coarser grid (257 θ; a finer grid finds slightly higher peaks), and it is well
+    below the shipped basis' own ratio, from which it starts: the optimiser improved on its start."""
+    bound = quick_study["bounds"]["bound: issue targets"]
+    assert bound["trained_ratio"] <= bound["worst_ratio"] <= 1.05 * bound["trained_ratio"]
+    shipped = max(quick_study["errors"]["shipped"]["four-point"][group][measure] / bound["tolerances"][group]
+                  for group, (measure, _) in TARGETS.items())
+    assert bound["worst_ratio"] < 0.6 * shipped
+
+
+def test_quick_study_writes_its_section(tmp_path, quick_study):
+    result = quick_study
     markdown = fidelity_markdown(result)
-    for name in ("notebook-style", "shipped", "refined: issue targets", "| 6 |"):
+    for name in ("notebook-style", "shipped", "refined: issue targets", "bound: issue targets", "| 6 |"):
         assert name in markdown
     scene = result["terms"]["scene"]
     assert max(scene[6].values()) < 0.2 * max(scene[4].values())  # more terms: the showcase scene held far better
