@@ -388,8 +388,8 @@ def command_scene(arguments) -> int:
     out = _output_folder("--out", arguments.out)
     started = time.perf_counter()
     scene = read_scene(arguments.file)
-    print(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {scene.size} columns) ...",
-          flush=True)
+    columns = f"{scene.size}" if scene.size_fixed else f"{scene.size} or more"
+    print(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {columns} columns) ...", flush=True)
     plan = plan_scene(scene, progress=lambda text: print(f"  {text}", flush=True))  # refuses before anything is written
     result = write_scene(plan, out)
     print(result["text"])

@@ -8,7 +8,7 @@ tolerance on F̄ (default 1/255) and a working colour space::
 
     tolerance = 0.0039          # optional: max |F̄ − F̄_exact| over every material's range, all view angles
     space = "ACEScg"            # optional: colour space of presets
-    size = 128                  # optional: LUT columns (μo), as the default build
+    size = 128                  # optional: LUT columns (μo); unset, the plan picks 128 or 256
 
     [[material]]
     name = "floor"
@@ -36,7 +36,9 @@ always travel together. **Accuracy first**: a material that some layout holds to
 own tables; the one with the fewest channels that holds every material to its aim with one of its layouts,
 then the fewest tables, then the most accurate. **Rows**: cropped to the union of the
 materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi − r_lo)/(H − 1)), with
-the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim.
+the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim. **Columns**: the
+file's ``size``; unset, 128 (the default build's), doubled to 256 when that holds more materials to one
+10-bit step (near-mirrors at grazing, where a bilinear lookup between 128 columns errs by 1.5e-3).
 
 **Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the
 midpoints between them (μo from 0.5/size up: below the first centre every engine reads the edge texel,

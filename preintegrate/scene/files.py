@@ -52,8 +52,9 @@ class Scene:
     materials: tuple[SceneMaterial, ...]
     tolerance: float
     space: str
-    size: int
+    size: int  # columns (μo) of the scene's tables, or the first width the plan tries when not size_fixed
     source: str
+    size_fixed: bool = True  # False when the scene file leaves ``size`` to the plan
 
 
 #: Largest scene file read: a scene lists a few dozen materials; a device or a huge file is refused unread.
@@ -208,4 +209,4 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
             raise SceneError(f"material {name!r}: {error}") from None
         materials.append(SceneMaterial(name, description, np.asarray(curve, dtype=np.float64),
                                        _roughness(name, item["roughness"])))
-    return Scene(tuple(materials), tolerance, space, size, str(path))
+    return Scene(tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document)

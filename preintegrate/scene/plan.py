@@ -16,7 +16,7 @@ from basis.eigenbasis import Basis, resolve_basis
 
 from ..lut import interpolation_weights, texel_centres
 from ..quadrature import texel_weights
-from .files import Scene, SceneError
+from .files import MAX_SIZE, Scene, SceneError
 from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
 
 __all__ = ["ACCURACY_GOAL", "ScenePlan", "plan_scene"]
@@ -39,6 +39,7 @@ class ScenePlan:
     tables: tuple[str, ...]  # names of ``candidates``: "schlick", "basis-K", "scene-basis-K", "model:…"
     roughness_range: tuple[float, float]
     rows: int
+    columns: int
     layouts: dict[str, str]
     coefficients: dict[str, np.ndarray]
     errors: dict[str, float]
@@ -50,23 +51,80 @@ class ScenePlan:
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str], None] | None = None) -> ScenePlan:
-    """Choose tables, layouts and rows (module docstring); raises :class:`SceneError` if a material cannot
-    meet the tolerance with any layout, naming it and the smallest tolerance that would do. ``progress``
-    receives a line per trained scene basis."""
+    """Choose tables, layouts, rows and columns (module docstring); raises :class:`SceneError` if a material
+    cannot meet the tolerance with any layout, naming it and the smallest tolerance that would do.
+    ``progress`` receives a line per trained scene basis.
+
+    Columns: the scene file's ``size`` if it sets one; otherwise the default build's 128, doubled (up to
+    :data:`.files.MAX_SIZE`) while that holds more materials to :data:`ACCURACY_GOAL` (or meets a tolerance
+    128 cannot): near grazing a near-mirror's F̄ bends too fast for a bilinear lookup between 128 columns
+    (1.5e-3 at r 0.15–0.2 with curves fitted to 3e-5), and accuracy comes before bytes."""
     basis = resolve_basis(basis)
+    # the scene bases are trained on a coarser set of the plan's functionals (every 4th view cosine of the
+    # first width, 5 roughnesses per material): 1/25 of the work; every width measures them on its full set
+    operators = training_operators(scene, basis, _view_cosines(scene.size)[::_TRAINING_STRIDE])
+    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
+    del operators
+    own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
+    layouts = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
+               **{layout.name: layout for layout in scene_bases}, **{name: own_layouts[name] for name in sorted(own_layouts)}}
+    candidates = _Candidates(
+        layouts=layouts, functions={name: layout.values(basis) for name, layout in layouts.items()},  # (M, n) on θ
+        weights={(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in layouts.items()},
+        scene_bases=tuple(layout.name for layout in scene_bases), own=tuple(sorted(own_layouts)))
+    widths = [scene.size] if scene.size_fixed else [scene.size * 2**k for k in range(8) if scene.size * 2**k <= MAX_SIZE]
+    chosen, refusal = None, None
+    for width in widths:
+        try:
+            plan = _plan_for_width(scene, basis, candidates, width)
+        except SceneError as error:
+            refusal = error  # a wider table may still meet the tolerance; the widest's refusal is the one to show
+            continue
+        if chosen is not None and _held_to_goal(plan) <= _held_to_goal(chosen):
+            break  # the wider table holds no more materials to the goal: keep the narrower one
+        chosen = plan
+        if _held_to_goal(chosen) == len(scene.materials):
+            break
+    if chosen is None:
+        raise refusal
+    return chosen
+
+
+@dataclasses.dataclass(frozen=True)
+class _Candidates:
+    """The candidate layouts, whatever the width: their functions (M, n) on the θ grid and each material's
+    weights per layout (None where a layout cannot represent it)."""
+
+    layouts: dict[str, Layout]
+    functions: dict[str, np.ndarray]
+    weights: dict[tuple[str, str], np.ndarray | None]
+    scene_bases: tuple[str, ...]
+    own: tuple[str, ...]
+
+
+def _view_cosines(width: int) -> np.ndarray:
+    """The error grid's view cosines: the texel centres of ``width`` columns and the midpoints between them,
+    μo ∈ [0.5/W, 1 − 0.5/W]; below the first centre every engine reads the edge texel (clamped NdotV)."""
+    return (np.arange(2 * width - 1) + 1.0) / (2 * width)
+
+
+def _held_to_goal(plan: ScenePlan) -> int:
+    return sum(error <= ACCURACY_GOAL for error in plan.errors.values())
+
+
+def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: int) -> ScenePlan:
+    """The plan with ``width`` columns: tables, layouts and rows."""
     theta = basis.theta
     low = min(m.roughness[0] for m in scene.materials)
     high = max(m.roughness[1] for m in scene.materials)
-    # view cosines: the texel centres and the midpoints between them, μo ∈ [0.5/W, 1 − 0.5/W]; below the
-    # first centre every engine reads the edge texel (clamped NdotV), as the default build does
-    mu_eval = (np.arange(2 * scene.size - 1) + 1.0) / (2 * scene.size)
-    mu_columns = texel_centres(scene.size)
+    mu_eval = _view_cosines(width)
+    mu_columns = texel_centres(width)
     grid = np.linspace(low, high, 2 * _EVAL_ROUGHNESS - 1)
     r_eval = {m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
               for m in scene.materials}
     all_r = np.unique(np.concatenate(list(r_eval.values())))
     # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high]
-    levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
+    levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, width * (high - low)))))
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
@@ -74,27 +132,15 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
     w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
     exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
-    # the scene bases are trained on a coarser set of the same functionals (every 4th view cosine, 5 roughnesses
-    # per material): 1/25 of the work, and the plan below measures them on the full set like every layout
-    operators = training_operators(scene, basis, mu_eval[::_TRAINING_STRIDE])
-    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
-    del w_eval, operators
-    own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
-    candidates = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
-                  **{layout.name: layout for layout in scene_bases},
-                  **{name: own_layouts[name] for name in sorted(own_layouts)}}
-    own = sorted(own_layouts)
-    functions = {name: layout.values(basis) for name, layout in candidates.items()}  # (M, n) on the θ grid
+    del w_eval
+    functions, weights_of, own = candidates.functions, candidates.weights, candidates.own
 
     w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
     table_rows = {name: w_rows @ values for name, values in functions.items()}  # the candidate tables (H, W, n)
     del w_rows
-    rows_mu = {name: np.einsum("pw,hwn->hpn", interp_mu, table) for name, table in table_rows.items()}
+    rows_mu = {name: interp_mu @ table for name, table in table_rows.items()}  # (H, P, n): texels read along μo
 
-    # each material's weights per layout, once: the error loops below reuse them for every row count
-    weights_of = {(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in candidates.items()}
-
-    def errors_for(layout: str, rows: np.ndarray, projected=None, positions=None) -> dict[str, float]:
+    def errors_for(layout: str, rows: np.ndarray, projected=None, positions=None, views=slice(None)) -> dict[str, float]:
         result = {}
         table_mu = rows_mu[layout][rows] if projected is None else projected  # (H', P, n): texels read along μo
         positions = r_rows[rows] if positions is None else positions
@@ -104,16 +150,19 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
                 result[material.name] = np.inf
                 continue
             interp_r = interpolation_weights(r_eval[material.name], positions)  # (r, H')
-            approx = np.einsum("rh,hpn,cn->rpc", interp_r, table_mu, coefficients)
-            result[material.name] = float(np.max(np.abs(approx - exact_of[material.name])))
+            approx = np.tensordot(interp_r, table_mu @ coefficients.T, axes=1)  # (r, P, 3)
+            result[material.name] = float(np.max(np.abs(approx - exact_of[material.name][:, views])))
         return result
 
-    # the full default build (basis RGBA + Schlick RG, rows at (j + 0.5)/size over 0–1), for comparison
+    # the full default build (basis RGBA + Schlick RG, scene.size × scene.size texels over 0–1), for comparison,
+    # measured from its own first texel centre up, as the scene's tables are from theirs
     default_r = texel_centres(scene.size)
     near = np.flatnonzero((default_r >= low - 1.0 / scene.size) & (default_r <= high + 1.0 / scene.size))
-    w_default = texel_weights(theta, mu_columns[None, :], (default_r[near] ** 2)[:, None])
-    default_errors = {layout: errors_for(layout, near, np.einsum("pw,hwn->hpn", interp_mu, w_default @ functions[layout]),
-                                         default_r[near]) for layout in ("schlick", "basis-4")}
+    w_default = texel_weights(theta, default_r[None, :], (default_r[near] ** 2)[:, None])
+    views = mu_eval >= default_r[0] - 1e-12
+    interp_default = interpolation_weights(mu_eval[views], default_r)
+    default_errors = {layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]),
+                                         default_r[near], views) for layout in ("schlick", "basis-4")}
     del w_default
     default_best = {m.name: min(default_errors[layout][m.name] for layout in default_errors) for m in scene.materials}
 
@@ -126,7 +175,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
         worst = max(failing, key=best.get)
         raise SceneError(
             f"material {worst!r} cannot meet tolerance {tolerance:.3g} on Fbar: the best layout reaches "
-            f"{best[worst]:.3g}; use tolerance >= {best[worst] * 1.01:.3g} (or another model for it)"
+            f"{best[worst]:.3g} with {width} columns; use tolerance >= {best[worst] * 1.01:.3g} (or another model for it)"
             + (f"; also failing: {sorted(set(failing) - {worst})}" if len(failing) > 1 else "")
         )
     # accuracy first: a material that some layout holds to ACCURACY_GOAL is held to it, the rest to the tolerance
@@ -135,7 +184,7 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     # every combination of at most one basis table (generic or the scene's), the Schlick table and the models' own
     options = [tuple(x for x in (schlick, basis_table, *extra) if x)
                for schlick in ("", "schlick")
-               for basis_table in ("", "basis-2", "basis-3", "basis-4", *(layout.name for layout in scene_bases))
+               for basis_table in ("", "basis-2", "basis-3", "basis-4", *candidates.scene_bases)
                for count in range(len(own) + 1) for extra in itertools.combinations(own, count)]
     options = [option for option in options if option]
 
@@ -168,12 +217,12 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
             break
     layouts = assign(tables, chosen_errors)
     return ScenePlan(
-        scene=scene, tables=tables, roughness_range=(low, high), rows=len(chosen_rows), layouts=layouts,
+        scene=scene, tables=tables, roughness_range=(low, high), rows=len(chosen_rows), columns=width, layouts=layouts,
         coefficients={m.name: weights_of[m.name, layouts[m.name]] for m in scene.materials},
         errors={m.name: chosen_errors[layouts[m.name]][m.name] for m in scene.materials},
         full_errors=full_errors,
         default_build_errors=default_best,
-        candidates={name: candidates[name] for name in tables},
+        candidates={name: candidates.layouts[name] for name in tables},
         table_values={name: table_rows[name][chosen_rows] for name in tables},
         aims=aims,
     )

@@ -56,7 +56,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     for table in plan.tables:
         layout = plan.candidates[table]
         channels = layout.channel_set(basis)
-        header = lut_attributes(channels, plan.scene.size, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}",
+        header = lut_attributes(channels, plan.columns, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}",
                                 convention, channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
                                 basis_hash=hashes[table])
         path, values = out / layout.file_name(), plan.table_values[table]
@@ -83,7 +83,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     }
     document = {
         "scene": Path(plan.scene.source).name, "basis_hash": basis.content_hash, "tolerance": plan.scene.tolerance,
-        "space": plan.scene.space, "roughness_range": [low, high], "rows": plan.rows, "columns": plan.scene.size,
+        "space": plan.scene.space, "roughness_range": [low, high], "rows": plan.rows, "columns": plan.columns,
         "layout": ("coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
                    "4-7 of a basis of more than four terms are R, G, B, A of second_lut"),
         "materials": materials,
@@ -119,7 +119,7 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
           + " |" for m in plan.scene.materials],
         "",
         (f"Tables: {table_list}; {plan.rows} rows over roughness "
-         f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.scene.size} columns."),
+         f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.columns} columns."),
         f"Left out: {', '.join(left_out) if left_out else 'no table'}"
         + ("" if "basis-4" in plan.tables or any(t.startswith("scene") for t in plan.tables) or not any(t.startswith("basis") for t in plan.tables)
            else f" (basis terms beyond {plan.tables[-1].split('-')[1]})") + ".",

@@ -24,13 +24,13 @@ from preintegrate.scene.plan import ACCURACY_GOAL
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
-#: What each example scene holds with the default tolerance (128 columns), measured by ``fresnel-lut scene``:
-#: the layout, and the materials a 128-column lookup keeps above one 10-bit step (bilinear in μo near
-#: grazing at roughness 0.15–0.2: the scene basis fits their curves to 3e-5, the table lookup costs 1.5e-3).
+#: What each example scene holds with the default tolerance, measured by ``fresnel-lut scene``: the layout
+#: and the columns. Near-mirrors (r 0.15–0.2) need 256 columns: with 128, the bilinear lookup in μo near
+#: grazing costs them 1.5e-3 although the scene basis fits their curves to 3e-5.
 EXPECTED = {
-    "metals_mid_roughness": ("scene-basis-4", set()),
-    "dielectrics": ("scene-basis-4", {"window", "pond", "ring stone"}),
-    "showcase": ("scene-basis-7", {"gold"}),
+    "metals_mid_roughness": ("scene-basis-4", 128),
+    "dielectrics": ("scene-basis-4", 256),
+    "showcase": ("scene-basis-7", 256),
 }
 
 
@@ -42,16 +42,22 @@ def built(request, tmp_path_factory):
     return request.param, plan, out
 
 
-def test_the_scene_basis_is_chosen_and_holds_ten_bits_where_the_lookup_allows(built):
+def test_the_scene_basis_is_chosen_and_holds_every_material_to_ten_bits(built):
+    """Accuracy first: every material within one 10-bit step of F̄ (the generic basis misses it for most)."""
     name, plan, _ = built
-    layout, lookup_limited = EXPECTED[name]
-    assert plan.tables == (layout,)
+    layout, columns = EXPECTED[name]
+    assert (plan.tables, plan.columns) == ((layout,), columns)
     for material, error in plan.errors.items():
-        generic = plan.full_errors["basis-4"][material]
-        if material in lookup_limited:
-            assert ACCURACY_GOAL < error <= DEFAULT_TOLERANCE and error < generic
-        else:
-            assert error <= ACCURACY_GOAL < generic or error <= ACCURACY_GOAL
+        assert error <= ACCURACY_GOAL, material
+    assert sum(plan.full_errors["basis-4"][material] > ACCURACY_GOAL for material in plan.errors) >= len(plan.errors) - 1
+
+
+def test_a_scene_file_that_sets_its_size_keeps_it(tmp_path):
+    """size = 128 written out: the near-mirrors stay above one 10-bit step instead of widening the table."""
+    path = tmp_path / "dielectrics.toml"
+    path.write_text("size = 128\n" + (EXAMPLES / "dielectrics.toml").read_text())
+    plan = plan_scene(read_scene(path))
+    assert plan.columns == 128 and max(plan.errors.values()) > ACCURACY_GOAL
 
 
 def test_scene_bases_are_well_conditioned(built):
@@ -95,8 +101,8 @@ def test_written_tables_against_monte_carlo(built):
         exact = theta_spline(theta, material.curve, axis=0)  # (3,) channels of the exact curve, spline in θ
         roughness = material.roughness[1]
         row = (roughness - low) / (high - low) * (plan.rows - 1) if plan.rows > 1 else 0.0
-        for column in (plan.scene.size // 2, plan.scene.size - 3):
-            mu_o = (column + 0.5) / plan.scene.size
+        for column in (plan.columns // 2, plan.columns - 3):
+            mu_o = (column + 0.5) / plan.columns
             fbar = coefficients @ lut_lookup(table, mu_o, (row + 0.5) / plan.rows)
             mean, sigma = monte_carlo_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2,
                                              samples=400_000, seed=index)
@@ -118,7 +124,7 @@ def test_one_material_alone_is_reproduced_to_1e_4_at_the_texels(tmp_path):
     material = plan.scene.materials[0]
     table = plan.table_values["scene-basis-4"]  # (rows, columns, 4)
     rows = np.linspace(0.2, 0.4, plan.rows)
-    mu_o = (np.arange(plan.scene.size) + 0.5) / plan.scene.size
+    mu_o = (np.arange(plan.columns) + 0.5) / plan.columns
     exact = theta_spline(default_basis().theta, material.curve, axis=0)
     direct = directional_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o[None, :], (rows**2)[:, None])
     assert np.max(np.abs(table @ plan.coefficients["figure 2"].T - direct)) <= 1e-4
