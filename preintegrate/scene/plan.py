@@ -123,8 +123,9 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     r_eval = {m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
               for m in scene.materials}
     all_r = np.unique(np.concatenate(list(r_eval.values())))
-    # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high]
-    levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, width * (high - low)))))
+    # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high], at most the
+    # default build's density (scene.size rows over 0–1) whatever the width: wider tables are for μo
+    levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
