@@ -37,8 +37,10 @@ own tables; the one with the fewest channels that holds every material to its ai
 then the fewest tables, then the most accurate. **Rows**: cropped to the union of the
 materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi − r_lo)/(H − 1)), with
 the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim. **Columns**: the
-file's ``size``; unset, 128 (the default build's), doubled to 256 when that holds more materials to one
-10-bit step (near-mirrors at grazing, where a bilinear lookup between 128 columns errs by 1.5e-3).
+file's ``size``; unset, 128 (the default build's), doubled to 256 when reading some material's exact F̄
+bilinearly between 128 columns alone costs more than half of one 10-bit step
+(:func:`preintegrate.scene.plan.lookup_floor`; near-mirrors at grazing, 1.5e-3 at r 0.15–0.2). A
+Schlick-only scene trains no scene basis: Schlick's two channels hold it exactly.
 
 **Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the
 midpoints between them (μo from 0.5/size up: below the first centre every engine reads the edge texel,

@@ -19,11 +19,14 @@ from ..quadrature import texel_weights
 from .files import MAX_SIZE, Scene, SceneError
 from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
 
-__all__ = ["ACCURACY_GOAL", "ScenePlan", "plan_scene"]
+__all__ = ["ACCURACY_GOAL", "LOOKUP_SHARE", "ScenePlan", "lookup_floor", "plan_scene"]
 
 #: What a scene build holds a material to before it saves bytes, where some layout can: one 10-bit step.
 #: The tolerance is the most a build may give away; a material whose best layout reaches this goal keeps it.
 ACCURACY_GOAL = 1.0 / 1023.0
+
+#: Share of ACCURACY_GOAL the column lookup alone (:func:`lookup_floor`) may cost before a scene's table widens.
+LOOKUP_SHARE = 0.5
 
 #: Roughness samples of the error grid: 2 × 17 − 1 over the scene's range.
 _EVAL_ROUGHNESS = 17
@@ -56,15 +59,23 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     ``progress`` receives a line per trained scene basis.
 
     Columns: the scene file's ``size`` if it sets one; otherwise the default build's 128, doubled (up to
-    :data:`.files.MAX_SIZE`) while that holds more materials to :data:`ACCURACY_GOAL` (or meets a tolerance
-    128 cannot): near grazing a near-mirror's F̄ bends too fast for a bilinear lookup between 128 columns
-    (1.5e-3 at r 0.15–0.2 with curves fitted to 3e-5), and accuracy comes before bytes."""
+    :data:`.files.MAX_SIZE`) while reading some material's exact F̄ bilinearly between the columns alone
+    costs more than :data:`LOOKUP_SHARE` of :data:`ACCURACY_GOAL` (:func:`lookup_floor`): near grazing a
+    near-mirror's F̄ bends too fast for 128 columns (1.5e-3 at r 0.15–0.2), and accuracy comes before bytes."""
     basis = resolve_basis(basis)
+    width = scene.size
+    while not scene.size_fixed and 2 * width <= MAX_SIZE and \
+            max(lookup_floor(scene, basis, width).values()) > LOOKUP_SHARE * ACCURACY_GOAL:
+        width *= 2
     # the scene bases are trained on a coarser set of the plan's functionals (every 4th view cosine of the
-    # first width, 5 roughnesses per material): 1/25 of the work; every width measures them on its full set
-    operators = training_operators(scene, basis, _view_cosines(scene.size)[::_TRAINING_STRIDE])
-    scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
-    del operators
+    # file's width, 5 roughnesses per material): 1/25 of the work or less; the plan measures them on its full
+    # set like every layout
+    if _schlick_holds_every_curve(scene, basis):
+        scene_bases = []  # two exact channels: no layout does better, so none is trained
+    else:
+        operators = training_operators(scene, basis, _view_cosines(scene.size)[::_TRAINING_STRIDE])
+        scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
+        del operators
     own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
     layouts = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
                **{layout.name: layout for layout in scene_bases}, **{name: own_layouts[name] for name in sorted(own_layouts)}}
@@ -72,22 +83,26 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
         layouts=layouts, functions={name: layout.values(basis) for name, layout in layouts.items()},  # (M, n) on θ
         weights={(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in layouts.items()},
         scene_bases=tuple(layout.name for layout in scene_bases), own=tuple(sorted(own_layouts)))
-    widths = [scene.size] if scene.size_fixed else [scene.size * 2**k for k in range(8) if scene.size * 2**k <= MAX_SIZE]
-    chosen, refusal = None, None
-    for width in widths:
-        try:
-            plan = _plan_for_width(scene, basis, candidates, width)
-        except SceneError as error:
-            refusal = error  # a wider table may still meet the tolerance; the widest's refusal is the one to show
-            continue
-        if chosen is not None and _held_to_goal(plan) <= _held_to_goal(chosen):
-            break  # the wider table holds no more materials to the goal: keep the narrower one
-        chosen = plan
-        if _held_to_goal(chosen) == len(scene.materials):
-            break
-    if chosen is None:
-        raise refusal
-    return chosen
+    return _plan_for_width(scene, basis, candidates, width)
+
+
+def _schlick_holds_every_curve(scene: Scene, basis: Basis) -> bool:
+    """Whether every material's curve is Schlick's (F0 + (1 − F0)(1 − μ)⁵, or a model with Schlick's
+    functions): the two-channel Schlick table is then exact up to the lookup, and the fewest channels."""
+    functions = SCHLICK.values(basis)
+    return all(np.max(np.abs(functions @ SCHLICK.coefficients(m, basis).T - m.curve)) <= 1e-12 for m in scene.materials)
+
+
+def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
+    """Per material, max |ΔF̄| of reading its exact F̄ bilinearly between ``width`` column centres (at the
+    error grid's view cosines, at both ends of its roughness range): what no layout beats with that width."""
+    mu_eval = _view_cosines(width)  # the column centres are its even entries
+    interpolate = interpolation_weights(mu_eval, mu_eval[::2])
+    floor = {}
+    for material in scene.materials:
+        exact = texel_weights(basis.theta, mu_eval[None, :], (np.asarray(material.roughness) ** 2)[:, None]) @ material.curve
+        floor[material.name] = float(np.max(np.abs(np.einsum("pw,rwc->rpc", interpolate, exact[:, ::2]) - exact)))
+    return floor
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,10 +121,6 @@ def _view_cosines(width: int) -> np.ndarray:
     """The error grid's view cosines: the texel centres of ``width`` columns and the midpoints between them,
     μo ∈ [0.5/W, 1 − 0.5/W]; below the first centre every engine reads the edge texel (clamped NdotV)."""
     return (np.arange(2 * width - 1) + 1.0) / (2 * width)
-
-
-def _held_to_goal(plan: ScenePlan) -> int:
-    return sum(error <= ACCURACY_GOAL for error in plan.errors.values())
 
 
 def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: int) -> ScenePlan:
@@ -158,7 +169,9 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     # the full default build (basis RGBA + Schlick RG, scene.size × scene.size texels over 0–1), for comparison,
     # measured from its own first texel centre up, as the scene's tables are from theirs
     default_r = texel_centres(scene.size)
-    near = np.flatnonzero((default_r >= low - 1.0 / scene.size) & (default_r <= high + 1.0 / scene.size))
+    # only the rows a lookup at the error grid's roughnesses reads: the two around each (one at an edge)
+    above = np.searchsorted(default_r, all_r)
+    near = np.unique(np.clip(np.concatenate([above - 1, above]), 0, scene.size - 1))
     w_default = texel_weights(theta, default_r[None, :], (default_r[near] ** 2)[:, None])
     views = mu_eval >= default_r[0] - 1e-12
     interp_default = interpolation_weights(mu_eval[views], default_r)
