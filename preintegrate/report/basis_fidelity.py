@@ -86,7 +86,7 @@ BOUNDS = {
 
 #: Settings of ``quick=True``: fewer curves, a smaller grid, the first frontier point and bound only, K = 4 and 6.
 QUICK = {"count": 20_000, "size": 24, "theta": 513, "per_group": 60, "terms": (4, 6), "refinements": 1, "bounds": 1,
-         "bound_iterations": 150}
+         "bound_iterations": 60}
 
 _FULL = {"count": 200_000, "size": 64, "theta": 2049, "per_group": 300, "terms": (2, 3, 4, 5, 6, 7, 8),
          "refinements": len(FRONTIER), "bounds": len(BOUNDS), "bound_iterations": 800}
