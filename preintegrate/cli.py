@@ -5,6 +5,7 @@ Usage::
     fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--visibility FORM] [--format exr,png16,header]
                        [--basis FILE | --model NAME ...]
     fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
+                       [--weighting normalised|span]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares|minimax]) [--json] [--basis FILE]
     fresnel-lut materials [--presets FILE] [--from-database]
@@ -223,7 +224,7 @@ def command_basis(arguments) -> int:
     basis = build_basis(
         count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
         n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
-        fit_angles=fit_angles, progress=lambda done: progress(done, count),
+        fit_angles=fit_angles, progress=lambda done: progress(done, count), weighting=arguments.weighting,
     )
     progress.close()
     path = basis.write(arguments.out)
@@ -507,6 +508,8 @@ def make_parser() -> argparse.ArgumentParser:
     basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
     basis.add_argument("--terms", type=int, default=4, help="basis elements K (default 4)")
     basis.add_argument("--fit-angles", default="auto", help="auto (search on held-out set), talk or notebook")
+    basis.add_argument("--weighting", default="normalised", choices=("normalised", "span"),
+                       help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2")
     basis.add_argument("--out", default="luts/basis.json", help="output file (default luts/basis.json)")
     basis.set_defaults(run=command_basis)
 

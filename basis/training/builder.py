@@ -119,6 +119,7 @@ def build_basis(
     n_terms: int = 4,
     fit_angles: str | tuple = "auto",
     progress: Callable[[int], None] | None = None,
+    weighting: str = "normalised",
 ) -> Basis:
     """Build the eigen-basis from ``count`` training curves.
 
@@ -132,6 +133,8 @@ def build_basis(
         K in [2, 16]; for K ≠ 4, ``"auto"`` chooses one angle per term after b1 (:func:`greedy_fit_angles`).
     fit_angles : {"auto", "talk", "notebook"} or tuple of float
         θ2, θ3 (, …): searched on the held-out set, the talk's, the notebook's, or given.
+    weighting : {"normalised", "span"}
+        How a curve counts in the SVD (:func:`.svd.build_curves`); "span" is recorded in ``training``.
     """
     count = check_positive_int("count", count, low=100)
     n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
@@ -145,14 +148,16 @@ def build_basis(
     elif len(tuple(fit_angles)) != n_terms - 2:
         raise ParameterError(f"{n_terms} terms need {n_terms - 2} fit angles besides 0 and pi/2, got {len(tuple(fit_angles))}")
     with one_blas_thread():  # basis.json's bytes, statistics included, must not depend on BLAS threads
-        return _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress)
+        return _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress, weighting)
 
 
-def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress) -> Basis:
+def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress, weighting) -> Basis:
     theta = angle_grid(grid_size, grid_kind)
-    curves, stats = build_curves(theta, domain.curves(theta, count, seed), n_terms, progress)
+    curves, stats = build_curves(theta, domain.curves(theta, count, seed), n_terms, progress, weighting)
     training = {"domain": domain.describe(), "count": count, "seed": seed, "grid": {"kind": grid_kind, "size": grid_size},
                 "fit_angle_choice": fit_angles if isinstance(fit_angles, str) else "given"}
+    if weighting != "normalised":  # the shipped basis' description (and bytes) stay as they were
+        training["weighting"] = weighting
     if n_terms != 4:  # the talk's and the notebook's angles are for four terms: choose one angle per extra term
         chosen = greedy_fit_angles(theta, curves) if fit_angles == "auto" else tuple(float(a) for a in fit_angles)
         basis = Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *chosen]))

@@ -10,6 +10,10 @@ ends. Each next b_k is the first singular vector of the residual after removing 
 projection on b2 … b_{k−1}; these therefore vanish at θ = 0 and π/2 too, which is what makes
 c0 = F(0) and c1 = F(π/2) − F(0) exact.
 
+With ``weighting="span"`` each normalised curve counts with weight (F(π/2) − F(0))², so the SVD minimises
+the mean square error of F itself instead of F̂ (whose plain mean weighs a curve by 1/(F90 − F0)): the
+lever issue 14 asks to measure.
+
 Nothing N × M is ever held: one pass accumulates the weighted Gram matrix G = Σ ŷ ŷᵀ and the sum
 s = Σ ŷ of the normalised curves (ŷ = F̂ √w with trapezoid weights w over θ), and every residual's
 Gram matrix follows from G and s in closed form. Memory is O(M² + chunk × M).
@@ -34,22 +38,30 @@ __all__ = ["GramAccumulator", "build_curves"]
 #: Curves whose F(π/2) − F(0) is below this carry no shape information (e.g. η = 1) and are skipped.
 MIN_SPAN = 1e-9
 
+#: How a normalised curve counts in the Gram matrix: once ("normalised", the talk's), or by its span squared.
+WEIGHTINGS = ("normalised", "span")
+
 
 class GramAccumulator:
-    """Streaming Σ ŷ ŷᵀ and Σ ŷ over chunks of curves (N, M): the one pass over the data."""
+    """Streaming Σ v ŷ ŷᵀ and Σ v ŷ over chunks of curves (N, M): the one pass over the data; a curve's
+    weight v is 1, or its span squared with ``weighting="span"``."""
 
-    def __init__(self, theta: np.ndarray):
+    def __init__(self, theta: np.ndarray, weighting: str = "normalised"):
+        if weighting not in WEIGHTINGS:
+            raise ParameterError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
+        self.weighting = weighting
         self.sqrt_weights = np.sqrt(trapezoid_weights(theta))
         size = theta.size
         self.gram = np.zeros((size, size))
         self.total = np.zeros(size)
         self.count = 0
         self.skipped = 0
+        self.span_weight = 0.0
 
     @property
     def weight_sum(self) -> float:
-        """Σ of the curves' weights in the Gram matrix: every kept curve counts once."""
-        return float(self.count)
+        """Σ of the curves' weights in the Gram matrix: the kept curves' count, or Σ span²."""
+        return float(self.count) if self.weighting == "normalised" else self.span_weight
 
     def add(self, curves: np.ndarray) -> None:
         """Normalise a chunk of curves F(θ) and fold it into the sums."""
@@ -58,8 +70,14 @@ class GramAccumulator:
         self.skipped += int(np.count_nonzero(~keep))
         normalised = (curves[keep] - curves[keep, :1]) / span[keep]
         weighted = normalised * self.sqrt_weights
-        self.gram += weighted.T @ weighted
-        self.total += weighted.sum(axis=0)
+        if self.weighting == "span":
+            scaled = weighted * span[keep] ** 2
+            self.gram += scaled.T @ weighted
+            self.total += scaled.sum(axis=0)
+            self.span_weight += float(np.sum(span[keep] ** 2))
+        else:
+            self.gram += weighted.T @ weighted
+            self.total += weighted.sum(axis=0)
         self.count += int(np.count_nonzero(keep))
 
 
@@ -74,6 +92,7 @@ def build_curves(
     chunks: Iterable[np.ndarray],
     n_terms: int = 4,
     progress: Callable[[int], None] | None = None,
+    weighting: str = "normalised",
 ) -> tuple[np.ndarray, dict]:
     """Run the iterative SVD over streamed training curves.
 
@@ -87,6 +106,9 @@ def build_curves(
         Number of basis elements K ≥ 2 (b0 = 1 included).
     progress : callable, optional
         Called with the number of curves processed so far.
+    weighting : {"normalised", "span"}
+        Each normalised curve counts once (the talk's SVD), or with weight (F(π/2) − F(0))²: the mean
+        square error of F rather than of F̂.
 
     Returns
     -------
@@ -101,11 +123,11 @@ def build_curves(
     if theta[0] != 0.0 or theta[-1] != 0.5 * np.pi:
         raise ParameterError("theta grid must start at 0 and end at pi/2")
     with one_blas_thread():  # the same bits whatever the machine's BLAS threads (basis.parallel)
-        return _build_curves(theta, chunks, n_terms, progress)
+        return _build_curves(theta, chunks, n_terms, progress, weighting)
 
 
-def _build_curves(theta, chunks, n_terms: int, progress) -> tuple[np.ndarray, dict]:
-    accumulator = GramAccumulator(theta)
+def _build_curves(theta, chunks, n_terms: int, progress, weighting: str = "normalised") -> tuple[np.ndarray, dict]:
+    accumulator = GramAccumulator(theta, weighting)
     for chunk in chunks:
         accumulator.add(chunk)
         if progress is not None:

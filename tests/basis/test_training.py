@@ -111,6 +111,23 @@ def test_streamed_gram_agrees_with_dense_svd(built, dense, theta):
     np.testing.assert_allclose(curves[3], b3, rtol=0, atol=1e-8)
 
 
+def test_span_weighted_svd_agrees_with_dense_svd_of_the_unnormalised_rows(dense, theta):
+    """weighting="span": b1, b2 == dense SVD of the rows s (F̂ − …) √w with s = F(π/2) − F(0), i.e. of the
+    error in F itself (F − F0 = s F̂), up to sign, atol 1e-8."""
+    curves = np.concatenate(list(DEFAULT_DOMAIN.curves(theta, COUNT, SEED)))
+    span = curves[:, -1:] - curves[:, :1]
+    weighted, _ = build_curves(theta, DEFAULT_DOMAIN.curves(theta, COUNT, SEED), n_terms=3, weighting="span")
+    root_w = np.sqrt(trapezoid_weights(theta))
+    b1 = leading_right_singular_vector(span * dense * root_w) / root_w
+    b1 /= b1[-1]
+    np.testing.assert_allclose(weighted[1], b1, rtol=0, atol=1e-8)
+    b2 = leading_right_singular_vector(span * (dense - b1) * root_w) / root_w
+    b2 /= b2[np.argmax(np.abs(b2))]
+    np.testing.assert_allclose(weighted[2], b2, rtol=0, atol=1e-8)
+    with pytest.raises(ParameterError, match="weighting"):
+        build_curves(theta, [curves], weighting="mean")
+
+
 def test_residual_rms_matches_dense_residuals(built, dense, theta):
     """stats['residual_rms'][0..1] == sqrt(sum w R^2 / (N pi/2)) of F_hat and F_hat - b1 computed densely (rtol 1e-8)."""
     curves, stats = built
