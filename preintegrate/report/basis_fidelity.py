@@ -204,7 +204,8 @@ def terms_sweep(terms, groups, theta, weights, count: int, progress=None, column
             coefficients = coefficients_from_table(shipped.theta, material.curve.T, trained)
             worst[material.name] = float(np.max(np.abs((coefficients @ values.T - material.curve.T) @ operators[material.name].T)))
         scene_errors[k] = worst
-        # the reference: the plain SVD of the same curves with least-squares coefficients (c0, c1 exact)
+        # the reference: the plain SVD of the same curves with least-squares coefficients (c0, c1 exact;
+        # least squares reads no fit angle, so the ones given only complete the Basis)
         plain = Basis(shipped.theta, build_curves(shipped.theta, [curves], k)[0],
                       np.concatenate([[0.0, 0.5 * np.pi], np.linspace(1.45, 1.2, k - 2)]))
         differences = {m.name: coefficients_least_squares_from_table(shipped.theta, m.curve.T, plain) @ plain.curves - m.curve.T

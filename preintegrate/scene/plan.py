@@ -13,6 +13,7 @@ from collections.abc import Callable
 import numpy as np
 
 from basis.eigenbasis import Basis, resolve_basis
+from basis.validation import check_positive_int
 
 from ..lut import interpolation_weights, texel_centres
 from ..quadrature import texel_weights
@@ -67,12 +68,11 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     while not scene.size_fixed and 2 * width <= MAX_SIZE and \
             max(lookup_floor(scene, basis, width).values()) > LOOKUP_SHARE * ACCURACY_GOAL:
         width *= 2
-    # the scene bases are trained on a coarser set of the plan's functionals (every 4th view cosine of the
-    # file's width, 5 roughnesses per material): 1/25 of the work or less; the plan measures them on its full
-    # set like every layout
     if _schlick_holds_every_curve(scene, basis):
         scene_bases = []  # two exact channels: no layout does better, so none is trained
     else:
+        # trained on a coarser set of the plan's functionals (every 4th view cosine of the file's width, 5
+        # roughnesses per material): 1/25 of the work or less; the plan measures them on its full set
         operators = training_operators(scene, basis, _view_cosines(scene.size)[::_TRAINING_STRIDE])
         scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
         del operators
@@ -96,19 +96,20 @@ def _schlick_holds_every_curve(scene: Scene, basis: Basis) -> bool:
 def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
     """Per material, max |ΔF̄| of reading its exact F̄ bilinearly between ``width`` column centres (at the
     error grid's view cosines, at both ends of its roughness range): what no layout beats with that width."""
+    width = check_positive_int("width", width, low=2, high=MAX_SIZE)
     mu_eval = _view_cosines(width)  # the column centres are its even entries
     interpolate = interpolation_weights(mu_eval, mu_eval[::2])
     floor = {}
     for material in scene.materials:
         exact = texel_weights(basis.theta, mu_eval[None, :], (np.asarray(material.roughness) ** 2)[:, None]) @ material.curve
-        floor[material.name] = float(np.max(np.abs(np.einsum("pw,rwc->rpc", interpolate, exact[:, ::2]) - exact)))
+        floor[material.name] = float(np.max(np.abs(interpolate @ exact[:, ::2] - exact)))
     return floor
 
 
 @dataclasses.dataclass(frozen=True)
 class _Candidates:
-    """The candidate layouts, whatever the width: their functions (M, n) on the θ grid and each material's
-    weights per layout (None where a layout cannot represent it)."""
+    """The candidate layouts, their functions (M, n) on the θ grid and each material's weights per layout
+    (None where a layout cannot represent it); the scene bases' and the models' own layouts by name."""
 
     layouts: dict[str, Layout]
     functions: dict[str, np.ndarray]
