@@ -1,7 +1,7 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
 Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``,
-``texel_centres``, ``lut_axes``, ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+``texel_centres``, ``lut_axes``, ``lut_texel_weights``, ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
 first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
@@ -23,7 +23,7 @@ from basis.validation import ParameterError, check_positive_int
 from .channels import ChannelSet
 from .estimators import hammersley_albedo
 from .ggx import VISIBILITIES, roughness_to_alpha
-from .quadrature import DEFAULT_ORDER, directional_albedo
+from .quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
 
 __all__ = [
     "AVERAGE_LUT",
@@ -39,6 +39,7 @@ __all__ = [
     "interpolation_weights",
     "lut_attributes",
     "lut_axes",
+    "lut_texel_weights",
     "lut_lookup",
     "shipped_lut",
     "texel_centres",
@@ -101,6 +102,14 @@ def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndar
     width = check_positive_int("size", width, low=2, high=8192)
     height = width if height is None else check_positive_int("height", height, low=2, high=8192)
     return texel_centres(width), texel_centres(height)
+
+
+def lut_texel_weights(theta_grid, size: int, order=DEFAULT_ORDER) -> np.ndarray:
+    """(size², M): the texel weights (:func:`preintegrate.quadrature.texel_weights`) of every texel of a
+    size × size table, row-major (roughness rows, μo columns): F̄ of curves sampled on ``theta_grid`` over
+    the whole table is one matrix product."""
+    mu_o, roughness = lut_axes(size)
+    return texel_weights(theta_grid, mu_o[None, :], roughness_to_alpha(roughness)[:, None], order).reshape(size * size, -1)
 
 
 def _quadrature(functions, mu_o, alpha, progress, order=DEFAULT_ORDER, visibility="height-correlated"):

@@ -8,7 +8,7 @@ by least squares (c0, c1 exact), and the projection error is measured as
 
 * max |ΔF| over θ on the basis grid (512 samples), and
 * max |ΔF̄| of the GGX split sum over a ``size`` × ``size`` LUT grid (μo, r; α = r²), by the texel
-  weights of :func:`preintegrate.report.model_error.texel_weights` (the split sum is linear in F).
+  weights of :func:`preintegrate.lut.lut_texel_weights` (the split sum is linear in F).
 
 A row gives the worst sweep point and whether the model has exact split-sum channels of its own
 (``fresnel-lut build --model NAME``): yes for the models linear in fixed functions of cos θ, as long
@@ -32,8 +32,7 @@ from basis.coefficients import (
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS
 
-from ..lut import lut_axes
-from ..quadrature import texel_weights
+from ..lut import lut_texel_weights
 
 __all__ = ["approximation_markdown", "approximation_table"]
 
@@ -57,8 +56,7 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
     """Rows (one per model) of the projection error on the model's sweep; see the module docstring."""
     basis = resolve_basis(basis)
     started = time.perf_counter()
-    mu_o, roughness = lut_axes(size)
-    weights = texel_weights(basis.theta, mu_o[None, :], (roughness**2)[:, None]).reshape(-1, basis.theta.size)
+    weights = lut_texel_weights(basis.theta, size)
     mu_grid, mu_fit = cos_theta(basis.theta), cos_theta(basis.fit_angles)
     curves = basis.curves  # (K, M) on basis.theta
     rows = []

@@ -42,8 +42,7 @@ from basis.training import (FIGURE_2, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, build
                             validation_groups)
 from basis.validation import ParameterError
 
-from ..ggx import roughness_to_alpha
-from ..lut import lut_axes
+from ..lut import lut_axes, lut_texel_weights
 from ..quadrature import texel_weights
 from .figures import pyplot, save_figure
 
@@ -126,8 +125,7 @@ def bound_basis(tolerances: dict[str, float], start: Basis, size: int = 64, iter
     unknown = set(tolerances) - set(TARGETS)
     if unknown:
         raise ParameterError(f"tolerances name groups without a target {sorted(unknown)}; known: {sorted(TARGETS)}")
-    mu_o, roughness = lut_axes(size)
-    weights = texel_weights(_REFINEMENT_GRID, mu_o[None, :], roughness_to_alpha(roughness)[:, None]).reshape(-1, _REFINEMENT_GRID.size)
+    weights = lut_texel_weights(_REFINEMENT_GRID, size)
     groups = validation_groups()
     training = {name: (groups[name](cos_theta(_REFINEMENT_GRID)), bound)
                 + ((weights,) if TARGETS[name][0] == "preintegrated" else ()) for name, bound in tolerances.items()}
@@ -223,8 +221,7 @@ def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None =
     settings = QUICK if quick else _FULL
     say = progress or (lambda text: None)
     theta = np.linspace(0.0, 0.5 * np.pi, settings["theta"])
-    mu_o, roughness = lut_axes(settings["size"])
-    weights = texel_weights(theta, mu_o[None, :], roughness_to_alpha(roughness)[:, None]).reshape(-1, theta.size)
+    weights = lut_texel_weights(theta, settings["size"])
     groups = validation_groups()
     bases = {"notebook-style": notebook_basis(settings["count"]), "shipped": default_basis(),
              # the first lever: the SVD of the error in F, each curve weighted by (F90 − F0)²
@@ -269,7 +266,7 @@ def fidelity_markdown(result: dict) -> str:
     groups = list(result["groups"])
     lines = [
         "## Basis fidelity: which basis holds which group", "",
-        (f"Validation groups (fresh draws, never trained on; curves per group: "
+        ("Validation groups (fresh draws, never trained on; curves per group: "
          + ", ".join(f"{name} {count}" for name, count in result["groups"].items())
          + f"). max |ΔF| over {result['settings']['theta']} θ samples / max |ΔF̄| over the "
          f"{result['settings']['size']} × {result['settings']['size']} LUT texel centres. Made by `fresnel-lut report "

@@ -20,7 +20,7 @@ Schlick with F0 = F(0), and the eigen-basis with four-point, L2 least-squares an
   worst and mean over the group and the number of materials above 1/255 (one 8-bit step).
 
 Every model is a function of x = ω_o·h alone, so each texel is a linear functional of the curve
-(DESIGN): F̄[f](μo, α) = ∫ f(x) K(x; μo, α) dx ≈ Σ_j W_tj f(θ_j). :func:`texel_weights` obtains W once on
+(DESIGN): F̄[f](μo, α) = ∫ f(x) K(x; μo, α) dx ≈ Σ_j W_tj f(θ_j). :func:`preintegrate.lut.lut_texel_weights` obtains W once on
 a θ grid by integrating, with the one integrator :func:`preintegrate.quadrature.directional_albedo`, the
 cardinal functions of a local cubic (four-point Lagrange) interpolation in θ; every model's table, for
 every material at once, is then a matrix product. Two checks travel with the result: W against the LUT
@@ -56,8 +56,8 @@ from basis.validation import ParameterError, check_positive_int, check_range
 
 from ..channels import basis_channels, combine, schlick_channels
 from ..ggx import roughness_to_alpha
-from ..lut import build_table, lut_axes
-from ..quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
+from ..lut import build_table, lut_axes, lut_texel_weights
+from ..quadrature import DEFAULT_ORDER, directional_albedo
 from .figures import pyplot, save_figure
 
 __all__ = [
@@ -385,7 +385,7 @@ def preintegrated_error(
     Returns
     -------
     dict
-        ``size``, ``theta_grid_size``, ``weights_seconds`` (time of :func:`texel_weights`),
+        ``size``, ``theta_grid_size``, ``weights_seconds`` (time of :func:`preintegrate.lut.lut_texel_weights`),
         ``lut_check`` (max |W·f − LUT| over the basis and Schlick channels of :func:`build_table`,
         and its seconds), ``reference_check`` (group → max |W·F − direct| over its checked materials),
         ``groups`` (name → count), ``models``: name → group → ``max_worst``, ``max_mean``,
@@ -406,7 +406,7 @@ def preintegrated_error(
     alpha = roughness_to_alpha(roughness)
 
     start = time.perf_counter()
-    weights = texel_weights(theta_grid, mu_o[None, :], alpha[:, None], order).reshape(size * size, -1)
+    weights = lut_texel_weights(theta_grid, size, order)
     weights_seconds = time.perf_counter() - start
 
     # W against the engine's channel tables: the same functionals through the LUT builder.
