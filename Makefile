@@ -39,7 +39,7 @@ report: $(STAMP)
 	$(VENV)/bin/fresnel-lut report --out report
 
 materials: $(STAMP)
-	$(VENV)/bin/fresnel-lut materials
+	$(VENV)/bin/fresnel-lut materials --presets luts/materials.json
 	$(VENV)/bin/fresnel-lut report --materials --out report
 
 fidelity: $(STAMP)

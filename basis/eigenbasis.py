@@ -65,6 +65,26 @@ def _check_structure(curves: np.ndarray, fit_angles: np.ndarray, spline: CubicSp
         )
 
 
+#: How far a stored hemispherical average may lie from the one recomputed from the curves (they are written
+#: with 15 significant digits; engines read them from the file, so a stored value is checked, not trusted).
+AVERAGE_TOLERANCE = 1e-12
+
+
+def _check_derived(data: dict, basis: Basis) -> None:
+    """The fields outside the content hash (``n_terms``, ``hemispherical_averages``) agree with the numbers."""
+    if "n_terms" in data and (type(data["n_terms"]) is not int or data["n_terms"] != basis.n_terms):
+        raise BasisFileError(f"n_terms {data['n_terms']!r} does not match the {basis.n_terms} curves")
+    if "hemispherical_averages" in data:
+        stored = data["hemispherical_averages"]
+        try:
+            stored = np.asarray(stored, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise BasisFileError(f"hemispherical_averages must be {basis.n_terms} numbers, got {str(stored)[:60]!r}") from None
+        if stored.shape != (basis.n_terms,) or not np.all(np.abs(stored - basis.hemispherical_averages) <= AVERAGE_TOLERANCE):
+            raise BasisFileError(f"hemispherical_averages {stored.tolist()} do not match the curves' own "
+                                 f"{basis.hemispherical_averages.tolist()}: the file is corrupt or was edited")
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class Basis:
     """K Fresnel eigen-curves b_k(θ) sampled on ``theta`` (M,), with the coefficient fit angles.
@@ -205,6 +225,7 @@ class Basis:
                 f"basis file content hash {data.get('content_hash')!r} does not match its numbers "
                 f"({basis.content_hash}): the file is corrupt or was edited"
             )
+        _check_derived(data, basis)
         return basis
 
     @classmethod

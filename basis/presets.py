@@ -1,7 +1,10 @@
 """The shipped presets of measured materials (``luts/materials.json``): basis coefficients and their errors.
 
 Public objects: ``PRESET_SPACES``, ``PresetFileError``, ``shipped_presets_path``, ``build_presets``, ``write_presets``,
-``material_presets``, ``material_preset``, ``material_coefficients``.
+``material_presets``, ``material_preset``, ``material_coefficients``, ``content_hash``, ``FORMAT``, ``VERSION``.
+
+The document carries a SHA-256 ``content_hash`` of its canonical JSON, and every number a reader uses is checked
+against :data:`RANGES`.
 
 Reading a preset loads no colour science: the coefficients were fitted once by
 :func:`basis.material_fits.build_presets` (``fresnel-lut materials --presets``) and are tied to the basis
@@ -16,6 +19,8 @@ References
 from __future__ import annotations
 
 import functools
+import hashlib
+import json
 from collections.abc import Callable
 from pathlib import Path
 
@@ -34,6 +39,7 @@ __all__ = [
     "PresetFileError",
     "VERSION",
     "build_presets",
+    "content_hash",
     "material_coefficients",
     "material_preset",
     "material_presets",
@@ -72,8 +78,21 @@ def _read(path: str) -> dict:
     return document
 
 
-def _finite(where: str, value, shape: tuple[int, ...] | None) -> None:
-    """A number or nested list of numbers (no bool, string, NaN or inf) of the given shape."""
+#: What a reader accepts of each number (a working-space reflectance may leave [0, 1] a little: sRGB gold's F0 red
+#: is 1.038; a basis coefficient of a curve in [0, 1] stays far inside ±10 as max |b_k| = 1; ΔE2000 is ≥ 0).
+RANGES = {"f0": (-0.25, 1.25), "f82": (-0.25, 1.25), "coefficients": (-10.0, 10.0), "delta_e2000_at_0": (0.0, 100.0),
+          "rms_delta_e2000": (0.0, 100.0)}
+
+
+def content_hash(document: dict) -> str:
+    """SHA-256 (first 16 hex digits) of the document without its ``content_hash``, as canonical JSON."""
+    body = {key: value for key, value in document.items() if key != "content_hash"}
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def _finite(where: str, value, shape: tuple[int, ...] | None, bounds: tuple[float, float] | None = None) -> None:
+    """A number or nested list of numbers (no bool, string, NaN or inf) of the given shape, within ``bounds``."""
     def bad(reason: str):
         return PresetFileError(f"material presets {where} {reason}, got {str(value)[:60]!r}")
 
@@ -92,6 +111,8 @@ def _finite(where: str, value, shape: tuple[int, ...] | None) -> None:
         raise bad(f"must have shape {tuple('K' if n == -1 else n for n in shape)}")
     if not np.all(np.isfinite(array)):
         raise bad("must be finite (no NaN or inf)")
+    if bounds is not None and not np.all((array >= bounds[0]) & (array <= bounds[1])):
+        raise bad(f"must lie in [{bounds[0]:g}, {bounds[1]:g}]")
 
 
 def _check_document(path: str, document: dict) -> None:
@@ -113,12 +134,16 @@ def _check_document(path: str, document: dict) -> None:
             for key, shape in (("f0", (3,)), ("f82", (3,)), ("coefficients", (3, -1)), ("delta_e2000_at_0", ())):
                 if key not in entry:
                     raise PresetFileError(f"material presets {where} {space} lacks {key}")
-                _finite(f"{where} {space} {key}", entry[key], shape)
+                _finite(f"{where} {space} {key}", entry[key], shape, RANGES[key])
             errors = entry.get("rms_delta_e2000")
             if not isinstance(errors, dict) or set(errors) != {"basis", "schlick"}:
                 raise PresetFileError(f"material presets {where} {space} rms_delta_e2000 must hold basis and schlick")
             for key, value in errors.items():
-                _finite(f"{where} {space} rms_delta_e2000 {key}", value, ())
+                _finite(f"{where} {space} rms_delta_e2000 {key}", value, (), RANGES["rms_delta_e2000"])
+    computed = content_hash(document)  # last: a field out of its range is named above
+    if document.get("content_hash") != computed:
+        raise PresetFileError(f"material presets {path}: content hash {document.get('content_hash')!r} does not match "
+                              f"the document ({computed}): the file is corrupt or was edited")
 
 
 def material_presets(path=None) -> dict:
@@ -181,7 +206,8 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
     if preset["basis_hash"] != default_basis().content_hash:
         raise PresetFileError(
             f"{shipped_presets_path()} was made for basis {preset['basis_hash']}, the shipped basis is "
-            f"{default_basis().content_hash}; rebuild it with `fresnel-lut materials`"
+            f"{default_basis().content_hash}; refit the shipped presets with `make materials` (or pass the basis "
+            "that goes with them)"
         )
     if preset["coefficients"].shape != (3, default_basis().n_terms):
         raise PresetFileError(f"{shipped_presets_path()}: {preset['name']} has coefficients of shape "
@@ -238,7 +264,7 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
         }
         if progress is not None:
             progress(done, len(measured))
-    return {
+    document = {
         "format": FORMAT,
         "version": VERSION,
         "basis_hash": basis.content_hash,
@@ -252,6 +278,9 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
             "fit": "convergence of the fit: converged (scipy status > 0), status, function evaluations, final "
                    "gradient (max norm of J^T r over the dE2000 residual components)",
             "spaces": "ACEScg: D60 illuminant, Bradford to the ACES white; sRGB: linear Rec.709 primaries, D65",
+            "content_hash": "first 16 hex digits of the SHA-256 of this document without content_hash, as UTF-8 "
+                            "JSON with sorted keys and no spaces",
         },
         "materials": materials,
     }
+    return {**document, "content_hash": content_hash(document)}

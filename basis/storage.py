@@ -1,7 +1,8 @@
 """Files: the shipped data's paths, atomic output, and versioned JSON documents.
 
 Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_together``,
-``recover_folder``, ``write_text``, ``write_json``, ``read_json_document``.
+``Journal``, ``read_journal``, ``unfinished_group``, ``recover_folder``, ``write_text``, ``write_json``,
+``read_json_document``.
 
 Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
 found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
@@ -10,13 +11,16 @@ directory must not shadow it.
 A reader (or a crash, Ctrl-C or kill) never sees a half-written file: the data go to a temporary
 file in the destination folder, which is renamed over the target only when complete. Several files
 that belong together (the basis and Schlick LUTs of one build) are renamed as a group; if the group
-is interrupted part-way, the files already replaced are rolled back to their previous content.
+is interrupted part-way, the files already replaced are rolled back to their previous content. A process
+killed between those renames leaves a journal (``.fresnel-lut-journal.json``, names relative to its folder)
+from which the next writer of the folder finishes the group; a reader never renames, removes or writes
+anything: it refuses a file of a half-renamed group instead (:func:`unfinished_group`).
 """
 
 from __future__ import annotations
 
 import contextlib
-import glob
+import dataclasses
 import json
 import os
 import re
@@ -31,8 +35,8 @@ try:
 except ImportError:  # Windows: no advisory locks; groups are still renamed together, but writers may interleave
     fcntl = None
 
-__all__ = ["read_json_document", "recover_folder", "replace_together", "shipped_path", "temporary_sibling", "write_json",
-           "write_text", "write_together"]
+__all__ = ["Journal", "read_journal", "read_json_document", "recover_folder", "replace_together", "shipped_path",
+           "temporary_sibling", "unfinished_group", "write_json", "write_text", "write_together"]
 
 
 def shipped_path(name: str) -> Path:
@@ -104,8 +108,72 @@ def replace_together(pairs) -> None:
 
 
 #: Written in the destination folder once every file of a group is complete, removed once all are renamed:
-#: a process killed between the renames leaves it, and the next writer or reader finishes the group.
+#: a process killed between the renames leaves it, and the next writer of the folder finishes the group.
 JOURNAL = ".fresnel-lut-journal.json"
+JOURNAL_FORMAT = "fresnel-basis/journal"
+JOURNAL_VERSION = 2
+
+
+def _temporary_pattern(target_name: str) -> re.Pattern:
+    """The names :func:`temporary_sibling` gives a temporary of ``target_name``: ``.NAME.XXXXXXXX.tmp``."""
+    return re.compile(rf"^\.{re.escape(target_name)}\.[A-Za-z0-9_]{{8}}\.tmp$")
+
+
+def _plain_name(name) -> bool:
+    """A file name of the folder itself: no separator, not ``.`` or ``..``, not the journal."""
+    return (isinstance(name, str) and name not in ("", ".", "..", JOURNAL) and "/" not in name and "\\" not in name
+            and "\x00" not in name and Path(name).name == name)
+
+
+@dataclasses.dataclass(frozen=True)
+class Journal:
+    """An unfinished group of a folder: (temporary, target) names to rename, then names to remove.
+
+    Every name is relative to the journal's folder, and a temporary is always named as this module names
+    the temporaries of its target: a journal can neither reach outside its folder nor rename a file that
+    a writer of this project did not make.
+    """
+
+    folder: Path
+    renames: tuple[tuple[str, str], ...]
+    removals: tuple[str, ...] = ()
+
+    @property
+    def targets(self) -> set[str]:
+        """Every name the group replaces or removes."""
+        return {target for _, target in self.renames} | set(self.removals)
+
+    def pending(self) -> bool:
+        """Whether some rename or removal has not happened yet (the group is half done)."""
+        return (any((self.folder / temporary).is_file() for temporary, _ in self.renames)
+                or any(os.path.lexists(self.folder / name) for name in self.removals))
+
+    def text(self) -> str:
+        return json.dumps({"format": JOURNAL_FORMAT, "version": JOURNAL_VERSION,
+                           "renames": [list(pair) for pair in self.renames], "removals": list(self.removals)})
+
+
+def read_journal(folder) -> Journal | None:
+    """The folder's journal, or None where there is none or it is not one of this project's (unreadable,
+    cut short by a kill before the renames began, or naming anything but its own folder's temporaries)."""
+    folder = Path(folder)
+    try:
+        document = json.loads((folder / JOURNAL).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return None
+    if not isinstance(document, dict) or document.get("format") != JOURNAL_FORMAT \
+            or document.get("version") != JOURNAL_VERSION:
+        return None
+    renames, removals = document.get("renames"), document.get("removals", [])
+    if not isinstance(renames, list) or not isinstance(removals, list):
+        return None
+    for pair in renames:
+        if not (isinstance(pair, list) and len(pair) == 2 and all(map(_plain_name, pair))
+                and _temporary_pattern(pair[1]).match(pair[0])):
+            return None
+    if not all(map(_plain_name, removals)):
+        return None
+    return Journal(folder, tuple(tuple(pair) for pair in renames), tuple(removals))
 
 
 @contextlib.contextmanager
@@ -124,33 +192,45 @@ def _folder_lock(folder: Path) -> Iterator[None]:
 
 
 def _finish(folder: Path) -> None:
-    """Complete an interrupted group (the lock held): rename the temporaries its journal lists, drop the journal."""
-    journal = folder / JOURNAL
-    try:
-        pairs = json.loads(journal.read_text(encoding="utf-8"))
-        pairs = [(Path(temporary), Path(target)) for temporary, target in pairs]
-    except (OSError, ValueError, TypeError):
-        journal.unlink(missing_ok=True)
-        return
-    for temporary, target in pairs:
-        if temporary.exists():
-            os.replace(temporary, target)
-    _remove_stale_temporaries(target for _, target in pairs)
-    journal.unlink(missing_ok=True)
+    """Complete an interrupted group (the lock held): rename the temporaries its journal lists, remove the
+    names it removes, drop the journal. A journal that is not this project's is dropped without acting on it."""
+    journal = read_journal(folder)
+    if journal is not None:
+        for temporary, target in journal.renames:
+            source = folder / temporary
+            if source.is_file() and not source.is_symlink():
+                os.replace(source, folder / target)
+        for name in journal.removals:
+            _remove_file(folder / name)
+        _remove_stale_temporaries(folder, lambda name: name in journal.targets)
+    (folder / JOURNAL).unlink(missing_ok=True)
 
 
-def _remove_stale_temporaries(targets) -> None:
-    """Temporaries a killed writer left for these targets: exactly ``.NAME.XXXXXXXX.tmp`` (this module's
-    pattern), nothing else of the folder's; only called with the folder's lock held."""
-    for target in map(Path, targets):
-        pattern = re.compile(rf"^\.{re.escape(target.name)}\.[A-Za-z0-9_]{{8}}\.tmp$")
-        for stale in target.parent.glob(f".{glob.escape(target.name)}.*.tmp"):
-            if pattern.match(stale.name) and stale.is_file():
-                stale.unlink(missing_ok=True)
+def _remove_file(path: Path) -> None:
+    """Remove a file (or a link) of a group; a folder of that name is not ours and stays."""
+    if path.is_symlink() or path.is_file():
+        path.unlink(missing_ok=True)
+
+
+def _remove_stale_temporaries(folder: Path, owned: Callable[[str], bool]) -> None:
+    """Temporaries a killed writer left in ``folder`` for the names ``owned`` accepts: exactly
+    ``.NAME.XXXXXXXX.tmp`` (this module's pattern), nothing else of the folder's; only with the lock held."""
+    for stale in folder.glob(".*.tmp"):
+        name = re.fullmatch(r"\.(.+)\.[A-Za-z0-9_]{8}\.tmp", stale.name)
+        if name and owned(name.group(1)) and stale.is_file() and not stale.is_symlink():
+            stale.unlink(missing_ok=True)
+
+
+def unfinished_group(path) -> Journal | None:
+    """The half-renamed group ``path`` belongs to, if a killed writer left one in its folder; reads only."""
+    path = Path(path)
+    journal = read_journal(path.parent)
+    return journal if journal is not None and path.name in journal.targets and journal.pending() else None
 
 
 def recover_folder(folder) -> None:
-    """Finish a group of files that a killed process left half-renamed, and remove its temporaries."""
+    """Finish a group of files that a killed process left half-renamed, and remove its temporaries: a
+    writer's action (every write into the folder does it first); readers never call it."""
     folder = Path(folder)
     if (folder / JOURNAL).exists() and os.access(folder, os.W_OK):
         with _folder_lock(folder):
@@ -176,33 +256,44 @@ def _one_line(error: BaseException, path: Path) -> BaseException:
     return OSError(getattr(error, "errno", None) or 0, f"cannot write {path}: {reason}")
 
 
-def write_together(writers: list[tuple[Path, Callable[[Path], None]]]) -> list[Path]:
+def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: str | None = None) -> list[Path]:
     """Write a group of files as one transaction: ``writer(temporary)`` fills each file's temporary sibling,
     then all are renamed into place (:func:`replace_together`).
 
-    The destination folder is locked for the transaction; an interrupted earlier group there is finished
-    first and its temporaries removed. On any failure no target is replaced, the temporaries and the
-    folders this call created are removed, and the error is one line naming the file.
+    Every target lies in one folder. The folder is locked for the transaction; an interrupted earlier group
+    there is finished first. ``owned``, a regular expression of file names, is the set this group owns
+    (a build's tables in every format): the files of the folder it matches that the group does not write are
+    removed once the renames are done, and so are the temporaries a killed writer left for any of them. On
+    any failure no target is replaced, the temporaries and the folders this call created are removed, and
+    the error is one line naming the file.
     """
     targets = [Path(path) for path, _ in writers]
     folder = targets[0].parent
+    if any(target.parent != folder for target in targets):
+        raise ParameterError(f"a group of files lies in one folder, got {sorted({str(t.parent) for t in targets})}")
+    names = {target.name for target in targets}
+    owns = re.compile(owned).fullmatch if owned is not None else (lambda name: False)
     created = _make_folder(folder)
     temporaries: list[Path] = []
     try:
         with _folder_lock(folder):
             _finish(folder)
-            _remove_stale_temporaries(targets)
+            _remove_stale_temporaries(folder, lambda name: name in names or owns(name))
             for target, (_, writer) in zip(targets, writers):
                 temporaries.append(temporary_sibling(target))
                 try:
                     writer(temporaries[-1])
                 except BaseException as error:
                     raise _one_line(error, target) from None
+            removals = sorted(path.name for path in folder.iterdir()
+                              if owns(path.name) and path.name not in names and (path.is_file() or path.is_symlink()))
+            journal = Journal(folder, tuple((t.name, p.name) for t, p in zip(temporaries, targets)), tuple(removals))
             # a journal cut short by a kill is unreadable and dropped: the renames had not begun
-            (folder / JOURNAL).write_text(json.dumps([[str(t), str(p)] for t, p in zip(temporaries, targets)]),
-                                          encoding="utf-8")
+            (folder / JOURNAL).write_text(journal.text(), encoding="utf-8")
             try:
                 replace_together(zip(temporaries, targets))
+                for name in removals:
+                    _remove_file(folder / name)
             except BaseException as error:
                 raise _one_line(error, targets[0]) from None
             finally:

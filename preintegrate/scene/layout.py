@@ -23,6 +23,7 @@ from basis.models import fresnel_model
 from basis.training import refine_basis
 
 from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
+from ..lut import model_lut_name
 from ..quadrature import texel_weights
 from .files import Scene, SceneMaterial
 
@@ -73,7 +74,7 @@ class Layout:
         if self.kind == "scene":
             return "ggx_scene_basis_rgba.exr"  # terms 4 … 7, if any, go to a second table (lut.rgba_items)
         if self.kind == "model":
-            return f"ggx_{self.model}" + "".join(f"_{key}{value:g}" for key, value in self.shape) + ".exr"
+            return model_lut_name(self.model, self.shape)
         return f"ggx_basis_{'rgba'[: self.terms]}.exr"
 
     def coefficients(self, material: SceneMaterial, basis: Basis) -> np.ndarray | None:

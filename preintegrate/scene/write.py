@@ -7,6 +7,7 @@ Public objects: ``write_scene``.
 from __future__ import annotations
 
 import json
+import re
 import tempfile
 from pathlib import Path
 
@@ -127,12 +128,10 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
          f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
     ]
     coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
-    previous = _previous_files(coefficients_path)
+    # the tables (and scene basis) of a scene built here before are this build's set: those not written again go
+    previous = "|".join(re.escape(name) for name in sorted(_previous_files(coefficients_path))) or None
     paths = write_luts(items, texts=[*texts, (coefficients_path, json.dumps(document, indent=1) + "\n"),
-                                     (report_path, "\n".join(report) + "\n")])
-    written_now = {path.name for path in paths} | {Path(path).name for path, _ in texts}
-    for stale in previous - written_now:  # tables (and scene basis) of the scene built here before
-        (out / stale).unlink(missing_ok=True)
+                                     (report_path, "\n".join(report) + "\n")], owned=previous)
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
             "full_bytes": full, "text": "\n".join(report)}

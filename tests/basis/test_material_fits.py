@@ -154,10 +154,11 @@ def test_presets_for_another_basis_are_refused(tmp_path, monkeypatch):
 
     document = json.loads(materials.shipped_presets_path().read_text(encoding="utf-8"))
     document["basis_hash"] = "0" * 16
+    document["content_hash"] = materials.content_hash(document)  # a consistent file, of another basis
     stale = tmp_path / "materials.json"
     stale.write_text(json.dumps(document), encoding="utf-8")
     monkeypatch.setattr(materials, "shipped_presets_path", lambda: stale)
-    with pytest.raises(PresetFileError, match="made for basis 0000000000000000.*fresnel-lut materials"):
+    with pytest.raises(PresetFileError, match="made for basis 0000000000000000.*make materials"):
         material_coefficients("Gold")
     broken = tmp_path / "broken.json"
     broken.write_text("{", encoding="utf-8")

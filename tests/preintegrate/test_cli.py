@@ -249,7 +249,7 @@ def test_coeffs_errors(argv, message, capsys):
 
 def test_build_model_table(tmp_path, capsys):
     """build --model f82 writes a 3-channel table whose texels equal the integrator's (float32), with the
-    combination rule in the header; build --model generalized-schlick --exponent 2 records p."""
+    combination rule in the header; build --model generalized-schlick --exponent 2 records p and names the file by it (issue 26 item 9)."""
     from basis.models import fresnel_model
     from preintegrate.channels import channel_set
     from preintegrate.exr import read_lut
@@ -262,7 +262,7 @@ def test_build_model_table(tmp_path, capsys):
     expected = directional_albedo(channel_set("f82").functions, mu_o, roughness**2)
     np.testing.assert_allclose(table[2, 5], expected, rtol=1e-6, atol=1e-7)
     assert run(["build", "--model", "generalized-schlick", "--exponent", 2, "--size", 4, "--out", tmp_path]) == 0
-    assert read_lut(tmp_path / "ggx_generalized-schlick.exr")[1]["model_exponent"] == "2.0"
+    assert read_lut(tmp_path / "ggx_generalized-schlick_exponent2.exr")[1]["model_exponent"] == "2.0"
     assert fresnel_model("f82").linear
 
 

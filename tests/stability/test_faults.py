@@ -38,7 +38,7 @@ NON_FINITE = ["nan", "inf", "1e999", "NaN", "Infinity"]
 # Each case: (base argv, option, bad value or None for a missing value, fragment the error must contain).
 BASES = {
     "build": ["build", "--size", "4"],
-    "basis": ["basis", "--count", "100"],
+    "basis": ["basis", "--count", "100", "--out", "fuzz-basis.json"],
     "coeffs_nk": ["coeffs", "--eta", "1.5", "1.5", "1.5", "--kappa", "0", "0", "0"],
     "coeffs_gulbrandsen": ["coeffs", "--reflectivity", "0.5", "0.5", "0.5", "--edge-tint", "0", "0", "0"],
 }

@@ -2,8 +2,8 @@
 
 A full disk inside the EXR library (which raises a bare RuntimeError) is one line naming the file, keeps the
 previous files and leaves no folder behind; two builds into one folder never leave a mixed set; a process
-killed between the renames of a group leaves a journal from which the next reader or writer finishes the
-group, and its temporaries are removed.
+killed between the renames of a group leaves a journal from which the next writer finishes the group (a
+reader refuses the half-renamed set and changes nothing), and its temporaries are removed.
 """
 
 import os
@@ -13,9 +13,12 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
+from basis.storage import recover_folder
 from preintegrate import exr
 from preintegrate.exr import read_lut
-from preintegrate.lut import AVERAGE_LUT, SHIPPED_LUTS
+from preintegrate.lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -74,17 +77,53 @@ _KILLED_BUILD = textwrap.dedent("""
 """)
 
 
-def test_kill_between_renames_is_finished_by_the_next_reader(tmp_path, capsys):
+def _kill_a_build_between_renames(out: Path, cwd: Path = ROOT) -> None:
+    killed = subprocess.run([sys.executable, "-c", _KILLED_BUILD, str(out)], cwd=cwd, capture_output=True,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert killed.returncode == -signal.SIGKILL, killed.stderr
+    assert (cwd / out / ".fresnel-lut-journal.json").exists()  # the group is half renamed
+
+
+def test_a_reader_refuses_a_half_renamed_set_and_changes_nothing(tmp_path):
+    """Issue 26 item 1: a reader never renames, removes or writes; it refuses the tables of a half-renamed group
+    (one of which may be of the new build, another of the old) with one line naming the folder."""
     out = tmp_path / "luts"
     assert run(["build", "--size", "6", "--out", out]) == 0
-    killed = subprocess.run([sys.executable, "-c", _KILLED_BUILD, str(out)], cwd=ROOT, capture_output=True)
-    assert killed.returncode == -signal.SIGKILL
-    assert (out / ".fresnel-lut-journal.json").exists()  # the group is half renamed
-    basis_table, basis_header = read_lut(out / "ggx_basis_rgba.exr")  # the reader finishes the group
-    schlick_table, schlick_header = read_lut(out / "ggx_schlick_rgb.exr")
-    assert basis_table.shape[:2] == schlick_table.shape[:2] == (8, 8)
-    assert read_lut(out / AVERAGE_LUT)[0].shape[:2] == (8, 1)  # the whole group, whichever was renamed
+    _kill_a_build_between_renames(out)
+    before = _files(out)
+    for name in SHIPPED_LUTS:
+        with pytest.raises(exr.LutFileError, match="half-renamed") as refused:
+            read_lut(out / name)
+        assert str(out) in str(refused.value) and "\n" not in str(refused.value)
+    assert _files(out) == before
+
+
+def test_the_next_build_finishes_a_half_renamed_set(tmp_path, capsys):
+    out = tmp_path / "luts"
+    assert run(["build", "--size", "6", "--out", out]) == 0
+    _kill_a_build_between_renames(out)
+    assert run(["build", "--size", "10", "--out", out]) == 0
+    shapes = {read_lut(out / name)[0].shape[:2] for name in (BASIS_LUT, SCHLICK_LUT)}
+    assert shapes == {(10, 10)} and read_lut(out / AVERAGE_LUT)[0].shape[:2] == (10, 1)
     assert sorted(path.name for path in out.iterdir()) == sorted(SHIPPED_LUTS)
+
+
+def test_a_journal_left_by_a_relative_out_is_finished_from_another_folder(tmp_path, monkeypatch):
+    """Issue 26 item 2: a build killed with the default relative ``--out luts`` is finished from another working
+    folder that has a ``luts`` of its own: the journal names files relative to its folder, so the killed build's
+    whole set (8 x 8) lands where it was going and the other ``luts`` is not touched."""
+    work, elsewhere = tmp_path / "work", tmp_path / "elsewhere"
+    (elsewhere / "luts").mkdir(parents=True)
+    (elsewhere / "luts" / "keep.txt").write_text("an unrelated folder of the same relative name")
+    work.mkdir()
+    assert run(["build", "--size", "6", "--out", work / "luts"]) == 0
+    _kill_a_build_between_renames(Path("luts"), cwd=work)
+    monkeypatch.chdir(elsewhere)
+    recover_folder(work / "luts")
+    shapes = {read_lut(work / "luts" / name)[0].shape[:2] for name in (BASIS_LUT, SCHLICK_LUT)}
+    assert shapes == {(8, 8)} and read_lut(work / "luts" / AVERAGE_LUT)[0].shape[:2] == (8, 1)
+    assert sorted(path.name for path in (work / "luts").iterdir()) == sorted(SHIPPED_LUTS)
+    assert sorted(path.name for path in (elsewhere / "luts").iterdir()) == ["keep.txt"]
 
 
 def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
