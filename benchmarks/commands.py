@@ -1,7 +1,7 @@
 """Wall time and peak memory of every interactive command, side by side with ``python -c "import numpy"``.
 
 Run from the repository root: ``.venv/bin/python -m benchmarks.commands [--repeats N] [--full] [--out FILE]
-[--tree DIR]``; ``--tree`` runs the commands of another checkout (``python -m preintegrate.cli`` in DIR, e.g. a
+[--tree DIR]``; ``--tree`` runs the commands of another checkout (``python -m fresnel_lut.cli`` in DIR, e.g. a
 ``git worktree`` of an older commit) for a before/after table on the same machine.
 Each command runs in a fresh process (``os.wait4`` gives that process's own peak resident memory); fast
 commands are repeated and the median is reported, with the spread. The machine is shared: the ratio to
@@ -35,7 +35,7 @@ COEFFICIENTS_1E6 = (
 
 def _jobs(folder: Path, full: bool, tree: Path | None) -> list[tuple[str, list[str], str]]:
     """(label, argv, target) of every measured command."""
-    lut = [str(BIN / "fresnel-lut")] if tree is None else [sys.executable, "-m", "preintegrate.cli"]
+    lut = [str(BIN / "fresnel-lut")] if tree is None else [sys.executable, "-m", "fresnel_lut.cli"]
     jobs = [
         ("python -c 'import numpy' (baseline)", [sys.executable, "-c", "import numpy"], ""),
         ("import basis", [sys.executable, "-c", "import basis"], "<= 0.3 s"),

@@ -33,8 +33,9 @@ import basis
 from basis.eigenbasis import Basis, shipped_basis_path
 from basis.presets import material_preset, material_presets, shipped_presets_path
 from basis.validation import ParameterError
-from preintegrate import cli, formats, multiple_scattering
-from preintegrate.scene import read_scene
+from fresnel_lut import cli
+from preintegrate import formats, multiple_scattering
+from fresnel_lut.scene import read_scene
 
 #: Values that break naive readers: every JSON/TOML type, non-finite and extreme numbers, odd text.
 ODD = [None, True, False, "", "text", "0.3", "Gold", "\x00", "é" * 300, [], {}, [1, 2], [1, 2, 3, 4], ["a", "b", "c"],

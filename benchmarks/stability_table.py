@@ -41,7 +41,7 @@ from basis.coefficients import (
 from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path
 from basis.training import MIN_SPAN, NOTEBOOK_ANGLES, TALK_ANGLES, GramAccumulator
 from basis.validation import ParameterError
-from preintegrate import cli
+from fresnel_lut import cli
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.exr import read_lut, write_lut
 from preintegrate.lut import build_table

@@ -7,7 +7,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
-from preintegrate import cli
+from fresnel_lut import cli
 
 
 def run(argv):
@@ -20,7 +20,7 @@ def run(argv):
 
 def run_subprocess(argv, cwd):
     return subprocess.run(
-        [sys.executable, "-m", "preintegrate.cli", *map(str, argv)], capture_output=True, text=True, cwd=cwd, timeout=120
+        [sys.executable, "-m", "fresnel_lut.cli", *map(str, argv)], capture_output=True, text=True, cwd=cwd, timeout=120
     )
 
 

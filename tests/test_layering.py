@@ -1,7 +1,9 @@
 """The import structure the design fixes, read from the code (ast) and from a fresh interpreter:
 
 * ``basis`` never imports ``preintegrate`` (Fresnel curves know nothing of GGX);
-* no product module imports the report (``preintegrate.report``); only the CLI may, inside a command;
+* neither ``basis`` nor the integration core ``preintegrate`` imports the application layer ``fresnel_lut``
+  (the command, scenes, the renderer, the report);
+* no product module imports the report (``fresnel_lut.report``); only the CLI may, inside a command;
 * no private name (``_name``) is imported from another module of the project;
 * ``import basis`` and ``from basis import coefficients_from_nk`` load neither colour-science nor matplotlib.
 """
@@ -14,7 +16,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("basis", "preintegrate")
+PACKAGES = ("basis", "preintegrate", "fresnel_lut")
 MODULES = sorted(path for package in PACKAGES for path in (ROOT / package).rglob("*.py"))
 
 
@@ -42,7 +44,7 @@ def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
 
 
 def _is_report(module: str) -> bool:
-    return module == "preintegrate.report" or module.startswith("preintegrate.report.")
+    return module == "fresnel_lut.report" or module.startswith("fresnel_lut.report.")
 
 
 def test_the_tree_is_read():
@@ -57,7 +59,9 @@ def test_layering(path):
         targets = [target] + [f"{target}.{name}" for name in names]
         if me.startswith("basis") and target.startswith("preintegrate"):
             problems.append(f"line {line}: basis imports {target}")
-        if not _is_report(me) and me != "preintegrate.cli" and any(_is_report(t) for t in targets):
+        if not me.startswith("fresnel_lut") and target.startswith("fresnel_lut"):
+            problems.append(f"line {line}: the core imports the application layer ({target})")
+        if not _is_report(me) and me != "fresnel_lut.cli" and any(_is_report(t) for t in targets):
             problems.append(f"line {line}: a product module imports the report ({target})")
         private = [name for name in names if name.startswith("_") and not name.startswith("__")]
         if private and target != me:

@@ -42,7 +42,7 @@ def test_basis_bytes_do_not_depend_on_blas_threads(tmp_path):
     for threads in ("1", "2"):
         path = tmp_path / f"basis-{threads}.json"
         environment = {**os.environ, "OPENBLAS_NUM_THREADS": threads, "OMP_NUM_THREADS": threads}
-        subprocess.run([sys.executable, "-m", "preintegrate.cli", "basis", "--count", "40000", "--out", str(path)],
+        subprocess.run([sys.executable, "-m", "fresnel_lut.cli", "basis", "--count", "40000", "--out", str(path)],
                        cwd=ROOT, env=environment, capture_output=True, check=True, timeout=300)
         written.append(path.read_bytes())
     assert written[0] == written[1]

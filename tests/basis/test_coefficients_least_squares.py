@@ -20,7 +20,7 @@ from basis.coefficients import (
 from basis.models import fresnel_Schlick1994
 from basis.training import holdout_materials
 from basis.validation import ParameterError
-from preintegrate.report.model_error import REPRESENTATIONS, representation
+from fresnel_lut.report.model_error import REPRESENTATIONS, representation
 
 BASIS = default_basis()
 WEIGHTS = sorted(LEAST_SQUARES_WEIGHTS)

@@ -21,7 +21,7 @@ from basis.models import F82_MU, fresnel_Hoffman2019
 from basis.presets import PRESET_SPACES, PresetFileError, material_coefficients, material_preset, material_presets
 from basis.spectral import spectral_ior, spectral_iors
 from basis.validation import ParameterError
-from preintegrate.report.material_error import TARGET, blending_table, material_error_table
+from fresnel_lut.report.material_error import TARGET, blending_table, material_error_table
 
 THETA = np.deg2rad(ANGLES_DEGREES)
 MU = cos_theta(THETA)
@@ -109,7 +109,7 @@ def test_table_entries_against_hoffman():
 
 
 def test_blending_coefficients_is_exact_and_gulbrandsen_is_not(monkeypatch):
-    import preintegrate.report.material_error as study
+    import fresnel_lut.report.material_error as study
 
     monkeypatch.setattr(study, "HOFFMAN_BLENDING", {("Gold", "Chromium"): 2.42})
     (row,) = blending_table()

@@ -147,7 +147,7 @@ def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path)
     of ggx_basis_rgba_2.exr, a two-channel texture whose A reads as 1 (its coefficient is 0). Measured:
     max |GPU − Python| 1.4e-7."""
     from basis.training import build_basis
-    from preintegrate.cli import main
+    from fresnel_lut.cli import main
 
     basis = build_basis(count=5000, n_terms=6, grid_size=128)
     basis.write(tmp_path / "basis6.json")

@@ -1,5 +1,5 @@
 """The engines' Hammersley Monte-Carlo LUT estimator (preintegrate.estimators) and report study 1
-(preintegrate.report.lut_error).
+(fresnel_lut.report.lut_error).
 
 References: (1) the base-2 radical inverse written digit by digit with exact fractions; (2) a literal,
 one-sample-at-a-time transcription of Karis 2013's ``IntegrateBRDF`` (3-vectors, ``ImportanceSampleGGX``'s
@@ -21,7 +21,7 @@ from preintegrate.estimators import hammersley_points, radical_inverse_base2
 from preintegrate.ggx import g1, sample_vndf
 from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import QuadratureOrder
-from preintegrate.report.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
+from fresnel_lut.report.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
 from tests.references.integration import g2_reference
 
 SIX = combine(basis_channels(), schlick_channels())

@@ -1,7 +1,7 @@
 """Bad input and faults at the ``fresnel-lut`` command line: every option fuzzed, corrupt and foreign files,
 interrupted and failing writes, determinism.
 
-Extends tests/preintegrate/test_cli.py (a dozen error cases, ``build`` interrupts, ``build --size 8`` determinism) to every
+Extends tests/fresnel_lut/test_cli.py (a dozen error cases, ``build`` interrupts, ``build --size 8`` determinism) to every
 option of ``build``, ``basis``, ``coeffs`` and ``report --out``: negative, zero, NaN, inf, huge, strings, empty and
 missing values. The contract checked for each: exit status 2; exactly one stderr line, beginning with
 "fresnel-lut", that names the option (or its parameter) and, for a value of the right type, the accepted range or
@@ -22,7 +22,8 @@ import numpy as np
 import pytest
 
 from basis.eigenbasis import shipped_basis_path
-from preintegrate import cli, exr
+from fresnel_lut import cli
+from preintegrate import exr
 from preintegrate.lut import SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 
@@ -177,12 +178,12 @@ def test_reflectivity_next_to_one_names_reflectivity(edge_tint, tmp_path, monkey
 def test_empty_out_is_refused(argv, tmp_path, monkeypatch, capsys):
     """--out '' (e.g. an unset shell variable): exit 2, one line naming --out, nothing written; report never started."""
     monkeypatch.chdir(tmp_path)
-    import preintegrate.report
+    import fresnel_lut.report
 
     def no_report(*args, **kwargs):
         raise AssertionError("report started with an empty --out")
 
-    monkeypatch.setattr(preintegrate.report, "write_report", no_report)
+    monkeypatch.setattr(fresnel_lut.report, "write_report", no_report)
     _check_refused(argv, "usage", capsys, tmp_path)
 
 
@@ -479,7 +480,7 @@ SUBPROCESS_CASES = ["--count=0", "--fit-angles='bogus'", "--order='nan'", "--edg
 
 @pytest.mark.parametrize("case", SUBPROCESS_CASES)
 def test_fuzzed_option_via_subprocess(case, tmp_path):
-    """A few fuzz cases through `python -m preintegrate.cli`: exit status 2, one stderr line, no Traceback, nothing
+    """A few fuzz cases through `python -m fresnel_lut.cli`: exit status 2, one stderr line, no Traceback, nothing
     written in the working folder."""
     argv, _ = FUZZ[case]
     result = run_subprocess(argv, cwd=tmp_path)
@@ -503,7 +504,7 @@ def _editable_install() -> bool:
 
 
 def test_commands_after_a_default_build_in_the_same_folder(tmp_path):
-    """`python -m preintegrate.cli build --size 4` (default --out luts) then `coeffs --json` in the same folder:
+    """`python -m fresnel_lut.cli build --size 4` (default --out luts) then `coeffs --json` in the same folder:
     both exit 0 and the coefficients are those of the shipped basis (as in-process)."""
     assert run_subprocess(["build", "--size", "4"], cwd=tmp_path).returncode == 0
     assert (tmp_path / "luts" / BASIS_LUT).exists()

@@ -49,7 +49,7 @@ def test_ctrl_c_inside_a_lazily_loaded_c_extension(monkeypatch, capsys):
     surfaces as ``ImportError: initialization failed`` caused by KeyboardInterrupt (seen once in a fresh
     clone's run of test_ctrl_c_while_starting). It ends the command like any Ctrl-C; another ImportError
     still propagates."""
-    from preintegrate import cli, entry
+    from fresnel_lut import cli, entry
 
     def interrupted_import():
         try:

@@ -64,7 +64,7 @@ def test_disk_full_during_a_scene_write(tmp_path, monkeypatch, capsys):
 
 _KILLED_BUILD = textwrap.dedent("""
     import os, signal, sys
-    from preintegrate import cli
+    from fresnel_lut import cli
     original, calls = os.replace, []
     def replace(source, target):
         if not str(target).endswith(".tmp"):
@@ -138,7 +138,7 @@ def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
 def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
     out = tmp_path / "luts"
     environment = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
-    commands = [[sys.executable, "-m", "preintegrate.cli", "build", "--size", str(size), "--out", str(out)] + extra
+    commands = [[sys.executable, "-m", "fresnel_lut.cli", "build", "--size", str(size), "--out", str(out)] + extra
                 for size, extra in ((24, []), (20, ["--half"]))]
     for _ in range(3):
         processes = [subprocess.Popen(command, cwd=ROOT, env=environment, stdout=subprocess.DEVNULL,

@@ -5,11 +5,11 @@ Public objects: ``write_report``, ``environment``.
 Writes ``OUT/README.md`` (tables, the machine and versions, which targets were reached) and PNG plots
 (with the ``plot`` extra) from three studies and a benchmark of the basis build:
 
-1. LUT error vs generation time (:mod:`preintegrate.report.lut_error`);
+1. LUT error vs generation time (:mod:`fresnel_lut.report.lut_error`);
 2. Fresnel models: curve error vs evaluation cost, and 3. preintegrated error
-   (:mod:`preintegrate.report.model_error`);
+   (:mod:`fresnel_lut.report.model_error`);
 4. basis build: time and peak memory, convergence with the training-set size
-   (:mod:`preintegrate.report.basis_build`).
+   (:mod:`fresnel_lut.report.basis_build`).
 
 ``quick=True`` shrinks every study (32 × 32 tables, fewer settings and materials, 10^5 training curves)
 so the whole report takes well under three minutes; the targets are then marked as not measured.

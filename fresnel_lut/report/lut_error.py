@@ -19,7 +19,7 @@ channel, against one converged reference (the quadrature at ``reference_order``,
 time, interpolated in log-log within each quadrature family, the better family at that time (the issue's
 target: ≥ 1000× lower max error at equal wall time).
 
-Run: ``python -m preintegrate.report.lut_error [--quick] [--size N] [--png FILE]``.
+Run: ``python -m fresnel_lut.report.lut_error [--quick] [--size N] [--png FILE]``.
 
 References
 ----------
@@ -38,9 +38,9 @@ import numpy as np
 
 from basis.validation import ParameterError, check_positive_int, check_range
 
-from ..channels import basis_channels, combine, schlick_channels
-from ..lut import build_table
-from ..quadrature import DEFAULT_ORDER, QuadratureOrder
+from preintegrate.channels import basis_channels, combine, schlick_channels
+from preintegrate.lut import build_table
+from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 from .figures import pyplot, save_figure
 
 __all__ = ["QUICK", "lut_error_table_markdown", "lut_error_vs_time", "plot_lut_error"]

@@ -31,7 +31,7 @@ __all__ = ["basis_build_cost", "basis_build_markdown", "basis_convergence"]
 _CHILD = """
 import json, sys, time
 from basis.training import build_basis
-from preintegrate.progress import peak_rss_mib
+from fresnel_lut.progress import peak_rss_mib
 started = time.perf_counter()
 build_basis(count=int(sys.argv[1])).write(sys.argv[2])
 print(json.dumps({"seconds": time.perf_counter() - started, "peak_rss_mib": peak_rss_mib()}))

@@ -14,8 +14,8 @@ from pathlib import Path
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
 
-from ..exr import write_luts
-from ..lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_items
+from preintegrate.exr import write_luts
+from preintegrate.lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_items
 from .plan import ACCURACY_GOAL, ScenePlan
 
 __all__ = ["write_scene"]

@@ -1,4 +1,4 @@
-"""The ``fresnel-lut`` command (preintegrate.cli): LUT contents against an independent integration,
+"""The ``fresnel-lut`` command (fresnel_lut.cli): LUT contents against an independent integration,
 headers, coefficients, one-line errors with exit status 2, and Ctrl-C atomicity.
 
 References: adaptive scipy cubature over ω_i (tests/references/integration.py) for texels with α ≳ 0.02,
@@ -20,11 +20,12 @@ import pytest
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficients_from_samples, default_basis
 from basis.eigenbasis import shipped_basis_path
-from preintegrate import cli, exr
+from fresnel_lut import cli
+from preintegrate import exr
 from preintegrate.channels import basis_channels, schlick_table_channels
 from preintegrate.exr import read_lut
 from preintegrate.lut import PIXEL_CONVENTION, SHIPPED_LUTS
-from preintegrate.progress import Progress
+from fresnel_lut.progress import Progress
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
 
@@ -160,7 +161,7 @@ def test_build_is_deterministic(tmp_path):
 
 @pytest.mark.slow
 def test_build_via_subprocess(tmp_path):
-    """`python -m preintegrate.cli build` exits 0 and writes the same files as the in-process build (byte-identical), no stderr traceback."""
+    """`python -m fresnel_lut.cli build` exits 0 and writes the same files as the in-process build (byte-identical), no stderr traceback."""
     result = run_subprocess(["build", "--size", 8, "--out", tmp_path / "sub"], cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "Traceback" not in result.stderr
@@ -368,7 +369,7 @@ def test_errors_in_process(tmp_path, capsys, case):
 
 @pytest.mark.parametrize("case", ["size_1", "negative_eta", "coeffs_nothing", "unknown_option", "kappa_without_eta", "missing_basis_build", "corrupt_basis"])
 def test_errors_via_subprocess(tmp_path, case):
-    """Same errors through `python -m preintegrate.cli`: exit status 2, one stderr line 'fresnel-lut…', no Traceback, --out untouched."""
+    """Same errors through `python -m fresnel_lut.cli`: exit status 2, one stderr line 'fresnel-lut…', no Traceback, --out untouched."""
     argv = ERROR_CASES[case](tmp_path)
     out = tmp_path / "out"
     if argv and argv[0] == "build":

@@ -47,11 +47,11 @@ from basis.training import build_basis
 from basis.training.builder import MAX_GRID
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
-from .exr import write_luts
-from .formats import FORMATS, c_header, file_family, ktx2_bytes, png16_bytes
-from .ggx import VISIBILITIES
-from .lut import (
+from preintegrate.channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
+from preintegrate.exr import write_luts
+from preintegrate.formats import FORMATS, c_header, file_family, ktx2_bytes, png16_bytes
+from preintegrate.ggx import VISIBILITIES
+from preintegrate.lut import (
     AVERAGE_LUT,
     BASIS_LUT,
     SCHLICK_LUT,
@@ -63,9 +63,9 @@ from .lut import (
     rgba_items,
     second_rgba_path,
 )
-from .multiple_scattering import AVERAGE_NODES, average_albedo
+from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
 from .progress import Progress, peak_rss_mib
-from .quadrature import DEFAULT_ORDER, QuadratureOrder
+from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 
 
 class _Parser(argparse.ArgumentParser):

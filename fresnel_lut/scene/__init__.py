@@ -31,7 +31,7 @@ Adobe, generalized Schlick, …), that model's own exact split-sum table (``buil
 clamp is inactive). The scene basis is written beside its tables as ``scene_basis.json`` (curves, fit
 angles, content hash; every table and material entry names that hash), so the coefficients and the table
 always travel together. **Accuracy first**: a material that some layout holds to one 10-bit step
-(:data:`preintegrate.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
+(:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'
 own tables; the one with the fewest channels that holds every material to its aim with one of its layouts,
 then the fewest tables, then the most accurate. **Rows**: cropped to the union of the
@@ -39,7 +39,7 @@ materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi �
 the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim. **Columns**: the
 file's ``size``; unset, 128 (the default build's), doubled to 256 when reading some material's exact F̄
 bilinearly between 128 columns alone costs more than half of one 10-bit step
-(:func:`preintegrate.scene.plan.lookup_floor`; near-mirrors at grazing, 1.5e-3 at r 0.15–0.2). A
+(:func:`fresnel_lut.scene.plan.lookup_floor`; near-mirrors at grazing, 1.5e-3 at r 0.15–0.2). A
 Schlick-only scene trains no scene basis: Schlick's two channels hold it exactly.
 
 **Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the

@@ -19,8 +19,8 @@ from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
 from preintegrate.lut import lut_lookup
 from preintegrate.quadrature import directional_albedo
-from preintegrate.scene import DEFAULT_TOLERANCE, plan_scene, read_scene, write_scene
-from preintegrate.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
+from fresnel_lut.scene import DEFAULT_TOLERANCE, plan_scene, read_scene, write_scene
+from fresnel_lut.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 

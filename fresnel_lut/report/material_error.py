@@ -21,7 +21,7 @@ parameters 50/50, and converting parameters from ACEScg to Rec.709 or AP0, again
 evaluated curves. The basis is linear in its coefficients, so its column is rounding error.
 
 Run: ``fresnel-lut materials`` (also writes the presets) or
-``python -m preintegrate.report.material_error [--markdown FILE]``.
+``python -m fresnel_lut.report.material_error [--markdown FILE]``.
 
 References
 ----------

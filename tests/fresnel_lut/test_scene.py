@@ -1,4 +1,4 @@
-"""Scene builds (preintegrate/scene.py, fresnel-lut scene): only what a scene needs, and what it costs.
+"""Scene builds (fresnel_lut/scene.py, fresnel-lut scene): only what a scene needs, and what it costs.
 
 Independent checks: texels of the written tables against VNDF Monte Carlo of the material's own curve
 (4σ), cropped rows against the full table interpolated in roughness (bounded by h²/8 · max |∂²F̄/∂r²|, estimated from the table, × 2),
@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from basis.models import fresnel_model
-from preintegrate import cli
+from fresnel_lut import cli
 from preintegrate.channels import basis_channels
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
 from preintegrate.lut import build_table
 from preintegrate.quadrature import directional_albedo
-from preintegrate.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
+from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
 
 SIZE = 16
 
@@ -298,7 +298,7 @@ def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):
     written = []
     for seed in ("0", "1"):  # these two wrote different orders before the fix
         out = tmp_path / f"out{seed}"
-        subprocess.run([sys.executable, "-m", "preintegrate.cli", "scene", str(path), "--out", str(out)], check=True,
+        subprocess.run([sys.executable, "-m", "fresnel_lut.cli", "scene", str(path), "--out", str(out)], check=True,
                        capture_output=True, env={**os.environ, "PYTHONHASHSEED": seed})
         written.append((out / "scene_coefficients.json").read_bytes())
     assert all(text == written[0] for text in written)

@@ -1,4 +1,4 @@
-"""Studies 2 and 3 (preintegrate.report.model_error): texel weights and a quick run of both studies.
+"""Studies 2 and 3 (fresnel_lut.report.model_error): texel weights and a quick run of both studies.
 
 References: direct integration of the exact Fresnel curve with the one integrator
 (preintegrate.quadrature.directional_albedo) and the engine's LUT channels (preintegrate.lut.build_table);
@@ -15,7 +15,7 @@ from basis.validation import ParameterError
 from preintegrate.channels import basis_channels
 from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import directional_albedo, lagrange_cardinals, texel_weights
-from preintegrate.report.model_error import model_error_markdown, model_error_study, plot_model_error
+from fresnel_lut.report.model_error import model_error_markdown, model_error_study, plot_model_error
 
 BASIS = default_basis()
 MU_O, ROUGHNESS = lut_axes(8)

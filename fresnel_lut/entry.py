@@ -5,7 +5,7 @@ modules load (0.1–0.4 s) the interrupt is held until they are loaded — an in
 import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once; a module
 loaded later, on first use (scipy), is covered by recognising such an ImportError by its cause. A closed pipe
 on standard output (``fresnel-lut … | head``) ends the command quietly. Everything else is
-:func:`preintegrate.cli.main`.
+:func:`fresnel_lut.cli.main`.
 """
 
 from __future__ import annotations

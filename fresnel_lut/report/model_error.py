@@ -27,7 +27,7 @@ every material at once, is then a matrix product. Two checks travel with the res
 channels the engine ships (basis and Schlick, :func:`preintegrate.lut.build_table`), and W against
 direct integration of the exact curve for the worst materials of each group.
 
-Run: ``python -m preintegrate.report.model_error [--quick] [--size N] [--png FILE] [--markdown FILE]``.
+Run: ``python -m fresnel_lut.report.model_error [--quick] [--size N] [--png FILE] [--markdown FILE]``.
 
 References
 ----------
@@ -54,10 +54,10 @@ from basis.storage import write_text
 from basis.training import holdout_materials
 from basis.validation import ParameterError, check_positive_int, check_range
 
-from ..channels import basis_channels, combine, schlick_channels
-from ..ggx import roughness_to_alpha
-from ..lut import build_table, lut_axes, lut_texel_weights
-from ..quadrature import DEFAULT_ORDER, directional_albedo
+from preintegrate.channels import basis_channels, combine, schlick_channels
+from preintegrate.ggx import roughness_to_alpha
+from preintegrate.lut import build_table, lut_axes, lut_texel_weights
+from preintegrate.quadrature import DEFAULT_ORDER, directional_albedo
 from .figures import pyplot, save_figure
 
 __all__ = [

@@ -2,7 +2,7 @@
 
 Public objects: ``render_study``, ``render_markdown``, ``write_renders``.
 
-For every default scene of :data:`preintegrate.render.DEFAULT_SCENES` (the talk's Figure 2 material,
+For every default scene of :data:`fresnel_lut.render.DEFAULT_SCENES` (the talk's Figure 2 material,
 Chromium, Gold, Beryllium; linear sRGB) and each of its roughnesses: the split sum with the shipped
 Schlick LUT, with the shipped basis LUT, and a Monte-Carlo reference with the exact Fresnel curve; the
 CIEDE2000 of each split-sum image against the reference (on the tone-mapped linear values, white = 1),
@@ -24,8 +24,8 @@ from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000
 from basis.models.formulas import schlick_curve  # unchecked: an sRGB F0 may leave [0, 1]
 
-from ..exr import write_luts
-from ..multiple_scattering import shipped_tables
+from preintegrate.exr import write_luts
+from preintegrate.multiple_scattering import shipped_tables
 from ..render import (
     DEFAULT_SCENES,
     render_reference,
@@ -44,7 +44,7 @@ EXPOSURE = 1.0
 
 def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
     """Images and ΔE2000 statistics of every scene and roughness (module docstring)."""
-    # lattice references: 256 spp are less noisy than 512 independent samples were (tests/preintegrate/test_render.py)
+    # lattice references: 256 spp are less noisy than 512 independent samples were (tests/fresnel_lut/test_render.py)
     size, samples = (128, 128) if quick else (256, 256)
     basis_lut, schlick_lut = shipped_tables()
     results = []

@@ -4,7 +4,7 @@ import re
 
 import pytest
 
-from preintegrate.cli import main
+from fresnel_lut.cli import main
 
 
 @pytest.mark.slow

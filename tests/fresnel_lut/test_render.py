@@ -1,4 +1,4 @@
-"""The renderer (preintegrate/render.py) and the pictures' statistics (preintegrate/report/renders.py).
+"""The renderer (fresnel_lut/render.py) and the pictures' statistics (fresnel_lut/report/renders.py).
 
 Independent checks: the prefiltered environment against a Monte-Carlo average of L over the same
 normalised lobe; LUT lookups against the table; the split-sum spheres against the VNDF Monte-Carlo
@@ -11,7 +11,7 @@ import pytest
 from basis.material_fits import material_curve
 from basis.validation import ParameterError
 from preintegrate.lut import lut_lookup
-from preintegrate.render import (
+from fresnel_lut.render import (
     DEFAULT_SCENES,
     STUDIO,
     Environment,
@@ -22,7 +22,7 @@ from preintegrate.render import (
     tone_map,
 )
 from preintegrate.multiple_scattering import shipped_tables
-from preintegrate.report.renders import render_study
+from fresnel_lut.report.renders import render_study
 
 
 def test_prefiltered_radiance_against_monte_carlo_of_the_lobe():

@@ -14,7 +14,7 @@ A row gives the worst sweep point and whether the model has exact split-sum chan
 (``fresnel-lut build --model NAME``): yes for the models linear in fixed functions of cos θ, as long
 as their clamp to [0, 1] stays inactive (the row says on how many sweep points it does not).
 
-Run: ``python -m preintegrate.report.approximation_error [--size N]`` (part of ``fresnel-lut report``).
+Run: ``python -m fresnel_lut.report.approximation_error [--size N]`` (part of ``fresnel-lut report``).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from basis.coefficients import (
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS
 
-from ..lut import lut_texel_weights
+from preintegrate.lut import lut_texel_weights
 
 __all__ = ["approximation_markdown", "approximation_table"]
 

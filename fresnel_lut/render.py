@@ -38,9 +38,9 @@ from basis.eigenbasis import default_basis
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, check_positive_int, check_range
 
-from .estimators import contributions
-from .lut import lut_lookup, texel_centres
-from .multiple_scattering import compensate_lookup
+from preintegrate.estimators import contributions
+from preintegrate.lut import lut_lookup, texel_centres
+from preintegrate.multiple_scattering import compensate_lookup
 
 __all__ = [
     "DEFAULT_SCENES",
@@ -126,7 +126,7 @@ def _figure2(space: str):
 
 def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
     """The curve on a dense μ table, linearly interpolated (max error < 1e-6 for Fresnel curves, measured
-    by ``tests/preintegrate/test_render.py``): the spectral curve costs 95 wavelengths per evaluation."""
+    by ``tests/fresnel_lut/test_render.py``): the spectral curve costs 95 wavelengths per evaluation."""
     mu = np.linspace(0.0, 1.0, samples)
     table = curve(mu)
 
@@ -228,7 +228,7 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
 
     ``sampling="random"`` draws independent uniform numbers and ``spread`` is the standard error of the mean;
     ``"lattice"`` (default) uses a randomly shifted rank-1 lattice per pixel (unbiased; about half the
-    ΔE2000 noise at 256 spp, ``tests/preintegrate/test_render.py``), for which the same formula is an upper
+    ΔE2000 noise at 256 spp, ``tests/fresnel_lut/test_render.py``), for which the same formula is an upper
     bound. Either way two seeds give independent estimates. ``workers`` threads (default: the machine's
     cores) share the pixels; BLAS runs on one thread (:mod:`basis.parallel`).
     """

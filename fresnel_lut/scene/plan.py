@@ -15,8 +15,8 @@ import numpy as np
 from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import check_positive_int
 
-from ..lut import interpolation_weights, texel_centres
-from ..quadrature import texel_weights
+from preintegrate.lut import interpolation_weights, texel_centres
+from preintegrate.quadrature import texel_weights
 from .files import MAX_SIZE, Scene, SceneError
 from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
 

@@ -22,9 +22,9 @@ from basis.eigenbasis import Basis
 from basis.models import fresnel_model
 from basis.training import refine_basis
 
-from ..channels import ChannelSet, basis_channels, model_channels, schlick_channels
-from ..lut import model_lut_name
-from ..quadrature import texel_weights
+from preintegrate.channels import ChannelSet, basis_channels, model_channels, schlick_channels
+from preintegrate.lut import model_lut_name
+from preintegrate.quadrature import texel_weights
 from .files import Scene, SceneMaterial
 
 __all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout", "scene_basis_layouts", "train_scene_basis", "training_operators"]

@@ -42,8 +42,8 @@ from basis.training import (FIGURE_2, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, build
                             validation_groups)
 from basis.validation import ParameterError
 
-from ..lut import lut_axes, lut_texel_weights
-from ..quadrature import texel_weights
+from preintegrate.lut import lut_axes, lut_texel_weights
+from preintegrate.quadrature import texel_weights
 from .figures import pyplot, save_figure
 
 __all__ = ["BOUNDS", "FRONTIER", "QUICK", "TARGETS", "bound_basis", "fidelity_markdown", "fidelity_study", "group_errors",

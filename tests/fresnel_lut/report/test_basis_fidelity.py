@@ -18,7 +18,7 @@ from basis.training import FIGURE_2, build_basis, validation_groups
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import lut_axes
 from preintegrate.quadrature import directional_albedo, texel_weights
-from preintegrate.report.basis_fidelity import TARGETS, fidelity_markdown, fidelity_study, group_errors, plot_fidelity
+from fresnel_lut.report.basis_fidelity import TARGETS, fidelity_markdown, fidelity_study, group_errors, plot_fidelity
 
 THETA = np.linspace(0.0, 0.5 * np.pi, 2049)
 SIZE = 64
