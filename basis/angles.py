@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .validation import ParameterError, check_positive_int, check_range
+from .validation import ParameterError, check_choice, check_positive_int, check_range
 
 if TYPE_CHECKING:
     from scipy.interpolate import CubicSpline
@@ -46,7 +46,8 @@ def angle_grid(size: int, kind: str = "theta") -> np.ndarray:
         return np.linspace(0.0, 0.5 * np.pi, size)
     if kind == "mu":
         return np.arccos(np.linspace(1.0, 0.0, size))
-    raise ParameterError(f"grid kind must be one of {GRID_KINDS}, got {kind!r}")
+    check_choice("grid kind", kind, GRID_KINDS)
+    raise AssertionError("unreachable: GRID_KINDS are the two kinds above")
 
 
 def trapezoid_weights(theta: np.ndarray) -> np.ndarray:

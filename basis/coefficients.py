@@ -3,7 +3,7 @@
 Public objects: ``COEFFICIENT_FITS``, ``coefficient_fit``, ``coefficients_from_function``,
 ``coefficients_from_samples``, ``coefficients_from_curve``, ``coefficients_from_table``, ``coefficients_from_nk``,
 ``coefficients_from_model``, ``coefficients_from_gulbrandsen``, ``coefficients_least_squares``,
-``coefficients_least_squares_from_table``, ``LEAST_SQUARES_WEIGHTS``, ``reconstruct``,
+``coefficients_least_squares_from_table``, ``LEAST_SQUARES_NORMS``, ``MODEL_FITS``, ``reconstruct``,
 ``reconstruction_error``, ``fit_matrix``, ``fit_condition_number``.
 
 The four-point scheme of Belcour et al. 2020 ("Coefficients"): the target is sampled at the basis'
@@ -35,11 +35,12 @@ from .angles import check_theta_grid, cos_theta, theta_spline, trapezoid_weights
 from .eigenbasis import Basis, resolve_basis
 from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel, fresnel_normal_incidence
 from .gulbrandsen import gulbrandsen_to_nk
-from .validation import ParameterError, as_float_array, check_broadcast, check_positive_int, check_range, check_shape_last
+from .validation import ParameterError, as_float_array, check_broadcast, check_choice, check_positive_int, check_range, check_shape_last
 
 __all__ = [
     "COEFFICIENT_FITS",
-    "LEAST_SQUARES_WEIGHTS",
+    "LEAST_SQUARES_NORMS",
+    "MODEL_FITS",
     "coefficient_fit",
     "coefficients_from_function",
     "coefficients_from_curve",
@@ -226,20 +227,21 @@ def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None =
     return coefficients_from_nk(eta, kappa, basis)
 
 
-#: Weightings of :func:`coefficients_least_squares`: name → what is minimised over θ.
-LEAST_SQUARES_WEIGHTS = {
-    "uniform": "L2 norm of the error over theta (trapezoid weights on the basis grid)",
+#: Norms of :func:`coefficients_least_squares`: name → what is minimised over θ. The names are those of the
+#: same fits in :data:`COEFFICIENT_FITS` (one vocabulary for every coefficient fit).
+LEAST_SQUARES_NORMS = {
+    "least-squares": "L2 norm of the error over theta (trapezoid weights on the basis grid)",
     "minimax": "max norm of the error over the basis grid, approximated by Lawson's reweighting",
 }
 
-#: Lawson iterations of ``weight="minimax"``. Measured against the exact discrete minimax (a linear
+#: Lawson iterations of ``fit="minimax"``. Measured against the exact discrete minimax (a linear
 #: programme) on the held-out groups of :mod:`basis.training`: every dielectric and metal is within
 #: 0.4 % of it after 40 iterations (5 %, 1.8 % after 10, 20), the stiff corners within 2.3 %;
 #: ``tests/basis/test_coefficients_least_squares.py`` checks 1 % on a few metals.
 LAWSON_ITERATIONS = 40
 
 
-def _least_squares_on_grid(values: np.ndarray, basis: Basis, weight: str, iterations: int) -> np.ndarray:
+def _least_squares_on_grid(values: np.ndarray, basis: Basis, fit: str, iterations: int) -> np.ndarray:
     """Unchecked kernel: ``values`` (..., M) on ``basis.theta`` → coefficients (..., K)."""
     c0 = values[..., 0]
     c1 = values[..., -1] - c0
@@ -247,7 +249,7 @@ def _least_squares_on_grid(values: np.ndarray, basis: Basis, weight: str, iterat
     residual = values - c0[..., None] - c1[..., None] * basis.curves[1]
     design = basis.curves[2:].T  # (M, K − 2)
     weights = trapezoid_weights(basis.theta)
-    if weight == "uniform":
+    if fit == "least-squares":
         root = np.sqrt(weights)[:, None]
         rest = residual @ (np.linalg.pinv(root * design) * root.T).T
     else:
@@ -266,14 +268,12 @@ def _least_squares_on_grid(values: np.ndarray, basis: Basis, weight: str, iterat
     return np.concatenate([c0[..., None], c1[..., None], rest], axis=-1)
 
 
-def _check_weight(weight: str) -> str:
-    if not isinstance(weight, str) or weight not in LEAST_SQUARES_WEIGHTS:
-        raise ParameterError(f"weight must be one of {sorted(LEAST_SQUARES_WEIGHTS)}, got {weight!r}")
-    return weight
+def _check_norm(fit: str) -> str:
+    return check_choice("fit", fit, list(LEAST_SQUARES_NORMS))
 
 
 def coefficients_least_squares_from_table(
-    theta, values, basis: Basis | None = None, weight: str = "uniform", iterations: int = LAWSON_ITERATIONS
+    theta, values, basis: Basis | None = None, fit: str = "least-squares", iterations: int = LAWSON_ITERATIONS
 ) -> np.ndarray:
     """Least-squares coefficients of a tabulated curve, with F(0) and F(π/2) kept exact.
 
@@ -286,12 +286,12 @@ def coefficients_least_squares_from_table(
         ``basis.theta`` unless it already is that grid.
     basis : Basis, optional
         Default: the shipped basis.
-    weight : {"uniform", "minimax"}
-        ``"uniform"``: minimise ∫ (F − Σ c_k b_k)² dθ (trapezoid rule on ``basis.theta``).
+    fit : {"least-squares", "minimax"}
+        ``"least-squares"``: minimise ∫ (F − Σ c_k b_k)² dθ (trapezoid rule on ``basis.theta``).
         ``"minimax"``: minimise max_j |F − Σ c_k b_k| over ``basis.theta`` approximately, by
         ``iterations`` Lawson steps starting from the uniform weights.
     iterations : int
-        Lawson iterations for ``weight="minimax"``, in [1, 10000].
+        Lawson iterations for ``fit="minimax"``, in [1, 10000].
 
     Returns
     -------
@@ -314,7 +314,7 @@ def coefficients_least_squares_from_table(
     True
     """
     basis = resolve_basis(basis)
-    weight = _check_weight(weight)
+    fit = _check_norm(fit)
     iterations = check_positive_int("iterations", iterations, low=1, high=10_000)
     theta_array = as_float_array("theta", theta)
     values = as_float_array("values", values)
@@ -322,11 +322,11 @@ def coefficients_least_squares_from_table(
         values = _table_spline(theta_array, values)(basis.theta)
     else:
         check_shape_last("values", values, basis.theta.size)
-    return _least_squares_on_grid(values, basis, weight, iterations)
+    return _least_squares_on_grid(values, basis, fit, iterations)
 
 
 def coefficients_least_squares(
-    eta, kappa, basis: Basis | None = None, weight: str = "uniform", iterations: int = LAWSON_ITERATIONS
+    eta, kappa, basis: Basis | None = None, fit: str = "least-squares", iterations: int = LAWSON_ITERATIONS
 ) -> np.ndarray:
     """Least-squares coefficients of the exact Fresnel curve of η + iκ: (...) → (..., K).
 
@@ -338,10 +338,10 @@ def coefficients_least_squares(
         In [0, 1e6]; broadcast against ``eta`` (e.g. RGB (..., 3) → (..., 3, K)).
     basis : Basis, optional
         Default: the shipped basis.
-    weight : {"uniform", "minimax"}
+    fit : {"least-squares", "minimax"}
         See :func:`coefficients_least_squares_from_table`.
     iterations : int
-        Lawson iterations for ``weight="minimax"``.
+        Lawson iterations for ``fit="minimax"``.
 
     Returns
     -------
@@ -350,7 +350,7 @@ def coefficients_least_squares(
 
     Examples
     --------
-    >>> c = coefficients_least_squares([0.27, 0.68, 1.32], [3.61, 2.64, 1.81], weight="minimax")
+    >>> c = coefficients_least_squares([0.27, 0.68, 1.32], [3.61, 2.64, 1.81], fit="minimax")
     >>> c.shape
     (3, 4)
     """
@@ -358,11 +358,11 @@ def coefficients_least_squares(
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     check_broadcast(eta=eta, kappa=kappa)
-    weight = _check_weight(weight)
+    fit = _check_norm(fit)
     iterations = check_positive_int("iterations", iterations, low=1, high=10_000)
     mu = cos_theta(basis.theta)
     return _in_chunks(np.broadcast_arrays(eta, kappa), lambda eta, kappa: _least_squares_on_grid(
-        fresnel_kernel(mu, eta[:, None], kappa[:, None]), basis, weight, iterations), basis.n_terms)
+        fresnel_kernel(mu, eta[:, None], kappa[:, None]), basis, fit, iterations), basis.n_terms)
 
 
 def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
@@ -429,9 +429,9 @@ def _four_point_fit(values_of: Callable, basis: Basis, space: str | None, start,
     return coefficients_from_samples(values_of(cos_theta(basis.fit_angles)), basis)
 
 
-def _least_squares_fit(weight: str) -> Callable:
+def _least_squares_fit(norm: str) -> Callable:
     def fit(values_of: Callable, basis: Basis, space: str | None, start, report) -> np.ndarray:
-        return _least_squares_on_grid(values_of(cos_theta(basis.theta)), basis, weight, LAWSON_ITERATIONS)
+        return _least_squares_on_grid(values_of(cos_theta(basis.theta)), basis, norm, LAWSON_ITERATIONS)
 
     return fit
 
@@ -443,7 +443,7 @@ def _delta_e_fit(free_f0: bool) -> Callable:
         if space is None:
             raise ParameterError("a delta-e fit needs the colour space of the RGB curve (space='ACEScg' or 'sRGB')")
         if start is None:  # the exact-F0 fit starts from least squares; the free-F0 fit from the exact-F0 optimum
-            start = _least_squares_fit("uniform")(values_of, basis, space, None, None)
+            start = _least_squares_fit("least-squares")(values_of, basis, space, None, None)
             if free_f0:
                 start = delta_e_coefficients(values_of, space, basis, start, free_f0=False)
         return delta_e_coefficients(values_of, space, basis, start, free_f0, report)
@@ -456,19 +456,19 @@ def _delta_e_fit(free_f0: bool) -> Callable:
 #: Every fit keeps F(90°) = c0 + c1 exact; all but ``delta-e`` keep F(0°) = c0 exact too.
 COEFFICIENT_FITS: dict[str, Callable] = {
     "four-point": _four_point_fit,  # the talk's scheme: the curve at the fit angles (Belcour 2020, "Coefficients")
-    "least-squares": _least_squares_fit("uniform"),  # L2 over θ on the basis grid
+    "least-squares": _least_squares_fit("least-squares"),  # L2 over θ on the basis grid
     "minimax": _least_squares_fit("minimax"),  # max norm over the basis grid, by Lawson's reweighting
     "delta-e-exact-f0": _delta_e_fit(False),  # RGB: Σ_θ ΔE2000² over c2 … (Hoffman 2020's measure)
     "delta-e": _delta_e_fit(True),  # RGB: the same over c0, c2 …; F0 may move by an invisible ΔE
 }
 
+#: The fits of :func:`coefficients_from_model` (a model's curve is no RGB colour: the ΔE2000 fits need one).
+MODEL_FITS = ("four-point", "least-squares", "minimax")
+
 
 def coefficient_fit(name: str) -> Callable:
     """Look up a fit of :data:`COEFFICIENT_FITS`; the error lists the valid names."""
-    try:
-        return COEFFICIENT_FITS[name]
-    except (KeyError, TypeError):
-        raise ParameterError(f"fit must be one of {sorted(COEFFICIENT_FITS)}, got {name!r}") from None
+    return COEFFICIENT_FITS[check_choice("fit", name, sorted(COEFFICIENT_FITS))]
 
 
 def coefficients_from_function(values_of: Callable, fit: str = "four-point", basis: Basis | None = None,
@@ -520,8 +520,7 @@ def coefficients_from_model(name: str, fit: str = "four-point", basis: Basis | N
 
     model = fresnel_model(name)
     checked = model.check(**parameters)
-    if isinstance(fit, str) and fit.startswith("delta-e"):
-        raise ParameterError(f"fit must be 'four-point', 'least-squares' or 'minimax' for a model, got {fit!r}")
+    check_choice("fit (of a model)", fit, MODEL_FITS)
 
     def values_of(mu: np.ndarray) -> np.ndarray:  # (3, A)
         return np.broadcast_to(model.evaluate(mu[:, None], **checked), (mu.size, 3)).T

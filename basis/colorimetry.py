@@ -34,7 +34,7 @@ import functools
 import colour
 import numpy as np
 
-from .validation import ParameterError, as_float_array, check_shape_last
+from .validation import ParameterError, as_float_array, check_choice, check_shape_last
 
 __all__ = [
     "WAVELENGTHS",
@@ -90,10 +90,7 @@ WORKING_SPACES: dict[str, WorkingSpace] = {
 
 def working_space(name: str) -> WorkingSpace:
     """Look up a working space; the error lists the valid names."""
-    try:
-        return WORKING_SPACES[name]
-    except (KeyError, TypeError):
-        raise ParameterError(f"colour space must be one of {sorted(WORKING_SPACES)}, got {name!r}") from None
+    return WORKING_SPACES[check_choice("colour space", name, sorted(WORKING_SPACES))]
 
 
 @functools.cache

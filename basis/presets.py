@@ -31,7 +31,7 @@ from .eigenbasis import Basis, default_basis, resolve_basis
 from .models.formulas import F82_MU, schlick_curve
 from .parallel import one_blas_thread
 from .storage import read_json_document, shipped_path, write_json
-from .validation import ParameterError
+from .validation import ParameterError, check_choice
 
 __all__ = [
     "FORMAT",
@@ -162,8 +162,7 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
     if not isinstance(name, str):
         raise ParameterError(f"material must be a name (text), got {type(name).__name__} {' '.join(repr(name).split())[:60]}")
     document = material_presets(path)
-    if not isinstance(space, str) or space not in PRESET_SPACES:
-        raise ParameterError(f"colour space must be one of {list(PRESET_SPACES)}, got {' '.join(repr(space).split())[:60]}")
+    check_choice("colour space", space, PRESET_SPACES)
     materials = document["materials"]
     if name not in materials:
         by_case = {key.lower(): key for key in materials}

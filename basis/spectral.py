@@ -36,7 +36,7 @@ import numpy as np
 from .colorimetry import WAVELENGTHS, spectral_to_rgb_weights
 from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
 from .storage import read_json_document, shipped_path, write_text
-from .validation import ParameterError, check_range
+from .validation import ParameterError, check_range, choose
 
 __all__ = [
     "MEASURED_SOURCES",
@@ -153,10 +153,7 @@ def spectral_iors(path=None) -> dict[str, SpectralIOR]:
 
 def spectral_ior(name: str, path=None) -> SpectralIOR:
     """One measured material; the error lists the valid names."""
-    materials = spectral_iors(path)
-    if name not in materials:
-        raise ParameterError(f"material must be one of {list(materials)}, got {name!r}")
-    return materials[name]
+    return choose("material", name, spectral_iors(path))
 
 
 def rgb_fresnel(material: SpectralIOR, mu, space: str = "ACEScg") -> np.ndarray:

@@ -6,7 +6,7 @@ are then trusted. Errors are :class:`ParameterError` (a ``ValueError``) whose
 message names the parameter, the offending value and the accepted range.
 
 Public objects: ``ParameterError``, ``as_float_array``, ``check_range``,
-``check_shape_last``, ``check_positive_int``, ``check_broadcast``.
+``check_shape_last``, ``check_positive_int``, ``check_broadcast``, ``check_choice``, ``choose``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ import numbers
 
 import numpy as np
 
-__all__ = ["ParameterError", "as_float_array", "check_broadcast", "check_positive_int", "check_range", "check_shape_last"]
+__all__ = ["ParameterError", "as_float_array", "check_broadcast", "check_choice", "check_positive_int", "check_range",
+           "check_shape_last", "choose"]
 
 
 class ParameterError(ValueError):
@@ -112,3 +113,28 @@ def check_broadcast(**arrays) -> tuple[int, ...]:
     except ValueError:
         shapes = ", ".join(f"{name} {np.shape(array)}" for name, array in arrays.items())
         raise ParameterError(f"{' and '.join(arrays)} must broadcast against each other, got shapes {shapes}") from None
+
+
+def check_choice(name: str, value, choices, error=ParameterError):
+    """``value`` if it is one of ``choices`` (a registry's names, in the order to show them), else ``error``
+    with one line naming the parameter, the value and every valid choice (as colour's ``validate_method``).
+
+    Examples
+    --------
+    >>> check_choice("visibility", "separable", ["height-correlated", "separable"])
+    'separable'
+    """
+    options = list(choices)
+    try:
+        valid = any(type(value) is type(option) and value == option for option in options)
+    except (TypeError, ValueError):  # an array compared with a name
+        valid = False
+    if not valid:
+        shown = " ".join(repr(value).split())
+        raise error(f"{name} must be one of {options}, got {shown[:60] + ('…' if len(shown) > 60 else '')}")
+    return value
+
+
+def choose(name: str, value, registry, error=ParameterError):
+    """``registry[value]`` for a name of the registry (a mapping), refused as :func:`check_choice` refuses."""
+    return registry[check_choice(name, value, registry, error)]

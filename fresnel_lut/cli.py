@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.coefficients import coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
+from basis.coefficients import MODEL_FITS, coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
 from basis.eigenbasis import Basis, default_basis, shipped_basis_path
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import FRESNEL_MODELS, fresnel_model
@@ -43,9 +43,10 @@ from basis.presets import (
     write_presets,
 )
 from basis.storage import write_text
-from basis.training import build_basis
+from basis.training import FIT_ANGLE_CHOICES, build_basis
 from basis.training.builder import MAX_GRID
-from basis.validation import ParameterError, check_positive_int
+from basis.training.svd import WEIGHTINGS
+from basis.validation import ParameterError, check_choice, check_positive_int
 
 from preintegrate.channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
 from preintegrate.exr import write_luts
@@ -231,9 +232,7 @@ def command_basis(arguments) -> int:
     _output_file("--out", arguments.out)
     started = time.perf_counter()
     progress = Progress("training curves", "curves")
-    fit_angles = arguments.fit_angles
-    if fit_angles not in ("auto", "talk", "notebook"):
-        raise ParameterError(f"--fit-angles must be auto, talk or notebook, got {fit_angles!r}")
+    fit_angles = check_choice("--fit-angles", arguments.fit_angles, FIT_ANGLE_CHOICES)
     basis = build_basis(
         count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
         n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
@@ -533,8 +532,9 @@ def make_parser() -> argparse.ArgumentParser:
     basis.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
     basis.add_argument("--terms", type=int, default=4, help="basis elements K (default 4)")
-    basis.add_argument("--fit-angles", default="auto", help="auto (search on held-out set), talk or notebook")
-    basis.add_argument("--weighting", default="normalised", choices=("normalised", "span"),
+    basis.add_argument("--fit-angles", default="auto", help=f"{', '.join(FIT_ANGLE_CHOICES)}: searched on the held-out "
+                       "set, the talk's 1.45 and 1.31, or the authors' notebook's")
+    basis.add_argument("--weighting", default="normalised", choices=WEIGHTINGS,
                        help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2")
     basis.add_argument("--out", required=True, help="output file; the shipped luts/basis.json is replaced only "
                        "when named here (make basis does)")
@@ -561,7 +561,7 @@ def make_parser() -> argparse.ArgumentParser:
             coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, default=None,
                                 help=f"{parameter.description} (--model)")
     _add_shape_options(coeffs)
-    coeffs.add_argument("--fit", default=None, choices=("four-point", "least-squares", "minimax"),
+    coeffs.add_argument("--fit", default=None, choices=MODEL_FITS,
                         help="projection of --model onto the basis (default four-point)")
     coeffs.add_argument("--list-materials", action="store_true",
                         help="list the measured materials of --material (with their F0 and errors) and stop")

@@ -36,7 +36,7 @@ import numpy as np
 
 from basis.eigenbasis import default_basis
 from basis.parallel import one_blas_thread, worker_count
-from basis.validation import ParameterError, check_positive_int, check_range
+from basis.validation import check_choice, check_positive_int, check_range
 
 from preintegrate.estimators import contributions
 from preintegrate.lut import lut_lookup, texel_centres
@@ -234,8 +234,7 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
     """
     roughness = float(check_range("roughness", roughness, 1e-3, 1.0))
     samples = check_positive_int("samples", samples, low=2, high=1 << 20)
-    if sampling not in SAMPLINGS:
-        raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
+    check_choice("sampling", sampling, SAMPLINGS)
     started = time.perf_counter()
     alpha = roughness**2
     normals, mask = sphere_geometry(size)

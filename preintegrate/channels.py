@@ -24,7 +24,7 @@ import numpy as np
 
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS, fresnel_model
-from basis.validation import ParameterError
+from basis.validation import check_choice
 
 __all__ = [
     "CHANNEL_SETS",
@@ -151,8 +151,4 @@ CHANNEL_SETS: dict[str, Callable[..., ChannelSet]] = {
 
 def channel_set(name: str, **kwargs) -> ChannelSet:
     """Look up a channel set by name; the error lists the valid names."""
-    try:
-        factory = CHANNEL_SETS[name]
-    except KeyError:
-        raise ParameterError(f"channel set must be one of {sorted(CHANNEL_SETS)}, got {name!r}") from None
-    return factory(**kwargs)
+    return CHANNEL_SETS[check_choice("channel set", name, sorted(CHANNEL_SETS))](**kwargs)

@@ -38,7 +38,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from basis.validation import ParameterError, as_float_array, check_positive_int, check_range
+from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int, check_range
 
 from .ggx import g1, g2_height_correlated, ndf_inverse_cdf, sample_vndf, view_vector
 
@@ -142,8 +142,7 @@ def hammersley_albedo(
     alpha = check_range("alpha", alpha, 0.0, 1.0, low_open=True)
     samples = check_positive_int("samples", samples, low=1, high=MAX_SAMPLES)
     max_samples = check_positive_int("max_samples", max_samples, low=1)
-    if sampling not in SAMPLINGS:
-        raise ParameterError(f"sampling must be one of {list(SAMPLINGS)}, got {sampling!r}")
+    check_choice("sampling", sampling, SAMPLINGS)
     if progress is not None and not callable(progress):
         raise ParameterError(f"progress must be callable or None, got {type(progress).__name__}")
     mu_o, alpha = np.broadcast_arrays(mu_o, alpha)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.storage import shipped_path
-from basis.validation import ParameterError, check_positive_int
+from basis.validation import ParameterError, check_choice, check_positive_int
 
 from .channels import ChannelSet
 from .estimators import hammersley_albedo
@@ -102,9 +102,7 @@ PIXEL_CONVENTION = (
 
 def shipped_lut(name: str = BASIS_LUT) -> Path:
     """Path of a LUT shipped with the package (``luts/`` beside it), whatever the working folder."""
-    if name not in SHIPPED_LUTS:
-        raise ParameterError(f"shipped LUT must be one of {list(SHIPPED_LUTS)}, got {name!r}")
-    return shipped_path(name)
+    return shipped_path(check_choice("shipped LUT", name, SHIPPED_LUTS))
 
 
 def texel_centres(count: int) -> np.ndarray:
@@ -161,9 +159,7 @@ def build_table(
     """
     if not isinstance(channels, ChannelSet):
         raise ParameterError(f"channels must be a ChannelSet, got {type(channels).__name__}")
-    if method not in LUT_METHODS:
-        raise ParameterError(f"method must be one of {sorted(LUT_METHODS)}, got {method!r}")
-    compute = LUT_METHODS[method]
+    compute = LUT_METHODS[check_choice("method", method, sorted(LUT_METHODS))]
     accepted = [name for name in inspect.signature(compute).parameters if name not in _TEXELS]
     unknown = sorted(set(options) - set(accepted))
     if unknown:

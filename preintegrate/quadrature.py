@@ -53,7 +53,7 @@ import numpy as np
 
 from basis.angles import check_theta_grid
 from basis.parallel import one_blas_thread, worker_count
-from basis.validation import ParameterError, check_positive_int, check_range
+from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 
 from .ggx import VISIBILITIES, g2_denominator
 
@@ -281,8 +281,7 @@ def directional_albedo(
     """
     if not callable(functions):
         raise ParameterError(f"functions must be callable, got {type(functions).__name__}")
-    if visibility not in VISIBILITIES:
-        raise ParameterError(f"visibility must be one of {sorted(VISIBILITIES)}, got {visibility!r}")
+    check_choice("visibility", visibility, sorted(VISIBILITIES))
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     alpha = check_range("alpha", alpha, 0.0, 1.0)
     if isinstance(order, QuadratureOrder):

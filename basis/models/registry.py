@@ -23,7 +23,7 @@ import numpy as np
 
 from ..fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
 from ..gulbrandsen import gulbrandsen_to_nk
-from ..validation import ParameterError, check_range
+from ..validation import ParameterError, check_choice, check_range
 from .formulas import (
     ETA_E_RANGE,
     F82_MU,
@@ -385,7 +385,4 @@ def fresnel_model(name: str) -> FresnelModel:
     >>> fresnel_model("schlick").channel_functions()(np.array(1.0)).tolist()
     [1.0, 0.0]
     """
-    try:
-        return FRESNEL_MODELS[name]
-    except (KeyError, TypeError):
-        raise ParameterError(f"model must be one of {sorted(FRESNEL_MODELS)}, got {name!r}") from None
+    return FRESNEL_MODELS[check_choice("model", name, sorted(FRESNEL_MODELS))]

@@ -12,13 +12,14 @@ References
 :cite:`Belcour2020` SIGGRAPH 2020 Talks, "An Empirical Decomposition", eq. 4 and 6, and "Coefficients".
 """
 
-from .builder import NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
+from .builder import FIT_ANGLE_CHOICES, NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
 from .domain import DEFAULT_DOMAIN, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, Component, TrainingDomain
 from .holdout import FIGURE_2, VALIDATION_SEED, holdout_materials, validation_groups
 from .refine import refine_basis
 from .svd import MIN_SPAN, GramAccumulator, build_curves
 
 __all__ = [
+    "FIT_ANGLE_CHOICES",
     "DEFAULT_DOMAIN",
     "FIGURE_2",
     "MIN_SPAN",

@@ -23,17 +23,20 @@ from ..angles import angle_grid, cos_theta, theta_spline
 from ..eigenbasis import Basis
 from ..fresnel import fresnel_kernel
 from ..parallel import one_blas_thread
-from ..validation import ParameterError, check_positive_int
+from ..validation import ParameterError, check_choice, check_positive_int
 from .domain import DEFAULT_DOMAIN, TrainingDomain
 from .holdout import holdout_materials
 from .svd import build_curves
 
-__all__ = ["NOTEBOOK_ANGLES", "TALK_ANGLES", "build_basis", "choose_fit_angles", "holdout_fit_errors"]
+__all__ = ["FIT_ANGLE_CHOICES", "NOTEBOOK_ANGLES", "TALK_ANGLES", "build_basis", "choose_fit_angles", "holdout_fit_errors"]
 
 #: θ2, θ3 as printed in the talk.
 TALK_ANGLES = (1.45, 1.31)
 #: θ2, θ3 of the authors' public notebook: cos θ = 0.128 and 0.432.
 NOTEBOOK_ANGLES = (float(np.arccos(0.128)), float(np.arccos(0.432)))
+#: The named fit-angle choices of :func:`build_basis` (``fresnel-lut basis --fit-angles``): searched on the
+#: held-out set, the talk's, the notebook's.
+FIT_ANGLE_CHOICES = ("auto", "talk", "notebook")
 #: Groups of :func:`basis.training.holdout_materials` the choice of angles minimises over.
 SELECTION_GROUPS = ("dielectrics", "metals")
 
@@ -140,8 +143,7 @@ def build_basis(
     n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
     grid_size = check_positive_int("grid_size", grid_size, low=16, high=MAX_GRID)
     if isinstance(fit_angles, str):
-        if fit_angles not in ("auto", "talk", "notebook"):
-            raise ParameterError(f"fit_angles must be 'auto', 'talk', 'notebook' or a tuple, got {fit_angles!r}")
+        check_choice("fit_angles", fit_angles, FIT_ANGLE_CHOICES)
         if fit_angles != "auto" and n_terms != 4:
             raise ParameterError(f"fit_angles {fit_angles!r} are two angles, for 4 terms; with {n_terms} terms use 'auto' "
                                  f"or give {n_terms - 2} angles")
@@ -164,7 +166,7 @@ def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progr
         errors = {"chosen": {"angles": list(chosen), **holdout_fit_errors(basis)}}
         return Basis(theta, curves, basis.fit_angles, {**training, "holdout_max_abs_error": errors, **stats})
     provisional = Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *TALK_ANGLES][:n_terms]))
-    named = {"talk": TALK_ANGLES, "notebook": NOTEBOOK_ANGLES}
+    named = {"talk": TALK_ANGLES, "notebook": NOTEBOOK_ANGLES}  # FIT_ANGLE_CHOICES beside "auto"
     if isinstance(fit_angles, str):
         chosen = choose_fit_angles(provisional) if fit_angles == "auto" else named[fit_angles]
     else:

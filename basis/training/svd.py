@@ -31,7 +31,7 @@ import numpy as np
 
 from ..angles import trapezoid_weights
 from ..parallel import one_blas_thread
-from ..validation import ParameterError, check_positive_int
+from ..validation import ParameterError, check_choice, check_positive_int
 
 __all__ = ["GramAccumulator", "build_curves"]
 
@@ -47,9 +47,7 @@ class GramAccumulator:
     weight v is 1, or its span squared with ``weighting="span"``."""
 
     def __init__(self, theta: np.ndarray, weighting: str = "normalised"):
-        if weighting not in WEIGHTINGS:
-            raise ParameterError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
-        self.weighting = weighting
+        self.weighting = check_choice("weighting", weighting, WEIGHTINGS)
         self.sqrt_weights = np.sqrt(trapezoid_weights(theta))
         size = theta.size
         self.gram = np.zeros((size, size))

@@ -6,7 +6,7 @@ Public objects: ``TARGETS``, ``FRONTIER``, ``BOUNDS``, ``QUICK``, ``notebook_bas
 Every basis is judged on :func:`basis.training.validation_groups` (fresh draws, never trained on): max |ΔF|
 over θ (a 2049-point grid) and max |ΔF̄| over the (μo, r) texel centres of a 64 × 64 LUT (α = r²), with
 four-point coefficients (the talk's scheme, what a live editor computes) and with minimax coefficients
-(``coefficients_least_squares_from_table(weight="minimax")``, F0 and F90 exact). F̄ of the error curve
+(``coefficients_least_squares_from_table(fit="minimax")``, F0 and F90 exact). F̄ of the error curve
 is the texel weights of :func:`preintegrate.quadrature.texel_weights` applied to it (DESIGN: each texel is a
 linear functional of the curve). The bases: the authors' notebook recipe (:data:`basis.training.NOTEBOOK_DOMAIN`,
 uniform in cos θ, searched fit angles), the shipped basis, both SVDs with each curve weighted by
@@ -149,7 +149,7 @@ def _worst_ratio(errors: dict, tolerances: dict[str, float]) -> float:
 def _coefficients(basis: Basis, group: Callable, fit: str) -> np.ndarray:
     if fit == "four-point":
         return coefficients_from_samples(group(cos_theta(basis.fit_angles)), basis)
-    return coefficients_least_squares_from_table(basis.theta, group(cos_theta(basis.theta)), basis, weight="minimax")
+    return coefficients_least_squares_from_table(basis.theta, group(cos_theta(basis.theta)), basis, fit="minimax")
 
 
 def group_errors(basis: Basis, groups: dict[str, Callable], theta: np.ndarray, weights: np.ndarray,

@@ -52,7 +52,7 @@ from basis.fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_conductor, fresnel_ker
 from basis.models.formulas import schlick_curve
 from basis.storage import write_text
 from basis.training import holdout_materials
-from basis.validation import ParameterError, check_positive_int, check_range
+from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.ggx import roughness_to_alpha
@@ -200,10 +200,7 @@ def representation(name: str) -> Representation:
     >>> representation("schlick").shader_terms()
     2
     """
-    try:
-        return REPRESENTATIONS[name]
-    except (KeyError, TypeError):
-        raise ParameterError(f"representation must be one of {sorted(REPRESENTATIONS)}, got {name!r}") from None
+    return REPRESENTATIONS[check_choice("representation", name, sorted(REPRESENTATIONS))]
 
 
 # ---------------------------------------------------------------------------------------- inputs

@@ -23,7 +23,7 @@ from basis.fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
 from basis.presets import PRESET_SPACES, material_preset
-from basis.validation import ParameterError, check_positive_int, check_range
+from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 
 __all__ = ["DEFAULT_TOLERANCE", "Scene", "SceneError", "SceneMaterial", "read_scene"]
 
@@ -182,8 +182,7 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
         raise SceneError(f"tolerance must be a number, got {_describe(tolerance)}")
     tolerance = float(check_range("tolerance", tolerance, 1e-7, 1.0))
     space = document.get("space", "ACEScg")
-    if not isinstance(space, str) or space not in PRESET_SPACES:
-        raise SceneError(f"scene file {path}: space must be one of {list(PRESET_SPACES)}, got {space!r}")
+    check_choice(f"scene file {path}: space", space, PRESET_SPACES, error=SceneError)
     size = check_positive_int("size", document.get("size", 128), low=2)
     if size > MAX_SIZE:
         raise SceneError(f"size {size}: a scene table has at most {MAX_SIZE} columns (planning holds about "

@@ -13,7 +13,7 @@ from scipy.optimize import linprog
 from basis import coefficients_from_nk, default_basis, fresnel_conductor
 from basis.angles import trapezoid_weights
 from basis.coefficients import (
-    LEAST_SQUARES_WEIGHTS,
+    LEAST_SQUARES_NORMS,
     coefficients_least_squares,
     coefficients_least_squares_from_table,
 )
@@ -23,7 +23,7 @@ from basis.validation import ParameterError
 from fresnel_lut.report.model_error import REPRESENTATIONS, representation
 
 BASIS = default_basis()
-WEIGHTS = sorted(LEAST_SQUARES_WEIGHTS)
+WEIGHTS = sorted(LEAST_SQUARES_NORMS)
 
 
 def grid_cosines():
@@ -44,7 +44,7 @@ def test_least_squares_recovers_curve_in_span(weight):
     rng = np.random.default_rng(3)
     known = np.column_stack([rng.uniform(0.0, 0.5, 5), rng.uniform(0.2, 1.0, 5), rng.normal(0.0, 0.05, (5, 2))])
     values = known @ BASIS.curves
-    recovered = coefficients_least_squares_from_table(BASIS.theta, values, weight=weight)
+    recovered = coefficients_least_squares_from_table(BASIS.theta, values, fit=weight)
     np.testing.assert_allclose(recovered, known, rtol=0, atol=1e-10)
 
 
@@ -54,7 +54,7 @@ def test_least_squares_keeps_f0_and_f90_exact(weight):
     groups = holdout_materials()
     eta = np.concatenate([groups["metals"][0], groups["dielectrics"][0]])
     kappa = np.concatenate([groups["metals"][1], groups["dielectrics"][1]])
-    coefficients = coefficients_least_squares(eta, kappa, weight=weight)
+    coefficients = coefficients_least_squares(eta, kappa, fit=weight)
     f0 = fresnel_conductor(1.0, eta, kappa)
     np.testing.assert_allclose(coefficients[:, 0], f0, rtol=0, atol=1e-12)
     np.testing.assert_allclose(coefficients[:, 1], fresnel_conductor(0.0, eta, kappa) - f0, rtol=0, atol=1e-12)
@@ -91,7 +91,7 @@ def test_minimax_weighting_is_within_one_percent_of_the_linear_programme():
     """Lawson's reweighting (default iterations) reaches the exact discrete minimax error within 1 % on 6 metals."""
     eta, kappa = (array[:6] for array in holdout_materials()["metals"])
     exact = exact_on_grid(eta, kappa)
-    coefficients = coefficients_least_squares(eta, kappa, weight="minimax")
+    coefficients = coefficients_least_squares(eta, kappa, fit="minimax")
     lawson = np.max(np.abs(coefficients @ BASIS.curves - exact), axis=1)
     optimum = np.array([minimax_by_linear_programme(curve) for curve in exact])
     assert np.all(lawson >= optimum * (1.0 - 1e-9))
@@ -108,8 +108,8 @@ def test_least_squares_from_a_finer_table_matches_the_nk_entry_point():
     table = fresnel_conductor(mu[None, :], eta[:, None], kappa[:, None])
     for weight in WEIGHTS:
         np.testing.assert_allclose(
-            coefficients_least_squares_from_table(theta, table, weight=weight),
-            coefficients_least_squares(eta, kappa, weight=weight),
+            coefficients_least_squares_from_table(theta, table, fit=weight),
+            coefficients_least_squares(eta, kappa, fit=weight),
             rtol=0, atol=1e-6,
         )
 
@@ -118,10 +118,10 @@ def test_least_squares_n_dimensional():
     """Scalar, (6,), (2, 3) and (2, 3, 1) materials give coefficients of shape (..., 4) with equal values."""
     rng = np.random.default_rng(8)
     eta, kappa = rng.uniform(0.2, 3.0, 6), rng.uniform(0.0, 6.0, 6)
-    flat = coefficients_least_squares(eta, kappa, weight="minimax")
+    flat = coefficients_least_squares(eta, kappa, fit="minimax")
     assert flat.shape == (6, 4)
-    np.testing.assert_allclose(coefficients_least_squares(eta[0], kappa[0], weight="minimax"), flat[0], atol=1e-15)
-    shaped = coefficients_least_squares(eta.reshape(2, 3), kappa.reshape(2, 3), weight="minimax")
+    np.testing.assert_allclose(coefficients_least_squares(eta[0], kappa[0], fit="minimax"), flat[0], atol=1e-15)
+    shaped = coefficients_least_squares(eta.reshape(2, 3), kappa.reshape(2, 3), fit="minimax")
     np.testing.assert_allclose(shaped.reshape(6, 4), flat, atol=1e-15)
     assert coefficients_least_squares(eta.reshape(2, 3, 1), kappa.reshape(2, 3, 1)).shape == (2, 3, 1, 4)
 
@@ -129,14 +129,14 @@ def test_least_squares_n_dimensional():
 def test_least_squares_of_a_flat_curve_is_finite():
     """eta = 1, kappa = 0 (no interface, F = 0 everywhere) gives zero coefficients, not NaN, with both weights."""
     for weight in WEIGHTS:
-        np.testing.assert_array_equal(coefficients_least_squares(1.0, 0.0, weight=weight), np.zeros(4))
+        np.testing.assert_array_equal(coefficients_least_squares(1.0, 0.0, fit=weight), np.zeros(4))
 
 
 def test_raise_exception_least_squares():
-    with pytest.raises(ParameterError, match=r"weight must be one of \['minimax', 'uniform'\], got 'L1'"):
-        coefficients_least_squares(1.5, 0.0, weight="L1")
+    with pytest.raises(ParameterError, match=r"fit must be one of \['least-squares', 'minimax'\], got 'L1'"):
+        coefficients_least_squares(1.5, 0.0, fit="L1")
     with pytest.raises(ParameterError, match="iterations"):
-        coefficients_least_squares(1.5, 0.0, weight="minimax", iterations=0)
+        coefficients_least_squares(1.5, 0.0, fit="minimax", iterations=0)
     with pytest.raises(ParameterError, match="eta"):
         coefficients_least_squares(np.nan, 0.0)
     with pytest.raises(ParameterError, match="kappa"):

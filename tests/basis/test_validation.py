@@ -133,3 +133,15 @@ def test_check_shape_last():
         check_shape_last("rgb", np.zeros((5, 4)), 3)
     with pytest.raises(ParameterError, match=r"^rgb .*shape \(\)"):
         check_shape_last("rgb", np.zeros(()), 3)
+
+
+def test_check_choice_returns_a_valid_name_and_lists_every_choice_otherwise():
+    from basis.validation import check_choice, choose
+
+    assert check_choice("visibility", "separable", ("height-correlated", "separable")) == "separable"
+    assert choose("fit", "b", {"a": 1, "b": 2}) == 2
+    for bad in ("Separable", "", None, 1, True, ["separable"], np.array(["separable"]), {"separable": 1}, b"separable"):
+        with pytest.raises(ParameterError, match=r"^visibility must be one of \['height-correlated', 'separable'\], got "):
+            check_choice("visibility", bad, ("height-correlated", "separable"))
+    with pytest.raises(ParameterError, match="got 'x{59}…$"):  # a long value is cut, on one line
+        check_choice("name", "x" * 200, ("a",))
