@@ -308,6 +308,7 @@ def coefficients_least_squares_from_table(
 
     Examples
     --------
+    >>> from basis import default_basis
     >>> theta = default_basis().theta
     >>> curve = 0.5 + 0.25 * default_basis().curves[1]
     >>> bool(np.allclose(coefficients_least_squares_from_table(theta, curve), [0.5, 0.25, 0, 0], atol=1e-12))

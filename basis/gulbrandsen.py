@@ -48,7 +48,7 @@ def gulbrandsen_to_nk(reflectivity, edge_tint) -> tuple[np.ndarray, np.ndarray]:
     Examples
     --------
     >>> eta, kappa = gulbrandsen_to_nk(0.04, 0.0)
-    >>> round(float(eta), 6), float(kappa)
+    >>> round(float(eta), 6), round(float(kappa), 6)  # κ² is 0 up to rounding: κ ~ 1e-8
     (1.5, 0.0)
     """
     reflectivity = check_range("reflectivity", reflectivity, 0.0, 1.0, high_open=True)

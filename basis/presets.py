@@ -7,7 +7,7 @@ The document carries a SHA-256 ``content_hash`` of its canonical JSON, and every
 against :data:`RANGES`.
 
 Reading a preset loads no colour science: the coefficients were fitted once by
-:func:`basis.material_fits.build_presets` (``fresnel-lut materials --presets``) and are tied to the basis
+:func:`basis.presets.build_presets` (``fresnel-lut materials --presets``) and are tied to the basis
 by its content hash. Fitting afresh for another basis imports :mod:`basis.material_fits` when asked.
 
 References
@@ -193,8 +193,8 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
 
     Examples
     --------
-    >>> material_coefficients("Gold")[:, 0].round(3)  # F0 in ACEScg
-    array([ 0.903,  0.746,  0.418])
+    >>> material_coefficients("Gold")[:, 0].round(3)  # c0 in ACEScg: F0 (0.903, 0.746, 0.418) moved by ΔE2000 0.05
+    array([ 0.904,  0.746,  0.418])
     """
     if basis is not None and resolve_basis(basis).content_hash != default_basis().content_hash:
         # the preset lookup validates name and space with the usual messages

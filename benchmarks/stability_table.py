@@ -42,9 +42,9 @@ from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path
 from basis.training import MIN_SPAN, NOTEBOOK_ANGLES, TALK_ANGLES, GramAccumulator
 from basis.validation import ParameterError
 from fresnel_lut import cli
-from preintegrate.channels import basis_channels, combine, schlick_channels
+from preintegrate.channels import basis_channels, combine, schlick_channels, schlick_table_channels
 from preintegrate.exr import read_lut, write_lut
-from preintegrate.lut import build_table
+from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, build_table
 from preintegrate.quadrature import QuadratureOrder, directional_albedo
 from tests.references.fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex
 
@@ -343,7 +343,7 @@ def conditioning():
 # ============================================================================= storage
 def storage(folder: Path):
     started = time.perf_counter()
-    table = build_table(combine(basis_channels(), schlick_channels()), 128)
+    table = build_table(combine(basis_channels(), schlick_table_channels()), 128)  # the shipped build's seven channels
     build_seconds = time.perf_counter() - started
     shipped_folder = Path(shipped_basis_path()).parent
     shipped = np.concatenate(
@@ -351,7 +351,7 @@ def storage(folder: Path):
     )
     error = np.abs(shipped - table)
     normal = np.abs(table) >= 2.0**-126
-    lines = ["| LUT storage (128 × 128 × 6 vs float64 rebuild) | max abs error | max rel error (normal texels) | bound "
+    lines = ["| LUT storage (128 × 128 × 7 vs float64 rebuild) | max abs error | max rel error (normal texels) | bound "
              "| flushed to 0 | subnormal | inf/NaN | pass |",
              "|---|---|---|---|---|---|---|---|"]
     relative = float(np.max(error[normal] / np.abs(table[normal])))
@@ -359,7 +359,7 @@ def storage(folder: Path):
     lines.append(f"| shipped luts/*.exr, float32 (bit-identical to rebuild: {identical}) | {float(np.max(error)):.3g} | {relative:.3g} | "
                  f"2^-24 = {2.0**-24:.3g} rel | 0 | {int(np.count_nonzero((shipped != 0) & (np.abs(shipped) < 2.0**-126)))} | 0 | "
                  f"{'pass' if relative <= 2.0**-24 and identical else 'FAIL'} |")
-    names = ("R", "G", "B", "A", "S", "T")
+    names = ("R", "G", "B", "A", "S", "T", "E")  # four basis channels, Schlick scale and bias, the albedo E
     path = write_lut(folder / "half.exr", table, names, {"channels": ",".join(names)}, half=True)
     raw = OpenEXR.File(str(path), separate_channels=True).channels()
     half = np.stack([raw[name].pixels for name in names], axis=-1)
@@ -389,7 +389,7 @@ def storage(folder: Path):
 
 # ============================================================================= CLI fuzz
 def cli_fuzz(folder: Path):
-    from test_stability_faults import FUZZ, _option_named
+    from tests.stability.test_faults import FUZZ, option_named
 
     tried, broken = 0, []
     previous = os.getcwd()
@@ -405,7 +405,7 @@ def cli_fuzz(folder: Path):
                     status = exit_.code
             lines = err.getvalue().splitlines()
             ok = status == 2 and len(lines) == 1 and lines[0].startswith("fresnel-lut") and out.getvalue() == ""
-            ok = ok and (kind == "usage" or _option_named(lines[0], argv))
+            ok = ok and (kind == "usage" or option_named(lines[0], argv))
             ok = ok and (kind != "range" or "[" in lines[0] or "must be" in lines[0])
             ok = ok and (kind != "nonfinite" or "[" in lines[0])
             ok = ok and not any(folder.iterdir())
@@ -436,7 +436,7 @@ def cli_faults(folder: Path):
     """Corrupt/foreign --basis files, awkward --out paths, determinism: rows of the main table."""
     import json
 
-    from test_stability_faults import BAD_BASIS, BASES, _rehashed
+    from tests.stability.test_faults import BAD_BASIS, BASES, rehashed
 
     previous = os.getcwd()
     os.chdir(folder)
@@ -468,7 +468,7 @@ def cli_faults(folder: Path):
         accepted = []
         for name, edit in edits.items():
             path = folder / "rehashed.json"
-            path.write_text(_rehashed(edit))
+            path.write_text(rehashed(edit))
             status, lines, _ = _run_cli(list(BASES["coeffs_nk"]) + ["--basis", path])
             if not (status == 2 and len(lines) == 1 and "basis" in lines[0]):
                 accepted.append(f"{name}: {'exit 0' if status == 0 else lines[-1][:40]}")
@@ -504,7 +504,7 @@ def cli_faults(folder: Path):
             _run_cli(["build", "--size", "16", "--out", folder / "d1", *half])
             _run_cli(["build", "--size", "16", "--out", folder / "d2", *half])
             same.append(all((folder / "d1" / name).read_bytes() == (folder / "d2" / name).read_bytes()
-                            for name in (cli.BASIS_LUT, cli.SCHLICK_LUT)))
+                            for name in (BASIS_LUT, SCHLICK_LUT)))
         _run_cli(["basis", "--count", "2000", "--out", folder / "b1.json"])
         _run_cli(["basis", "--count", "2000", "--out", folder / "b2.json"])
         same.append((folder / "b1.json").read_bytes() == (folder / "b2.json").read_bytes())
@@ -545,7 +545,7 @@ def main() -> None:
     for cells in ROWS:
         print("| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |")
     print(f"\nTotal inputs: {sum(int(r[1].replace(',', '')) for r in ROWS):,}. "
-          f"A FAIL row is a defect (each has a test in tests/test_stability_*.py); 'limit' rows are documented limits of a four-term basis.")
+          f"A FAIL row is a defect (each has a test in tests/stability/); 'limit' rows are documented limits of a four-term basis.")
     if other:
         print("\nCLI cases breaking the contract (other than NaN/inf messages):")
         for name, status, line in other:

@@ -30,43 +30,30 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.coefficients import MODEL_FITS, coefficients_from_gulbrandsen, coefficients_from_model, coefficients_from_nk
+from basis.coefficients import MODEL_FITS, coefficients_from_model
 from basis.eigenbasis import Basis, default_basis, shipped_basis_path
 from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.materials import material_from_mapping
 from basis.models import FRESNEL_MODELS, fresnel_model
 from basis.presets import (
     PRESET_SPACES,
-    material_coefficients,
     material_preset,
     material_presets,
     shipped_presets_path,
     write_presets,
 )
-from basis.storage import write_text
 from basis.training import FIT_ANGLE_CHOICES, build_basis
 from basis.training.builder import MAX_GRID
 from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
 
-from preintegrate.channels import average_albedo_channels, basis_channels, channel_set, combine, schlick_table_channels
-from preintegrate.exr import write_luts
-from preintegrate.formats import FORMATS, c_header, file_family, ktx2_bytes, png16_bytes
+from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
-from preintegrate.lut import (
-    AVERAGE_LUT,
-    BASIS_LUT,
-    SCHLICK_LUT,
-    build_table,
-    lut_attributes,
-    lut_axes,
-    model_lut_name,
-    pixel_convention,
-    rgba_items,
-    second_rgba_path,
-)
-from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
-from .progress import Progress, peak_rss_mib
+from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
+from preintegrate.tables import write_default_build, write_model_build
+
+from .progress import Progress, peak_rss_mib
 
 
 class _Parser(argparse.ArgumentParser):
@@ -121,109 +108,46 @@ def _size_text(path: Path) -> str:
 
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
-    _formats(arguments.format)  # refused before the work
+    formats = check_formats(arguments.format)  # refused before the work
     out = _output_folder("--out", arguments.out)
     order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
         check_positive_int("--order", arguments.order, low=2, high=512)
     )
-    if arguments.model is not None:
-        return _build_model_table(arguments, size, out, order)
-    basis = _load_basis(arguments.basis)
-    started = time.perf_counter()
-    basis_set, schlick_set, average_set = basis_channels(basis), schlick_table_channels(), average_albedo_channels()
-    combined = combine(basis_set, schlick_set)
-    progress = Progress(f"integrating {size}x{size} texels", "texels")
-    table = build_table(combined, size, order=order, progress=progress, visibility=arguments.visibility)
-    progress.close()
-    k = basis_set.n_channels
-    quadrature = order.describe()
-    convention = pixel_convention(arguments.visibility)
-    basis_header = lut_attributes(basis_set, size, size, "fresnel-lut build", convention, quadrature=quadrature,
-                                  basis_hash=basis.content_hash,
-                                  basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))
-    items = rgba_items(out / BASIS_LUT, table[:, :, :k], basis_header)  # terms 4-7 of K > 4: a second RGBA table
-    items += [
-        (out / SCHLICK_LUT, table[:, :, k:], schlick_set.channel_names,
-         lut_attributes(schlick_set, size, size, "fresnel-lut build", convention, quadrature=quadrature)),
-        (out / AVERAGE_LUT, average_albedo(lut_axes(size)[1], arguments.visibility, order)[:, None, None],
-         average_set.channel_names, lut_attributes(
-             average_set, 1, size, "fresnel-lut build", f"one column; rows as in: {convention}",
-             quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}")),
-    ]
-    stems = [Path(name).stem for name in (BASIS_LUT, second_rgba_path(BASIS_LUT), SCHLICK_LUT, AVERAGE_LUT)]
-    paths = _write_formats(items, arguments, stems)  # the folder's other tables of this set are removed
-    elapsed = time.perf_counter() - started
-    print(f"built {size}x{size} LUTs ({'half' if arguments.half else 'float32'}) in {elapsed:.2f} s, basis {basis.content_hash}:")
-    for path in paths:
-        print(f"  {path}  {_size_text(path)}")
-    return 0
-
-
-def _formats(text: str) -> list[str]:
-    """``--format exr,ktx2,png16,header``: the formats to write, each known, at least one."""
-    names = [name.strip() for name in str(text).split(",") if name.strip()]
-    unknown = [name for name in names if name not in FORMATS]
-    if not names or unknown:
-        raise ParameterError(f"--format must list formats of {sorted(FORMATS)} separated by commas, got {text!r}")
-    return list(dict.fromkeys(names))
-
-
-def _write_formats(items, arguments, stems) -> list[Path]:
-    """The tables in every format asked for, as one transaction that owns the tables ``stems`` in every format
-    (those it does not write are removed); the paths written."""
-    formats = _formats(arguments.format)
-    extra = []
-    for path, table, channel_names, attributes in items:
-        if "ktx2" in formats:
-            extra.append((path.with_suffix(".ktx2"), lambda temporary, table=table, attributes=attributes:
-                          temporary.write_bytes(ktx2_bytes(table, attributes, half=arguments.half))))
-        if "png16" in formats:
-            extra.append((path.with_suffix(".png"), lambda temporary, table=table, attributes=attributes:
-                          temporary.write_bytes(png16_bytes(table, attributes))))
-        if "header" in formats:
-            extra.append((path.with_suffix(".h"), lambda temporary, path=path, table=table, names=channel_names,
-                          attributes=attributes: temporary.write_text(c_header(table, path.stem, names, attributes),
-                                                                      encoding="utf-8")))
-    exrs = items if "exr" in formats else []
-    if not exrs:  # write_luts needs its EXR items only to encode them
-        write_luts([], extra_writers=extra, owned=file_family(stems))
-    else:
-        write_luts(exrs, half=arguments.half, extra_writers=extra, owned=file_family(stems))
-    return [path for path, _, _, _ in exrs] + [path for path, _ in extra]
-
-
-def _shape_arguments(arguments) -> dict:
-    """The shape parameters given on the command line (--exponent, --alpha, --eta-prime, --kappa-prime)."""
-    return {name: getattr(arguments, name) for name in _SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
-
-
-def _build_model_table(arguments, size: int, out: Path, order) -> int:
+    grid = LutGrid(size, size, visibility=arguments.visibility)
+    shape = {name: getattr(arguments, name) for name in _SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
+    if arguments.model is None and shape:
+        raise ParameterError(f"{', '.join(map(_option, shape))} go{'es' if len(shape) == 1 else ''} with --model NAME")
     if arguments.model in ("basis", "schlick"):
         raise ParameterError(f"--model {arguments.model}: the default build (no --model) writes the basis and Schlick tables")
-    if arguments.basis is not None:
+    if arguments.model is not None and arguments.basis is not None:
         raise ParameterError("--basis goes with the basis table, not with --model")
-    shape = _shape_arguments(arguments)
-    model = fresnel_model(arguments.model)
-    unused = sorted(set(shape) - set(model.shape))
-    if unused:
-        raise ParameterError(f"--model {model.name} takes {['--' + n.replace('_', '-') for n in model.shape] or 'no shape options'}, "
-                             f"not {['--' + n.replace('_', '-') for n in unused]}")
-    model.channel_functions(**shape)  # a non-linear model is refused here, with the list of linear ones
-    channels = channel_set(model.name, **shape)
+    if arguments.model is not None:
+        model = fresnel_model(arguments.model)
+        unused = sorted(set(shape) - set(model.shape))
+        if unused:
+            raise ParameterError(f"--model {model.name} takes {[_option(n) for n in model.shape] or 'no shape options'}, "
+                                 f"not {[_option(n) for n in unused]}")
+    basis = None if arguments.model is not None else _load_basis(arguments.basis)
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
-    table = build_table(channels, size, order=order, progress=progress, visibility=arguments.visibility)
+    if arguments.model is None:
+        paths = write_default_build(out, basis, grid, order, formats, arguments.half, progress)
+    else:
+        paths, channels = write_model_build(out, arguments.model, shape, grid, order, formats, arguments.half, progress)
     progress.close()
-    path = out / model_lut_name(model.name, model.shape_values(**shape))
-    header = lut_attributes(channels, size, size, "fresnel-lut build --model", pixel_convention(arguments.visibility),
-                            quadrature=order.describe(),
-                            **{f"model_{key}": value for key, value in channels.provenance.items()})
-    (written, *_) = _write_formats([(path, table, channels.channel_names, header)], arguments, [path.stem])
-    print(f"built {size}x{size} {model.name} LUT ({channels.n_channels} channels, "
-          f"{'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s:")
-    print(f"  {written}  {_size_text(written)}")
-    print(f"  {channels.combination}")
+    kind = "LUTs" if arguments.model is None else f"{arguments.model} LUT ({channels.n_channels} channels)"
+    print(f"built {size}x{size} {kind} ({'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s"
+          + (f", basis {basis.content_hash}:" if basis is not None else ":"))
+    for path in paths:
+        print(f"  {path}  {_size_text(path)}")
+    if arguments.model is not None:
+        print(f"  {channels.combination}")
     return 0
+
+
+def _option(name: str) -> str:
+    """The command-line option of a parameter name: ``eta_prime`` → ``--eta-prime``."""
+    return "--" + name.replace("_", "-")
 
 
 def command_basis(arguments) -> int:
@@ -264,54 +188,68 @@ def command_coeffs(arguments) -> int:
     if arguments.list_materials:
         return _list_materials(arguments.space)
     basis = _load_basis(arguments.basis)
-    nk_given = arguments.eta is not None or arguments.kappa is not None
-    artist_given = arguments.reflectivity is not None or arguments.edge_tint is not None
-    preset_given = arguments.material is not None
     if arguments.model is not None:
         return _coeffs_of_model(arguments, basis)
-    if nk_given + artist_given + preset_given != 1:
+    material = material_from_mapping(_material_mapping(arguments), arguments.space or "ACEScg")
+    coefficients = material.coefficients(basis)
+    described = dict(material.description)
+    if material.kind == "preset":
+        preset = material_preset(material.description["preset"], material.space)
+        described.update(space=material.space, f0=preset["f0"].tolist(), source=preset["source"],
+                         rms_delta_e2000=_preset_errors(preset, material, coefficients, basis))
+    elif material.kind == "gulbrandsen":
+        eta, kappa = gulbrandsen_to_nk(np.array(described["reflectivity"]), np.array(described["edge_tint"]))
+        described.update(eta=eta.tolist(), kappa=kappa.tolist())
+    if arguments.json:
+        print(json.dumps({"basis_hash": basis.content_hash, "material": described,
+                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]"}))
+        return 0
+    if material.kind == "preset":
+        errors = described["rms_delta_e2000"]
+        print(f"{described['preset']} ({described['space']}, linear): F0 = " + ", ".join(f"{v:.4f}" for v in described["f0"])
+              + f"; RMS dE2000 basis {errors['basis']:.3f}, Schlick {errors['schlick']:.3f}")
+    _print_coefficients(basis, coefficients)
+    return 0
+
+
+def _material_mapping(arguments) -> dict:
+    """The material the options name, as a mapping of :mod:`basis.materials`; mixtures and strays are refused."""
+    given = {key: getattr(arguments, key) for key in ("eta", "kappa", "reflectivity", "edge_tint")
+             if getattr(arguments, key) is not None}
+    if arguments.material is not None:
+        given["preset"] = arguments.material
+    groups = [name for name, keys in (("--eta and --kappa", ("eta", "kappa")),
+                                      ("--reflectivity and --edge-tint", ("reflectivity", "edge_tint")),
+                                      ("--material NAME", ("preset",))) if set(keys) & set(given)]
+    if len(groups) != 1:
         raise ParameterError("give one of: --eta and --kappa, --reflectivity and --edge-tint, --material NAME "
                              "or --model NAME with its parameters")
-    ignored = [f"--{name.replace('_', '-')}" for name in _MODEL_PARAMETERS
+    for first, second in (("eta", "kappa"), ("reflectivity", "edge_tint")):
+        if (first in given) != (second in given):
+            raise ParameterError(f"{_option(first)} and {_option(second)} go together")
+    ignored = [_option(name) for name in _MODEL_PARAMETERS
                if name not in ("eta", "kappa", "reflectivity", "edge_tint") and getattr(arguments, name, None) is not None]
     if arguments.fit is not None:
         ignored.append("--fit")
     if ignored:
         raise ParameterError(f"{', '.join(ignored)} go{'es' if len(ignored) == 1 else ''} with --model NAME; "
                              "a material given by --eta/--kappa, --reflectivity/--edge-tint or --material takes none")
-    if arguments.space is not None and not preset_given:
+    if arguments.space is not None and "preset" not in given:
         raise ParameterError("--space goes with --material (an (eta, kappa) or (r, g) material has no colour space)")
-    if preset_given:
-        space = arguments.space or "ACEScg"
-        preset = material_preset(arguments.material, space)
-        coefficients = material_coefficients(preset["name"], space, basis)
-        material = {"preset": preset["name"], "space": space, "f0": preset["f0"].tolist(),
-                    "rms_delta_e2000": preset["rms_delta_e2000"], "source": preset["source"]}
-    elif nk_given:
-        if arguments.eta is None or arguments.kappa is None:
-            raise ParameterError("--eta and --kappa go together")
-        eta, kappa = np.array(arguments.eta), np.array(arguments.kappa)
-        coefficients = coefficients_from_nk(eta, kappa, basis)
-        material = {"eta": eta.tolist(), "kappa": kappa.tolist()}
-    else:
-        if arguments.reflectivity is None or arguments.edge_tint is None:
-            raise ParameterError("--reflectivity and --edge-tint go together")
-        reflectivity, edge_tint = np.array(arguments.reflectivity), np.array(arguments.edge_tint)
-        coefficients = coefficients_from_gulbrandsen(reflectivity, edge_tint, basis)
-        eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
-        material = {"reflectivity": reflectivity.tolist(), "edge_tint": edge_tint.tolist(),
-                    "eta": eta.tolist(), "kappa": kappa.tolist()}
-    if arguments.json:
-        print(json.dumps({"basis_hash": basis.content_hash, "material": material,
-                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]"}))
-    else:
-        if preset_given:
-            print(f"{material['preset']} ({material['space']}, linear): F0 = "
-                  + ", ".join(f"{value:.4f}" for value in material["f0"])
-                  + f"; RMS dE2000 basis {material['rms_delta_e2000']['basis']:.3f}, Schlick "
-                  f"{material['rms_delta_e2000']['schlick']:.3f}")
-        _print_coefficients(basis, coefficients)
-    return 0
+    return given
+
+
+def _preset_errors(preset: dict, material, coefficients, basis: Basis) -> dict:
+    """RMS ΔE2000 of the coefficients against the spectral truth: the shipped file's, or measured afresh for another
+    basis (the shipped numbers belong to the shipped basis' coefficients)."""
+    if basis.content_hash == default_basis().content_hash:
+        return preset["rms_delta_e2000"]
+    from basis.material_fits import ANGLES_DEGREES, rms_delta_E_2000
+
+    theta = np.deg2rad(ANGLES_DEGREES)
+    truth = material.curve(np.cos(theta))
+    return {"basis": float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, material.space)),
+            "schlick": preset["rms_delta_e2000"]["schlick"]}
 
 
 def _print_coefficients(basis, coefficients) -> None:
@@ -409,15 +347,12 @@ def _own_table_text(model, parameters) -> str:
 
 
 def command_scene(arguments) -> int:
-    from .scene import plan_scene, read_scene, write_scene
+    from .scene import build_scene
 
     out = _output_folder("--out", arguments.out)
     started = time.perf_counter()
-    scene = read_scene(arguments.file)
-    columns = f"{scene.size}" if scene.size_fixed else f"{scene.size} or more"
-    print(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {columns} columns) ...", flush=True)
-    plan = plan_scene(scene, progress=lambda text: print(f"  {text}", flush=True))  # refuses before anything is written
-    result = write_scene(plan, out)
+    result = build_scene(arguments.file, out, arguments.format, arguments.half, arguments.visibility,
+                         progress=lambda text: print(text, flush=True))
     print(result["text"])
     print(f"scene built in {time.perf_counter() - started:.1f} s:")
     for path in [*result["tables"], *result["scene_basis"], result["coefficients"], result["report"]]:
@@ -458,44 +393,25 @@ def command_report(arguments) -> int:
 
 
 def _fidelity_report(folder: Path, quick: bool) -> int:
-    from .report.basis_fidelity import TARGETS, fidelity_markdown, fidelity_study, plot_fidelity
+    from .report.basis_fidelity import write_fidelity_report
 
-    result = fidelity_study(quick=quick, progress=lambda text: print(f"  {text}", flush=True))
-    markdown = folder / "fidelity.md"
-    write_text(markdown, "# Basis fidelity (issue 14)\n\n" + fidelity_markdown(result))
-    written = [markdown]
-    try:
-        written.append(plot_fidelity(result, folder / "basis_fidelity.png"))
-    except ParameterError as error:  # matplotlib is the optional plot extra
-        print(f"  no plot: {error}")
-    shipped = result["errors"]["shipped"]["four-point"]
-    for group, (measure, bound) in TARGETS.items():
-        print(f"  shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})")
-    for path in written:
+    result = write_fidelity_report(folder, quick, progress=lambda text: print(f"  {text}", flush=True))
+    for line in result["summary"]:
+        print(f"  {line}")
+    for path in result["paths"]:
         print(f"  {path}  {_size_text(path)}")
     return 0
 
 
 def _materials_report(folder: Path) -> int:
-    from .report.material_error import TARGET, material_markdown, material_study
+    from .report.material_error import write_materials_report
 
-    started = time.perf_counter()
-    basis = default_basis()
     progress = Progress("dE2000 tables", "tables")
-    result = material_study(basis, progress=progress)
+    result = write_materials_report(folder, progress=progress)
     progress.close()
-    markdown = folder / "materials.md"
-    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut report "
-              f"--materials` in {time.perf_counter() - started:.0f} s; basis {basis.content_hash}; spectral data "
-              f"`luts/spectral_ior.json`.\n\n")
-    write_text(markdown, header + material_markdown(result))
-    for space, rows in result["errors"].items():
-        metals = [row for row in rows if row["kind"] == "metal"]
-        worst = max(metals, key=lambda row: row["delta-e"])
-        over = sum(row["delta-e"] > TARGET for row in metals)
-        print(f"  {space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
-              f"{over} of {len(metals)} above {TARGET}")
-    print(f"  {markdown}  {_size_text(markdown)}")
+    for line in result["summary"]:
+        print(f"  {line}")
+    print(f"  {result['path']}  {_size_text(result['path'])}")
     return 0
 
 
@@ -506,6 +422,17 @@ def _add_shape_options(parser) -> None:
                             help=f"{_MODEL_PARAMETERS[name].description} ({', '.join(users)})")
 
 
+_VISIBILITY_HELP = "Smith masking-shadowing of the engine's BRDF: " + "; ".join(
+    f"{name}: {visibility.description}" for name, visibility in VISIBILITIES.items()) + " (default height-correlated)"
+
+
+def _add_format_options(parser) -> None:
+    parser.add_argument("--format", default="exr", help=", ".join(f"{name} ({fmt.description})" for name, fmt in FORMATS.items())
+                        + "; comma-separated (default exr)")
+    parser.add_argument("--half", action="store_true", help="store half floats instead of float32 (every format "
+                        "holds the half-rounded values)")
+
+
 def make_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="fresnel-lut", description="Preintegrable Fresnel eigen-basis and GGX split-sum LUTs.")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -513,13 +440,8 @@ def make_parser() -> argparse.ArgumentParser:
     build = commands.add_parser("build", help="write the basis and Schlick split-sum LUTs as EXR")
     build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
-    build.add_argument("--half", action="store_true", help="store half floats instead of float32")
-    build.add_argument("--format", default="exr", help="exr, ktx2 (RGBA32F, RGBA16F with --half), png16 (16-bit "
-                       "PNG, offset and scale per channel in the file) and/or header (C/C++ float arrays), "
-                       "comma-separated (default exr)")
-    build.add_argument("--visibility", default="height-correlated", choices=sorted(VISIBILITIES),
-                       help="Smith masking-shadowing of the engine's BRDF: height-correlated (default; most real-time "
-                            "engines) or separable G1(o) G1(i) (several offline renderers)")
+    _add_format_options(build)
+    build.add_argument("--visibility", default="height-correlated", choices=list(VISIBILITIES), help=_VISIBILITY_HELP)
     build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     build.add_argument("--model", default=None, help="instead: the exact split-sum table of one linear model "
@@ -579,6 +501,10 @@ def make_parser() -> argparse.ArgumentParser:
     scene = commands.add_parser("scene", help="build only what a scene needs (TOML or JSON scene file)")
     scene.add_argument("file", help="scene file (see examples/)")
     scene.add_argument("--out", required=True, help="output folder")
+    _add_format_options(scene)
+    scene.add_argument("--visibility", default=None, choices=list(VISIBILITIES),
+                       help="the engine's masking-shadowing form (default: the scene file's visibility, else "
+                            "height-correlated)")
     scene.set_defaults(run=command_scene)
 
     render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")

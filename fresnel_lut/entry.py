@@ -1,5 +1,7 @@
 """The ``fresnel-lut`` console command.
 
+Public objects: ``main``.
+
 Ctrl-C at any moment ends the command with exit status 130 and one line, never a traceback. While the
 modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
 import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once; a module

@@ -1,6 +1,6 @@
 """A small vectorised renderer: spheres under an environment, split sum against Monte Carlo.
 
-Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``, ``render_material``,
+Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``,
 ``render_split_sum``, ``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
 
 * **Environment**: a procedural studio made of spherical Gaussians (SGs) — a sky dome, a ground
@@ -35,10 +35,12 @@ from collections.abc import Callable
 import numpy as np
 
 from basis.eigenbasis import default_basis
+from basis.materials import material_from_mapping
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import check_choice, check_positive_int, check_range
 
 from preintegrate.estimators import contributions
+from preintegrate.ggx import VISIBILITIES, roughness_to_alpha
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 
@@ -109,19 +111,17 @@ class RenderMaterial:
     roughness: tuple[float, ...]
 
 
-def _figure2(space: str):
-    from basis.coefficients import coefficients_from_gulbrandsen
-    from basis.fresnel import fresnel_kernel
-    from basis.gulbrandsen import gulbrandsen_to_nk
+def _render_material(name: str, mapping: dict, space: str, roughness: tuple[float, ...]) -> RenderMaterial:
+    """A material of :mod:`basis.materials` to render: its exact curve (a preset's tabulated: see :func:`_tabulated`)
+    and its coefficients."""
+    material = material_from_mapping(mapping, space)
+    curve = _tabulated(material.curve) if material.kind == "preset" else material.curve
+    return RenderMaterial(name, curve, material.coefficients(), roughness)
 
-    reflectivity, edge_tint = np.full(3, 0.44), np.array([0.0, 1.0, 0.0])
-    eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
-    return RenderMaterial(
-        "Figure 2 (r 0.44, g (0, 1, 0))",
-        lambda mu: fresnel_kernel(np.asarray(mu)[..., None], eta, kappa),
-        coefficients_from_gulbrandsen(reflectivity, edge_tint),
-        (float(np.sqrt(0.08)), 0.5),
-    )
+
+def _figure2(space: str) -> RenderMaterial:
+    return _render_material("Figure 2 (r 0.44, g (0, 1, 0))", {"reflectivity": 0.44, "edge_tint": [0.0, 1.0, 0.0]}, space,
+                            (float(np.sqrt(0.08)), 0.5))
 
 
 def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
@@ -140,12 +140,8 @@ def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -
     return tabulated
 
 
-def _preset(name: str, space: str):
-    from basis.material_fits import material_curve
-    from basis.presets import material_coefficients
-
-    return RenderMaterial(name, _tabulated(material_curve(name, space)), material_coefficients(name, space),
-                          (0.15, 0.3, 0.6))
+def _preset(name: str, space: str) -> RenderMaterial:
+    return _render_material(name, {"preset": name}, space, (0.15, 0.3, 0.6))
 
 
 #: The default scenes: the talk's Figure 2 material at α = 0.08 (r = √0.08), and three measured metals.
@@ -178,7 +174,7 @@ def render_split_sum(material: RenderMaterial, roughness: float, size: int, basi
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)
     view = np.array([0.0, 0.0, 1.0])
     reflected = 2.0 * mu_o[..., None] * normals - view
-    prefiltered = environment.prefiltered(reflected, roughness**2)
+    prefiltered = environment.prefiltered(reflected, roughness_to_alpha(roughness))
     f0 = material.curve(np.array(1.0))
     schlick = lut_lookup(schlick_lut, mu_o, roughness)  # (S, S, 2 or 3): scale, bias[, E]
     basis = lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T
@@ -223,20 +219,22 @@ _BATCH = 16
 
 def render_reference(material: RenderMaterial, roughness: float, size: int, samples: int, seed: int = 0,
                      environment: Environment = STUDIO, sampling: str = "lattice",
-                     workers: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+                     workers: int | None = None, visibility: str = "height-correlated") -> tuple[np.ndarray, np.ndarray, float]:
     """(image (S, S, 3), spread (S, S, 3), seconds): VNDF Monte Carlo with the exact Fresnel curve.
 
     ``sampling="random"`` draws independent uniform numbers and ``spread`` is the standard error of the mean;
     ``"lattice"`` (default) uses a randomly shifted rank-1 lattice per pixel (unbiased; about half the
     ΔE2000 noise at 256 spp, ``tests/fresnel_lut/test_render.py``), for which the same formula is an upper
     bound. Either way two seeds give independent estimates. ``workers`` threads (default: the machine's
-    cores) share the pixels; BLAS runs on one thread (:mod:`basis.parallel`).
+    cores) share the pixels; BLAS runs on one thread (:mod:`basis.parallel`). ``visibility``: the BRDF's G2 form
+    (:data:`preintegrate.ggx.VISIBILITIES`), which the split-sum tables compared with it must share.
     """
     roughness = float(check_range("roughness", roughness, 1e-3, 1.0))
     samples = check_positive_int("samples", samples, low=2, high=1 << 20)
     check_choice("sampling", sampling, SAMPLINGS)
+    check_choice("visibility", visibility, list(VISIBILITIES))
     started = time.perf_counter()
-    alpha = roughness**2
+    alpha = roughness_to_alpha(roughness)
     normals, mask = sphere_geometry(size)
     n = normals[mask]  # (P, 3)
     view = np.array([0.0, 0.0, 1.0])
@@ -251,7 +249,8 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
     total_sq = np.zeros_like(total)
 
     def accumulate(pixels: slice, u1: np.ndarray, u2: np.ndarray) -> None:
-        cos_d, local_i, weight = contributions(mu_o[None, pixels], alpha, u1[:, pixels], u2[:, pixels])  # local frame
+        cos_d, local_i, weight = contributions(mu_o[None, pixels], alpha, u1[:, pixels], u2[:, pixels],
+                                               visibility=visibility)  # local frame
         world_i = local_i[..., :1] * tangent[pixels] + local_i[..., 1:2] * bitangent[pixels] + local_i[..., 2:] * n[pixels]
         value = material.curve(cos_d) * weight[..., None] * environment.radiance(world_i)
         total[pixels] += value.sum(axis=0)

@@ -1,7 +1,8 @@
 """Channel sets: the functions of cos θ_d = ω_o·h whose split-sum integrals make a LUT.
 
 Public objects: ``ChannelSet``, ``CHANNEL_SETS``, ``basis_channels``, ``schlick_channels``,
-``model_channels``, ``channel_set``, ``combine``.
+``schlick_table_channels``, ``albedo_channels``, ``average_albedo_channels``, ``model_channels``, ``channel_set``,
+``combine``.
 
 A channel set names its functions f_k, says how an engine combines the channels into F̄, and is
 integrated by the one generic integrator :func:`preintegrate.quadrature.directional_albedo`.

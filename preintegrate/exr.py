@@ -1,6 +1,7 @@
 """EXR I/O of LUT tables: atomic writes, self-describing headers, verified reads.
 
-Public objects: ``write_lut``, ``write_luts``, ``read_lut``, ``content_hash``, ``LutFileError``.
+Public objects: ``write_lut``, ``write_luts``, ``exr_writer``, ``read_lut``, ``content_hash``, ``stored_values``,
+``LutFileError``.
 
 Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines, float32 by default
 or half; in half, magnitudes below 2^-14 are written as 0 rather than as subnormals. Every file is first written to a temporary name in the destination folder and renamed into
@@ -13,7 +14,7 @@ never renames, removes or writes anything. Header attributes carry no time stamp
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,7 @@ import OpenEXR
 from basis.storage import JOURNAL, unfinished_group, write_together
 from basis.validation import ParameterError, as_float_array
 
-__all__ = ["LutFileError", "content_hash", "read_lut", "write_lut", "write_luts"]
+__all__ = ["LutFileError", "content_hash", "exr_writer", "read_lut", "stored_values", "write_lut", "write_luts"]
 
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
@@ -86,24 +87,26 @@ def write_luts(items, half: bool = False, texts=(), extra_writers=(), owned: str
     tables in other formats); ``owned`` the names of the set the transaction owns (files it matches and does
     not write are removed: :func:`basis.storage.write_together`).
     """
-    prepared = []
-    for path, table, channel_names, attributes in items:
-        path = Path(path)
-        channels = _prepare(table, channel_names, half)
-        attributes = {**{key: str(value) for key, value in attributes.items()}, "pixel_type": "half" if half else "float32"}
-        attributes["content_hash"] = content_hash(attributes, channels)
-        header = {
-            "compression": OpenEXR.ZIP_COMPRESSION,
-            "type": OpenEXR.scanlineimage,
-            **{f"{ATTRIBUTE_PREFIX}{key}": value for key, value in attributes.items()},
-        }
-        prepared.append((path, header, channels))
-    writers = [(path, lambda temporary, header=header, channels=channels:
-                OpenEXR.File(header, channels).write(str(temporary))) for path, header, channels in prepared]
+    writers = [(Path(path), exr_writer(table, channel_names, attributes, half))
+               for path, table, channel_names, attributes in items]
     writers += [(Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8"))
                 for path, text in texts]
     write_together(writers + [(Path(path), writer) for path, writer in extra_writers], owned=owned)
-    return [path for path, _, _ in prepared]
+    return [path for path, _ in writers[: len(items)]]
+
+
+def exr_writer(table, channel_names, attributes: Mapping[str, str], half: bool = False) -> Callable[[Path], None]:
+    """``writer(path)`` that writes one LUT (H, W, K) as EXR, its header sealed by :func:`content_hash`; the
+    table is checked and converted when the writer is made, so a bad table fails before any file is begun."""
+    channels = _prepare(table, tuple(channel_names), half)
+    attributes = {**{key: str(value) for key, value in attributes.items()}, "pixel_type": "half" if half else "float32"}
+    attributes["content_hash"] = content_hash(attributes, channels)
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        **{f"{ATTRIBUTE_PREFIX}{key}": value for key, value in attributes.items()},
+    }
+    return lambda path: OpenEXR.File(header, channels).write(str(path))
 
 
 def write_lut(path, table, channel_names, attributes: Mapping[str, str], half: bool = False) -> Path:

@@ -1,6 +1,6 @@
 """LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
 
-Public objects: ``FORMATS``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
+Public objects: ``FORMATS``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
 
 * **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
   ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a three-channel table is padded with
@@ -34,29 +34,73 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import re
 import struct
 import zlib
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
 from basis.validation import ParameterError, as_float_array
 
-from .exr import stored_values
+from .exr import exr_writer, stored_values
 
-__all__ = ["FORMATS", "c_header", "file_family", "payload_hash", "ktx2_bytes", "png16_bytes", "png16_encoding"]
+__all__ = ["FORMATS", "Format", "c_header", "check_formats", "file_family", "payload_hash", "ktx2_bytes", "png16_bytes", "png16_encoding"]
 
-#: File formats of ``fresnel-lut build --format`` beside ``exr``: name → file suffix.
-FORMATS = {"exr": ".exr", "ktx2": ".ktx2", "png16": ".png", "header": ".h"}
+@dataclasses.dataclass(frozen=True)
+class Format:
+    """A file format of a table: its suffix and ``writer(table, channel_names, attributes, name, half)``, which
+    checks the table at once and returns what writes the file to a path (:func:`basis.storage.write_together`)."""
+
+    name: str
+    suffix: str
+    writer: Callable[[np.ndarray, tuple[str, ...], dict[str, str], str, bool], Callable[[Path], None]]
+    description: str
+
+
+def _bytes_writer(data: bytes) -> Callable[[Path], None]:
+    return lambda path: path.write_bytes(data)
+
+
+def _half_rounded(table, half: bool) -> np.ndarray:
+    """The table as a ``--half`` build stores it (:func:`preintegrate.exr.stored_values`), so that every format of
+    one build holds the same values."""
+    return stored_values(table, True).astype(np.float64) if half else table
+
+
+#: Registry: the formats of ``fresnel-lut build --format`` and ``fresnel-lut scene --format``.
+FORMATS = {fmt.name: fmt for fmt in (
+    Format("exr", ".exr", lambda table, names, attributes, name, half: exr_writer(table, names, attributes, half),
+           "OpenEXR, ZIP scanlines, float32 (half with --half)"),
+    Format("ktx2", ".ktx2", lambda table, names, attributes, name, half: _bytes_writer(ktx2_bytes(table, attributes, half)),
+           "KTX2, RGBA32F (RGBA16F with --half)"),
+    Format("png16", ".png", lambda table, names, attributes, name, half:
+           _bytes_writer(png16_bytes(_half_rounded(table, half), attributes)),
+           "16-bit PNG, offset and scale per channel in the file"),
+    Format("header", ".h", lambda table, names, attributes, name, half:
+           _bytes_writer(c_header(_half_rounded(table, half), name, names, attributes).encode("utf-8")),
+           "C/C++ header of float arrays"),
+)}
+
+
+def check_formats(formats) -> list[str]:
+    """The formats asked for (``"exr,ktx2"`` or a sequence of names), each of :data:`FORMATS`, at least one, in order."""
+    names = [name.strip() for name in str(formats).split(",")] if isinstance(formats, str) else list(formats)
+    names = [name for name in names if name != ""]
+    if not names or any(not isinstance(name, str) or name not in FORMATS for name in names):
+        raise ParameterError(f"formats must list formats of {list(FORMATS)} separated by commas, got {formats!r}")
+    return list(dict.fromkeys(names))
 
 
 def file_family(stems) -> str:
     """A regular expression of the files the tables ``stems`` are, in every format of :data:`FORMATS`: the set
     a build owns in its folder (:func:`basis.storage.write_together`'s ``owned``)."""
     return (f"(?:{'|'.join(re.escape(stem) for stem in sorted(set(stems)))})"
-            f"(?:{'|'.join(re.escape(suffix) for suffix in FORMATS.values())})")
+            f"(?:{'|'.join(re.escape(fmt.suffix) for fmt in FORMATS.values())})")
 
 KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 #: VkFormat of an RGBA float table by bytes per channel.

@@ -1,17 +1,19 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
-Public objects: ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``,
-``model_lut_name``, ``second_rgba_path``, ``rgba_items``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
+Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``,
+``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
 ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
-Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r²; row 0 is
-first in the file. Texel centres never touch μo = 0 or r = 0. A GPU reads a table with linear
+Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r² (or, for a scene's
+tables, rows at the end points of a roughness range: :class:`LutGrid`); row 0 is first in the file. Texel
+centres never touch μo = 0 or r = 0. A GPU reads a table with linear
 interpolation between texel centres and clamps to the edge texels outside them; :func:`lut_lookup`
 and :func:`interpolation_weights` are that rule, once.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 from collections.abc import Callable
 from pathlib import Path
@@ -19,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.storage import shipped_path
-from basis.validation import ParameterError, check_choice, check_positive_int
+from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 
 from .channels import ChannelSet
 from .estimators import hammersley_albedo
@@ -34,16 +36,15 @@ __all__ = [
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
     "SHIPPED_LUTS",
-    "rgba_items",
     "build_table",
-    "pixel_convention",
+    "LutGrid",
+    "ROW_PLACEMENTS",
     "interpolation_weights",
     "lut_attributes",
     "lut_axes",
     "lut_texel_weights",
     "lut_lookup",
     "model_lut_name",
-    "second_rgba_path",
     "shipped_lut",
     "texel_centres",
 ]
@@ -62,42 +63,97 @@ def model_lut_name(model: str, shape=()) -> str:
     return f"ggx_{model}" + "".join(f"_{key}{value:g}" for key, value in dict(shape).items()) + ".exr"
 
 
-def second_rgba_path(path) -> Path:
-    """Where terms 4 … 7 of a basis table go (:func:`rgba_items`): ``<stem>_2<suffix>``."""
-    path = Path(path)
-    return path.with_name(f"{path.stem}_2{path.suffix}")
-
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")
 
 
-def rgba_items(path, table: np.ndarray, attributes: dict[str, str]) -> list[tuple[Path, np.ndarray, tuple[str, ...], dict]]:
-    """The files of a table of K ≤ 8 basis terms (H, W, K), as (path, values, channel names, header) items of
-    :func:`preintegrate.exr.write_luts`: terms 0 … 3 in ``path`` (R, G, B, A), terms 4 … 7 in a second RGBA
-    texture ``<stem>_2<suffix>`` (one more fetch in the shader). Each header is ``attributes`` with its own
-    channels and, when there are two files, the terms it holds (``terms = "4-5 of 6"``)."""
-    count = check_positive_int("basis terms", np.shape(table)[-1], low=1, high=8)
-    path = Path(path)
-    parts = [(path, slice(0, min(count, 4)))]
-    if count > 4:
-        parts.append((second_rgba_path(path), slice(4, count)))
-    items = []
-    for part_path, terms in parts:
-        names = RGBA[: terms.stop - terms.start]
-        header = {**attributes, "channels": ",".join(names)}
-        if count > 4:
-            header["terms"] = f"{terms.start}-{terms.stop - 1} of {count}"
-        items.append((part_path, table[..., terms], names, header))
-    return items
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 
-PIXEL_CONVENTION = (
-    "column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; row j <-> perceptual roughness r = (j + 0.5) / height, "
-    "GGX alpha = r^2; row 0 first in the file (top); texel centres; values are directional albedos "
-    "Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
-    "GGX with height-correlated Smith G2"
-)
+#: How a table's rows sample perceptual roughness: at texel centres over [0, 1] (the default build) or at the
+#: end points of a range (a scene's tables, which must reach both ends of what their materials use).
+ROW_PLACEMENTS = ("centres", "endpoints")
+
+
+@dataclasses.dataclass(frozen=True)
+class LutGrid:
+    """The texel grid of a table and the BRDF it integrates: the one place that knows the axes, α = r², the
+    convention text of the header and the bilinear lookup.
+
+    Columns: μo = (i + 0.5) / width (texel centres, never μo = 0). Rows: perceptual roughness r = (j + 0.5) / height
+    over [0, 1] (``rows="centres"``), or r = low + j (high − low) / (height − 1) over ``roughness_range``
+    (``rows="endpoints"``; one row stands at ``low``). GGX α = r² (Burley 2012, Karis 2013).
+
+    Examples
+    --------
+    >>> grid = LutGrid(4, 3, rows="endpoints", roughness_range=(0.2, 0.6))
+    >>> grid.roughness.tolist(), grid.alpha.round(2).tolist()
+    ([0.2, 0.4, 0.6], [0.04, 0.16, 0.36])
+    """
+
+    width: int
+    height: int
+    rows: str = "centres"
+    roughness_range: tuple[float, float] = (0.0, 1.0)
+    visibility: str = "height-correlated"
+
+    def __post_init__(self):
+        check_positive_int("width", self.width, low=2, high=8192)
+        check_choice("rows", self.rows, ROW_PLACEMENTS)
+        check_choice("visibility", self.visibility, list(VISIBILITIES))
+        low, high = (float(value) for value in check_range("roughness_range", self.roughness_range, 0.0, 1.0))
+        if self.rows == "centres":
+            check_positive_int("height", self.height, low=2, high=8192)
+            if (low, high) != (0.0, 1.0):
+                raise ParameterError(f"rows at texel centres span roughness 0-1, got roughness_range {(low, high)}")
+        else:
+            check_positive_int("height", self.height, low=1, high=8192)
+            if high < low or (self.height > 1 and high == low):
+                raise ParameterError(f"roughness_range must be (low, high) with low < high (low = high for one row), "
+                                     f"got {(low, high)} for {self.height} rows")
+        object.__setattr__(self, "roughness_range", (low, high))
+
+    @property
+    def mu_o(self) -> np.ndarray:
+        """(W,) view cosine of each column."""
+        return texel_centres(self.width)
+
+    @property
+    def roughness(self) -> np.ndarray:
+        """(H,) perceptual roughness of each row."""
+        if self.rows == "centres":
+            return texel_centres(self.height)
+        low, high = self.roughness_range
+        return np.linspace(low, high, self.height) if self.height > 1 else np.array([low])
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """(H,) GGX width of each row."""
+        return roughness_to_alpha(self.roughness)
+
+    @property
+    def convention(self) -> str:
+        """The header's ``convention`` text: axes, α, order in the file, what a texel holds, the BRDF's G2."""
+        if self.rows == "centres":
+            rows = "row j <-> perceptual roughness r = (j + 0.5) / height"
+        elif self.height > 1:
+            low, high = (f"{value:.6g}" for value in self.roughness_range)
+            rows = (f"row j <-> perceptual roughness r = {low} + j * ({high} - {low}) / (height - 1) (rows at the range's "
+                    f"end points; engine: v = ((r - {low}) / ({high} - {low}) * (height - 1) + 0.5) / height)")
+        else:
+            rows = f"one row, at perceptual roughness r = {self.roughness_range[0]:.6g} (engine: v = 0.5)"
+        return (f"column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; {rows}, GGX alpha = r^2; row 0 first in the "
+                "file (top); texel centres; values are directional albedos Fbar_k(mu_o, alpha) = integral of "
+                "f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
+                f"GGX with {VISIBILITIES[self.visibility].header}")
+
+    def lookup(self, table: np.ndarray, mu_o, roughness) -> np.ndarray:
+        """Bilinear, clamp-to-edge fetch of a table on this grid at (μo, r), as a GPU samples it at level 0."""
+        return _bilinear(table, mu_o, roughness, self.mu_o, self.roughness)
+
+
+#: The default build's convention (rows at texel centres, height-correlated G2), as every shipped header states it.
+PIXEL_CONVENTION = LutGrid(2, 2).convention
 
 
 def shipped_lut(name: str = BASIS_LUT) -> Path:
@@ -111,29 +167,29 @@ def texel_centres(count: int) -> np.ndarray:
 
 
 def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(μo of each column, perceptual roughness of each row) at texel centres."""
-    width = check_positive_int("size", width, low=2, high=8192)
-    height = width if height is None else check_positive_int("height", height, low=2, high=8192)
-    return texel_centres(width), texel_centres(height)
+    """(μo of each column, perceptual roughness of each row) of the default grid (rows at texel centres)."""
+    grid = LutGrid(width, width if height is None else height)
+    return grid.mu_o, grid.roughness
 
 
-def lut_texel_weights(theta_grid, size: int, order=DEFAULT_ORDER) -> np.ndarray:
-    """(size², M): the texel weights (:func:`preintegrate.quadrature.texel_weights`) of every texel of a
-    size × size table, row-major (roughness rows, μo columns): F̄ of curves sampled on ``theta_grid`` over
-    the whole table is one matrix product."""
-    mu_o, roughness = lut_axes(size)
-    return texel_weights(theta_grid, mu_o[None, :], roughness_to_alpha(roughness)[:, None], order).reshape(size * size, -1)
+def lut_texel_weights(theta_grid, grid: LutGrid | int, order=DEFAULT_ORDER) -> np.ndarray:
+    """(H W, M): the texel weights (:func:`preintegrate.quadrature.texel_weights`) of every texel of a table on
+    ``grid`` (or the default size × size grid), row-major (roughness rows, μo columns): F̄ of curves sampled on
+    ``theta_grid`` over the whole table is one matrix product."""
+    grid = grid if isinstance(grid, LutGrid) else LutGrid(grid, grid)
+    weights = texel_weights(theta_grid, grid.mu_o[None, :], grid.alpha[:, None], order, grid.visibility)
+    return weights.reshape(grid.height * grid.width, -1)
 
 
-def _quadrature(functions, mu_o, alpha, progress, order=DEFAULT_ORDER, visibility="height-correlated"):
+def _quadrature(functions, mu_o, alpha, progress, visibility, order=DEFAULT_ORDER):
     return directional_albedo(functions, mu_o, alpha, order=order, progress=progress, visibility=visibility)
 
 
-def _hammersley(functions, mu_o, alpha, progress, samples=1024, sampling="ndf", max_samples=131_072):
-    return hammersley_albedo(functions, mu_o, alpha, samples, sampling, max_samples, progress)
+def _hammersley(functions, mu_o, alpha, progress, visibility, samples=1024, sampling="ndf", max_samples=131_072):
+    return hammersley_albedo(functions, mu_o, alpha, samples, sampling, max_samples, progress, visibility)
 
 
-_TEXELS = ("functions", "mu_o", "alpha", "progress")
+_TEXELS = ("functions", "mu_o", "alpha", "progress", "visibility")
 
 #: Registry: how a table's texels are computed. ``quadrature`` (options: ``order``) is this project's
 #: deterministic integral; ``hammersley`` (options: ``samples``, ``sampling``, ``max_samples``) is the
@@ -143,13 +199,14 @@ LUT_METHODS: dict[str, Callable] = {"quadrature": _quadrature, "hammersley": _ha
 
 def build_table(
     channels: ChannelSet,
-    width: int,
+    grid: LutGrid | int,
     height: int | None = None,
     method: str = "quadrature",
     progress: Callable[[int, int], None] | None = None,
     **options,
 ) -> np.ndarray:
-    """(H, W, K) float64 table of the channel set on the texel grid, by a method of :data:`LUT_METHODS`.
+    """(H, W, K) float64 table of the channel set on a :class:`LutGrid` (or the default grid of ``grid`` columns,
+    ``height`` rows and the ``visibility`` option), by a method of :data:`LUT_METHODS`.
 
     Examples
     --------
@@ -160,22 +217,16 @@ def build_table(
     if not isinstance(channels, ChannelSet):
         raise ParameterError(f"channels must be a ChannelSet, got {type(channels).__name__}")
     compute = LUT_METHODS[check_choice("method", method, sorted(LUT_METHODS))]
+    if not isinstance(grid, LutGrid):
+        visibility = options.pop("visibility", "height-correlated")
+        grid = LutGrid(grid, grid if height is None else height, visibility=visibility)
+    elif height is not None or "visibility" in options:
+        raise ParameterError("a LutGrid carries its own height and visibility; pass neither beside it")
     accepted = [name for name in inspect.signature(compute).parameters if name not in _TEXELS]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
-        raise ParameterError(f"method {method!r} takes the options {accepted}, got {unknown}")
-    mu_o, roughness = lut_axes(width, height)
-    return compute(channels.functions, mu_o[None, :], roughness_to_alpha(roughness)[:, None], progress, **options)
-
-
-def pixel_convention(visibility: str = "height-correlated") -> str:
-    """:data:`PIXEL_CONVENTION` for a table of the given masking-shadowing form (the header says which)."""
-    if visibility == "height-correlated":
-        return PIXEL_CONVENTION
-    if visibility not in VISIBILITIES:
-        raise ParameterError(f"visibility must be one of {sorted(VISIBILITIES)}, got {visibility!r}")
-    return PIXEL_CONVENTION.replace("GGX with height-correlated Smith G2",
-                                    "GGX with separable Smith G2 = G1(omega_o) * G1(omega_i)")
+        raise ParameterError(f"method {method!r} takes the options {accepted + ['visibility']}, got {unknown}")
+    return compute(channels.functions, grid.mu_o[None, :], grid.alpha[:, None], progress, grid.visibility, **options)
 
 
 def lut_attributes(channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION,
@@ -213,11 +264,22 @@ def interpolation_weights(points, centres) -> np.ndarray:
 
 
 def lut_lookup(table: np.ndarray, mu_o, roughness) -> np.ndarray:
-    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) at (μo, r), as a GPU samples it at level 0."""
+    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) with rows at texel centres at (μo, r), as a GPU samples
+    it at level 0 (:meth:`LutGrid.lookup` for any grid)."""
     height, width = table.shape[:2]
+    return _bilinear(table, mu_o, roughness, texel_centres(width), texel_centres(height))
+
+
+def _bilinear(table: np.ndarray, mu_o, roughness, columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
     mu_o = np.asarray(mu_o, dtype=np.float64)
-    x0, fx = _clamped_position(mu_o, texel_centres(width))
-    y0, fy = _clamped_position(np.broadcast_to(np.asarray(roughness, dtype=np.float64), mu_o.shape), texel_centres(height))
+    roughness = np.broadcast_to(np.asarray(roughness, dtype=np.float64), mu_o.shape)
+    x0, fx = _clamped_position(mu_o, columns)
+    if rows.size == 1:
+        y0, fy = np.zeros(mu_o.shape, dtype=int), np.zeros(mu_o.shape)
+        y1 = y0
+    else:
+        y0, fy = _clamped_position(roughness, rows)
+        y1 = y0 + 1
     fx, fy = fx[..., None], fy[..., None]
     return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
-            + fy * ((1 - fx) * table[y0 + 1, x0] + fx * table[y0 + 1, x0 + 1]))
+            + fy * ((1 - fx) * table[y1, x0] + fx * table[y1, x0 + 1]))

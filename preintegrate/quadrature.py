@@ -1,7 +1,7 @@
 """Deterministic split-sum quadrature of any functions of cos θ_d = ω_o·h against GGX.
 
 Public objects: ``directional_albedo``, ``texel_weights``, ``QuadratureOrder``, ``QuadratureSchedule``,
-``DEFAULT_ORDER``.
+``DEFAULT_ORDER``, ``LagrangeCardinals``, ``lagrange_cardinals``.
 
 Two methods side by side, as colour's ``sd_to_XYZ_integration`` beside its precomputed weighting factors:
 :func:`directional_albedo` integrates *given functions*; :func:`texel_weights` integrates once the
@@ -222,7 +222,7 @@ def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray
     mu_i = np.maximum(mu_i, 0.0)
     if visibility != "height-correlated":
         cos_o = mu_o.reshape(alpha.shape)
-        return np.where(mu_i > 0.0, x * VISIBILITIES[visibility](cos_o, mu_i, alpha) / cos_o, 0.0)
+        return np.where(mu_i > 0.0, x * VISIBILITIES[visibility].g2(cos_o, mu_i, alpha) / cos_o, 0.0)
     denominator = g2_denominator(mu_o.reshape(alpha.shape), mu_i, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
@@ -373,7 +373,7 @@ def lagrange_cardinals(theta_grid) -> LagrangeCardinals:
     return LagrangeCardinals(check_theta_grid("theta_grid", theta_grid))
 
 
-def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
+def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER, visibility: str = "height-correlated") -> np.ndarray:
     """Quadrature weights W of each texel on a θ grid: F̄[f](μo, α) ≈ Σ_j W_j f(θ_j) for any curve f.
 
     Parameters
@@ -386,6 +386,8 @@ def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
         GGX width, in [0, 1]; broadcast against ``mu_o``.
     order : QuadratureOrder or what :func:`directional_albedo` accepts
         Node counts of the integrator.
+    visibility : str
+        The BRDF's masking-shadowing form (:data:`preintegrate.ggx.VISIBILITIES`).
 
     Returns
     -------
@@ -408,4 +410,4 @@ def texel_weights(theta_grid, mu_o, alpha, order=DEFAULT_ORDER) -> np.ndarray:
     >>> weights.shape
     (64,)
     """
-    return directional_albedo(lagrange_cardinals(theta_grid), mu_o, alpha, order=order)
+    return directional_albedo(lagrange_cardinals(theta_grid), mu_o, alpha, order=order, visibility=visibility)

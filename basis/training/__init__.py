@@ -2,8 +2,8 @@
 
 Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN``, ``REFINEMENT_DOMAINS`` (:mod:`.domain`, the seeded training
 set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
-``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``
-(:mod:`.builder`); ``holdout_materials``, ``validation_groups``, ``FIGURE_2``, ``VALIDATION_SEED`` (:mod:`.holdout`, never used in
+``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``,
+``FIT_ANGLE_CHOICES`` (:mod:`.builder`); ``holdout_materials``, ``validation_groups``, ``FIGURE_2``, ``VALIDATION_SEED`` (:mod:`.holdout`, never used in
 training); ``refine_basis`` (:mod:`.refine`, the
 minimax refinement of the curves and fit angles).
 

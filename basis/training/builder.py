@@ -1,7 +1,7 @@
 """Build a :class:`~basis.eigenbasis.Basis`: training set → iterative SVD → fit angles.
 
 Public objects: ``build_basis``, ``holdout_fit_errors``, ``choose_fit_angles``, ``TALK_ANGLES``,
-``NOTEBOOK_ANGLES``.
+``NOTEBOOK_ANGLES``, ``FIT_ANGLE_CHOICES``.
 
 The fit angles θ2, θ3 are chosen on the held-out materials (dielectrics and metals, see
 :mod:`basis.training`) by minimising the worst max |ΔF| over θ of the four-point fit, in a window
@@ -131,7 +131,7 @@ def build_basis(
     count, seed : int
         Training-set size and random seed (the set is a pure function of both and ``domain``).
     grid_size, grid_kind : int, str
-        θ samples (≥ 16) and their spacing (see :func:`basis.training.angle_grid`).
+        θ samples (≥ 16) and their spacing (see :func:`basis.angles.angle_grid`).
     n_terms : int
         K in [2, 16]; for K ≠ 4, ``"auto"`` chooses one angle per term after b1 (:func:`greedy_fit_angles`).
     fit_angles : {"auto", "talk", "notebook"} or tuple of float

@@ -1,6 +1,6 @@
 """The training set of the eigen-basis: a seeded random sample of complex IORs and their curves.
 
-Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``.
+Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN``, ``REFINEMENT_DOMAINS``.
 
 A domain is a mixture of components, each a box in (η, κ) or in Gulbrandsen's (r, g), drawn with a
 given share of the curves. The sample is a pure function of (domain, count, seed), so a basis is

@@ -85,7 +85,10 @@ class _Objective:
         return scaled, (mixing, angles, inverse, coefficients, on_grid)
 
     def __call__(self, x: np.ndarray) -> tuple[float, np.ndarray]:
-        scaled, (mixing, angles, inverse, coefficients, on_grid) = self.errors(x)
+        try:
+            scaled, (mixing, angles, inverse, coefficients, on_grid) = self.errors(x)
+        except np.linalg.LinAlgError:  # a trial step where the fit angles make the system singular: step back
+            return np.inf, np.zeros_like(x)
         largest = max(float(np.max(np.abs(block))) for block in scaled)
         if not np.isfinite(largest):
             return np.inf, np.zeros_like(x)

@@ -2,7 +2,7 @@
 
 Public objects: ``approximation_table``, ``approximation_markdown``.
 
-For each model of :data:`basis.approximations.FRESNEL_MODELS` and each point of its documented
+For each model of :data:`basis.models.FRESNEL_MODELS` and each point of its documented
 parameter sweep (``model.sweep``), the curve is projected onto the basis by the four-point scheme and
 by least squares (c0, c1 exact), and the projection error is measured as
 

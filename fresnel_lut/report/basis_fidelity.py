@@ -1,7 +1,8 @@
 """Report section: basis fidelity — which basis holds which group, the frontier, and error against K.
 
 Public objects: ``TARGETS``, ``FRONTIER``, ``BOUNDS``, ``QUICK``, ``notebook_basis``, ``refined_basis``,
-``bound_basis``, ``group_errors``, ``terms_sweep``, ``fidelity_study``, ``fidelity_markdown``, ``plot_fidelity``.
+``bound_basis``, ``group_errors``, ``terms_sweep``, ``fidelity_study``, ``fidelity_markdown``, ``plot_fidelity``,
+``write_fidelity_report``.
 
 Every basis is judged on :func:`basis.training.validation_groups` (fresh draws, never trained on): max |ΔF|
 over θ (a 2049-point grid) and max |ΔF̄| over the (μo, r) texel centres of a 64 × 64 LUT (α = r²), with
@@ -40,6 +41,7 @@ from basis.coefficients import coefficients_from_samples, coefficients_from_tabl
 from basis.eigenbasis import Basis, default_basis
 from basis.training import (FIGURE_2, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, build_basis, build_curves, refine_basis,
                             validation_groups)
+from basis.storage import write_text
 from basis.validation import ParameterError
 
 from preintegrate.lut import lut_axes, lut_texel_weights
@@ -47,7 +49,7 @@ from preintegrate.quadrature import texel_weights
 from .figures import pyplot, save_figure
 
 __all__ = ["BOUNDS", "FRONTIER", "QUICK", "TARGETS", "bound_basis", "fidelity_markdown", "fidelity_study", "group_errors",
-           "notebook_basis", "plot_fidelity", "refined_basis", "terms_sweep"]
+           "notebook_basis", "plot_fidelity", "refined_basis", "terms_sweep", "write_fidelity_report"]
 
 #: Issue 14's targets for the shipped default: group → (measure, bound); "curve" is max |ΔF| over θ,
 #: "preintegrated" max |ΔF̄| over the LUT's (μo, r).
@@ -348,3 +350,20 @@ def plot_fidelity(result: dict, path) -> Path:
     right.legend(fontsize=7)
     figure.tight_layout()
     return save_figure(figure, path)
+
+
+def write_fidelity_report(folder, quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
+    """``fresnel-lut report --fidelity``: :func:`fidelity_study` written to ``folder/fidelity.md`` and, with the plot
+    extra, ``folder/basis_fidelity.png``; returns the study, the paths and one summary line per target."""
+    result = fidelity_study(quick=quick, progress=progress)
+    folder = Path(folder)
+    paths = [write_text(folder / "fidelity.md", "# Basis fidelity (issue 14)\n\n" + fidelity_markdown(result))]
+    summary = []
+    try:
+        paths.append(plot_fidelity(result, folder / "basis_fidelity.png"))
+    except ParameterError as error:  # matplotlib is the optional plot extra
+        summary.append(f"no plot: {error}")
+    shipped = result["errors"]["shipped"]["four-point"]
+    summary += [f"shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})"
+                for group, (measure, bound) in TARGETS.items()]
+    return {"result": result, "paths": paths, "summary": summary}

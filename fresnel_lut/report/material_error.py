@@ -1,7 +1,7 @@
 """Measured materials in colour: ΔE2000 of every Fresnel model against the spectral ground truth.
 
 Public objects: ``material_error_table``, ``blending_table``, ``gamut_table``, ``fit_gulbrandsen``,
-``material_study``, ``material_markdown``, ``TARGET``; Hoffman's published columns are
+``material_study``, ``material_markdown``, ``write_materials_report``, ``TARGET``; Hoffman's published columns are
 :mod:`basis.datasets`.
 
 The ground truth of a material is its RGB curve by Hoffman's spectral procedure
@@ -37,6 +37,7 @@ import dataclasses
 import functools
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -52,6 +53,7 @@ from basis.material_fits import ANGLES_DEGREES, fit_material, material_curve, rm
 # the unchecked kernels: an RGB F0 of a saturated metal lies outside [0, 1] in a small gamut (sRGB)
 from basis.models.formulas import F82_MU, hoffman2019_curve, schlick_curve
 from basis.spectral import spectral_iors
+from basis.storage import write_text
 from basis.training import DEFAULT_DOMAIN, TrainingDomain, build_basis
 
 __all__ = [
@@ -60,6 +62,7 @@ __all__ = [
     "fit_gulbrandsen",
     "gamut_table",
     "material_error_table",
+    "write_materials_report",
     "material_markdown",
     "material_study",
 ]
@@ -349,3 +352,23 @@ def main(argv=None) -> int:
 
 if __name__ == "__main__":
     raise SystemExit(main())
+
+
+def write_materials_report(folder, basis: Basis | None = None, progress: Callable[[int, int], None] | None = None) -> dict:
+    """``fresnel-lut report --materials``: :func:`material_study` written to ``folder/materials.md``; returns the
+    study, the path and one summary line per working space (its worst metal, how many miss :data:`TARGET`)."""
+    started = time.perf_counter()
+    basis = resolve_basis(basis)
+    result = material_study(basis, progress=progress)
+    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut report "
+              f"--materials` in {time.perf_counter() - started:.0f} s; basis {basis.content_hash}; spectral data "
+              f"`luts/spectral_ior.json`.\n\n")
+    path = write_text(Path(folder) / "materials.md", header + material_markdown(result))
+    summary = []
+    for space, rows in result["errors"].items():
+        metals = [row for row in rows if row["kind"] == "metal"]
+        worst = max(metals, key=lambda row: row["delta-e"])
+        over = sum(row["delta-e"] > TARGET for row in metals)
+        summary.append(f"{space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
+                       f"{over} of {len(metals)} above {TARGET}")
+    return {"result": result, "path": path, "summary": summary}

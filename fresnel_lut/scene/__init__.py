@@ -1,7 +1,7 @@
 """Build for a scene: only the channels, roughness rows and tables its materials need.
 
 Public objects: ``SceneError``, ``SceneMaterial``, ``Scene``, ``read_scene``, ``DEFAULT_TOLERANCE`` (:mod:`.files`);
-``Layout`` (:mod:`.layout`); ``plan_scene``, ``ScenePlan`` (:mod:`.plan`); ``write_scene`` (:mod:`.write`).
+``Layout`` (:mod:`.layout`); ``plan_scene``, ``ScenePlan`` (:mod:`.plan`); ``write_scene``, ``build_scene`` (:mod:`.write`).
 
 A scene file (TOML or JSON) lists materials, each with the roughness range it is used at, and an error
 tolerance on F̄ (default 1/255) and a working colour space::
@@ -18,7 +18,7 @@ tolerance on F̄ (default 1/255) and a working colour space::
 
 **Exact target of a material**: its own model — the spectral RGB curve of a preset (Hoffman's procedure),
 the Fresnel equations of (η, κ) or of Gulbrandsen's (r, g), Schlick for ``f0`` alone, Hoffman 2019 for
-``f0`` + ``f82``, any model of :data:`basis.approximations.APPROXIMATE_MODELS` for ``model``.
+``f0`` + ``f82``, any model of :data:`basis.models.FRESNEL_MODELS` for ``model``.
 
 **Candidate layouts** of a material: the Schlick table with F0 = F(0°) (exact for the Schlick family),
 the first K generic basis terms (K = 2, 3, 4) with least-squares coefficients on them (c0 = F0 and
@@ -58,7 +58,7 @@ References
 from .files import DEFAULT_TOLERANCE, Scene, SceneError, SceneMaterial, read_scene
 from .layout import Layout
 from .plan import ScenePlan, plan_scene
-from .write import write_scene
+from .write import build_scene, write_scene
 
 __all__ = ["DEFAULT_TOLERANCE", "Layout", "Scene", "SceneError", "SceneMaterial", "ScenePlan", "plan_scene",
-           "read_scene", "write_scene"]
+           "build_scene", "read_scene", "write_scene"]

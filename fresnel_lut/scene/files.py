@@ -19,11 +19,11 @@ else:  # Python 3.10: the same parser as the tomli package (a dependency there)
 
 from basis.angles import cos_theta
 from basis.eigenbasis import Basis, resolve_basis
-from basis.fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel
-from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.models import fresnel_model
-from basis.presets import PRESET_SPACES, material_preset
+from basis.materials import material_from_mapping
+from basis.presets import PRESET_SPACES
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
+
+from preintegrate.ggx import VISIBILITIES
 
 __all__ = ["DEFAULT_TOLERANCE", "Scene", "SceneError", "SceneMaterial", "read_scene"]
 
@@ -55,6 +55,7 @@ class Scene:
     size: int  # columns (μo) of the scene's tables, or the first width the plan tries when not size_fixed
     source: str
     size_fixed: bool = True  # False when the scene file leaves ``size`` to the plan
+    visibility: str = "height-correlated"  # the engine's masking-shadowing form (preintegrate.ggx.VISIBILITIES)
 
 
 #: Largest scene file read: a scene lists a few dozen materials; a device or a huge file is refused unread.
@@ -70,55 +71,12 @@ def _describe(value) -> str:
     return f"{str(value)[:40]!r} ({kind})"
 
 
-def _rgb(name: str, item: dict, key: str) -> np.ndarray:
-    value = item[key]
-    if _is_number(value):
-        return np.full(3, float(value))
-    if isinstance(value, list) and len(value) == 3 and all(_is_number(element) for element in value):
-        return np.array(value, dtype=np.float64)
-    raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {_describe(value)}")
-
-
-def _target(name: str, item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict]:
-    """(curve (M, 3) on basis.theta, description) of one material entry."""
-    mu = cos_theta(basis.theta)[:, None]
-    keys = set(item) - {"name", "roughness"}
-    if "preset" in item:
-        if not isinstance(item["preset"], str):
-            raise SceneError(f"material {name!r}: preset must be a material's name (text), got {_describe(item['preset'])}")
-        preset = material_preset(item["preset"], space)
-        from basis.material_fits import material_curve  # colour-science, only for presets
-
-        return material_curve(preset["name"], space)(mu[:, 0]), {"preset": preset["name"], "space": space}
-    if "model" in item:
-        if not isinstance(item["model"], str):
-            raise SceneError(f"material {name!r}: model must be a model's name (text), got {_describe(item['model'])}")
-        model = fresnel_model(item["model"])
-        parameters = {key: item[key] for key in item if key in keys - {"model"}}  # the file's order, not a set's
-        for key, value in parameters.items():
-            if not (_is_number(value) or isinstance(value, list) and all(_is_number(element) for element in value)):
-                raise SceneError(f"material {name!r}: {key} must be a number or 3 numbers (R, G, B), got {_describe(value)}")
-        curve = np.broadcast_to(model.evaluate(mu, **parameters), (mu.shape[0], 3))
-        return curve, {"model": model.name, **parameters}
-    if keys == {"eta", "kappa"}:
-        eta = check_range("eta", _rgb(name, item, "eta"), *ETA_RANGE)
-        kappa = check_range("kappa", _rgb(name, item, "kappa"), *KAPPA_RANGE)
-        return fresnel_kernel(mu, eta, kappa), {"eta": eta.tolist(), "kappa": kappa.tolist()}
-    if keys == {"reflectivity", "edge_tint"}:
-        eta, kappa = gulbrandsen_to_nk(_rgb(name, item, "reflectivity"), _rgb(name, item, "edge_tint"))
-        description = {"reflectivity": _rgb(name, item, "reflectivity").tolist(), "edge_tint": _rgb(name, item, "edge_tint").tolist()}
-        return fresnel_kernel(mu, eta, kappa), description
-    if keys == {"f0"}:
-        model = fresnel_model("schlick")
-        return model.evaluate(mu, f0=_rgb(name, item, "f0")), {"model": "schlick", "f0": _rgb(name, item, "f0").tolist()}
-    if keys == {"f0", "f82"}:
-        model = fresnel_model("f82")
-        f0, f82 = _rgb(name, item, "f0"), _rgb(name, item, "f82")
-        return model.evaluate(mu, f0=f0, f82=f82), {"model": "f82", "f0": f0.tolist(), "f82": f82.tolist()}
-    raise SceneError(
-        f"material {name!r}: give one of preset; eta and kappa; reflectivity and edge_tint; f0; f0 and f82; "
-        f"or model with its parameters (got {sorted(keys)})"
-    )
+def _target(item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict]:
+    """(curve (M, 3) on basis.theta, description) of one material entry (:func:`basis.materials.material_from_mapping`;
+    a preset's description records the scene's space)."""
+    material = material_from_mapping({key: item[key] for key in item if key not in ("name", "roughness")}, space)
+    description = {**material.description, **({"space": space} if material.kind == "preset" else {})}
+    return material.curve(cos_theta(basis.theta)), description
 
 
 def _roughness(name: str, value) -> tuple[float, float]:
@@ -174,9 +132,12 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
         raise SceneError(f"scene file {path} is not valid {'JSON' if path.suffix.lower() == '.json' else 'TOML'}: {error}") from None
     if not isinstance(document, dict):
         raise SceneError(f"scene file {path}: the top level must be a table")
-    unknown = set(document) - {"tolerance", "space", "size", "material"}
+    unknown = set(document) - {"tolerance", "space", "size", "visibility", "material"}
     if unknown:
-        raise SceneError(f"scene file {path}: unknown keys {sorted(unknown)} (expected tolerance, space, size, material)")
+        raise SceneError(f"scene file {path}: unknown keys {sorted(unknown)} (expected tolerance, space, size, "
+                         "visibility, material)")
+    visibility = check_choice(f"scene file {path}: visibility", document.get("visibility", "height-correlated"),
+                              list(VISIBILITIES), error=SceneError)
     tolerance = document.get("tolerance", DEFAULT_TOLERANCE)
     if not _is_number(tolerance):
         raise SceneError(f"tolerance must be a number, got {_describe(tolerance)}")
@@ -201,11 +162,11 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
         if "roughness" not in item:
             raise SceneError(f"material {name!r}: roughness (a number or [low, high]) is missing")
         try:
-            curve, description = _target(name, item, space, basis)
+            curve, description = _target(item, space, basis)
         except SceneError:
             raise
         except (ParameterError, TypeError, ValueError) as error:  # a model's own check names the parameter
             raise SceneError(f"material {name!r}: {error}") from None
         materials.append(SceneMaterial(name, description, np.asarray(curve, dtype=np.float64),
                                        _roughness(name, item["roughness"])))
-    return Scene(tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document)
+    return Scene(tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document, visibility=visibility)

@@ -23,6 +23,7 @@ from basis.models import fresnel_model
 from basis.training import refine_basis
 
 from preintegrate.channels import ChannelSet, basis_channels, model_channels, schlick_channels
+from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import model_lut_name
 from preintegrate.quadrature import texel_weights
 from .files import Scene, SceneMaterial
@@ -133,8 +134,9 @@ TRAINING_ROUGHNESSES = 5
 def training_operators(scene: Scene, basis: Basis, mu_o: np.ndarray) -> dict[str, np.ndarray]:
     """name → texel weights (P, M) of each material at the view cosines ``mu_o`` and
     :data:`TRAINING_ROUGHNESSES` roughnesses of its range: what a scene basis is refined on (F̄, not F)."""
-    return {m.name: texel_weights(basis.theta, mu_o[None, :], (np.linspace(*m.roughness, TRAINING_ROUGHNESSES)**2)[:, None])
-            .reshape(-1, basis.theta.size) for m in scene.materials}
+    return {m.name: texel_weights(basis.theta, mu_o[None, :],
+                                  roughness_to_alpha(np.linspace(*m.roughness, TRAINING_ROUGHNESSES))[:, None],
+                                  visibility=scene.visibility).reshape(-1, basis.theta.size) for m in scene.materials}
 
 
 def train_scene_basis(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], terms: int) -> Basis:

@@ -1,6 +1,6 @@
 """Plan a scene build: which tables, which layout per material, how many roughness rows.
 
-Public objects: ``ScenePlan``, ``plan_scene``.
+Public objects: ``ScenePlan``, ``plan_scene``, ``lookup_floor``, ``ACCURACY_GOAL``, ``LOOKUP_SHARE``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ import numpy as np
 from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import check_positive_int
 
-from preintegrate.lut import interpolation_weights, texel_centres
+from preintegrate.ggx import roughness_to_alpha
+from preintegrate.lut import LutGrid, interpolation_weights, texel_centres
 from preintegrate.quadrature import texel_weights
 from .files import MAX_SIZE, Scene, SceneError
 from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
@@ -52,6 +53,12 @@ class ScenePlan:
     candidates: dict[str, Layout]
     table_values: dict[str, np.ndarray]  # the tables to write: (rows, columns, channels) per name of ``tables``
     aims: dict[str, float]  # per material: the error the build held it to (ACCURACY_GOAL where reachable)
+
+    @property
+    def grid(self) -> LutGrid:
+        """The tables' grid: ``columns`` texel centres in μo, ``rows`` at the end points of the roughness range."""
+        return LutGrid(self.columns, self.rows, rows="endpoints", roughness_range=self.roughness_range,
+                       visibility=self.scene.visibility)
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str], None] | None = None) -> ScenePlan:
@@ -101,7 +108,8 @@ def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
     interpolate = interpolation_weights(mu_eval, mu_eval[::2])
     floor = {}
     for material in scene.materials:
-        exact = texel_weights(basis.theta, mu_eval[None, :], (np.asarray(material.roughness) ** 2)[:, None]) @ material.curve
+        exact = texel_weights(basis.theta, mu_eval[None, :], roughness_to_alpha(material.roughness)[:, None],
+                              visibility=scene.visibility) @ material.curve
         floor[material.name] = float(np.max(np.abs(interpolate @ exact[:, ::2] - exact)))
     return floor
 
@@ -126,7 +134,7 @@ def _view_cosines(width: int) -> np.ndarray:
 
 def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: int) -> ScenePlan:
     """The plan with ``width`` columns: tables, layouts and rows."""
-    theta = basis.theta
+    theta, visibility = basis.theta, scene.visibility
     low = min(m.roughness[0] for m in scene.materials)
     high = max(m.roughness[1] for m in scene.materials)
     mu_eval = _view_cosines(width)
@@ -143,12 +151,12 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
     # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
-    w_eval = texel_weights(theta, mu_eval[None, :], (all_r**2)[:, None])  # (R, P, M)
+    w_eval = texel_weights(theta, mu_eval[None, :], roughness_to_alpha(all_r)[:, None], visibility=visibility)  # (R, P, M)
     exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
     del w_eval
     functions, weights_of, own = candidates.functions, candidates.weights, candidates.own
 
-    w_rows = texel_weights(theta, mu_columns[None, :], (r_rows**2)[:, None])  # (H, W, M)
+    w_rows = texel_weights(theta, mu_columns[None, :], roughness_to_alpha(r_rows)[:, None], visibility=visibility)  # (H, W, M)
     table_rows = {name: w_rows @ values for name, values in functions.items()}  # the candidate tables (H, W, n)
     del w_rows
     rows_mu = {name: interp_mu @ table for name, table in table_rows.items()}  # (H, P, n): texels read along μo
@@ -173,7 +181,7 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     # only the rows a lookup at the error grid's roughnesses reads: the two around each (one at an edge)
     above = np.searchsorted(default_r, all_r)
     near = np.unique(np.clip(np.concatenate([above - 1, above]), 0, scene.size - 1))
-    w_default = texel_weights(theta, default_r[None, :], (default_r[near] ** 2)[:, None])
+    w_default = texel_weights(theta, default_r[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility)
     views = mu_eval >= default_r[0] - 1e-12
     interp_default = interpolation_weights(mu_eval[views], default_r)
     default_errors = {layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]),

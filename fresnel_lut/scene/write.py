@@ -1,24 +1,29 @@
 """Write a planned scene: its tables, ``scene_coefficients.json``, ``scene_report.md`` and, when a table holds
 the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), as one transaction.
 
-Public objects: ``write_scene``.
+Public objects: ``write_scene``, ``build_scene``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
-import re
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
 
-from preintegrate.exr import write_luts
-from preintegrate.lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, lut_attributes, rgba_items
-from .plan import ACCURACY_GOAL, ScenePlan
+from basis.validation import check_choice
+from preintegrate.formats import FORMATS, check_formats
+from preintegrate.ggx import VISIBILITIES
+from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
+from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
+from .files import SceneError, read_scene, tomllib
+from .plan import ACCURACY_GOAL, ScenePlan, plan_scene
 
-__all__ = ["write_scene"]
+__all__ = ["build_scene", "write_scene"]
 
 
 #: The scene basis beside its table: the coefficients of ``scene_coefficients.json`` are on these curves.
@@ -33,25 +38,25 @@ def _previous_files(coefficients_path: Path) -> set[str]:
         names.add((document.get("scene_basis") or {}).get("file"))
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return set()
+    suffixes = {fmt.suffix for fmt in FORMATS.values()}
     return {name for name in names if isinstance(name, str) and Path(name).name == name
-            and ((name.startswith("ggx_") and name.endswith(".exr")) or name == SCENE_BASIS_FILE)}
+            and ((name.startswith("ggx_") and Path(name).suffix in suffixes) or name == SCENE_BASIS_FILE)}
 
 
-def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None) -> dict:
-    """Write the plan's tables, ``scene_coefficients.json`` and ``scene_report.md`` into ``out``.
+def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None, formats=("exr",),
+                half: bool = False) -> dict:
+    """Write the plan's tables (in every format of ``formats``, half floats with ``half``),
+    ``scene_coefficients.json`` and ``scene_report.md`` into ``out``.
 
     ``reference_folder`` holds the full default build to compare sizes with (default: the shipped luts).
     """
     basis = resolve_basis(basis)
+    formats = check_formats(formats)
     out = Path(out)
     low, high = plan.roughness_range
-    rows_text = (
-        f"row j <-> perceptual roughness r = {low:.6g} + j * ({high:.6g} - {low:.6g}) / (height - 1) (rows at the "
-        f"range's end points; engine: v = ((r - {low:.6g}) / ({high:.6g} - {low:.6g}) * (height - 1) + 0.5) / height)"
-        if plan.rows > 1 else f"one row, at perceptual roughness r = {low:.6g} (engine: v = 0.5)"
-    )
-    convention = PIXEL_CONVENTION.replace("row j <-> perceptual roughness r = (j + 0.5) / height", rows_text)
-    items, names, texts = [], {}, []
+    grid = plan.grid
+    convention = grid.convention
+    tables, names, texts = [], {}, []
     trained = {table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None}
     hashes = {table: trained[table].content_hash if table in trained else basis.content_hash for table in plan.tables}
     for table in plan.tables:
@@ -60,14 +65,14 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         header = lut_attributes(channels, plan.columns, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}",
                                 convention, channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
                                 basis_hash=hashes[table])
-        path, values = out / layout.file_name(), plan.table_values[table]
-        parts = (rgba_items(path, values, header) if layout.kind in ("basis", "scene")
-                 else [(path, values, channels.channel_names, header)])
-        names[table] = [part[0].name for part in parts]
-        items += parts
+        stem, values = Path(layout.file_name()).stem, plan.table_values[table]
+        parts = (rgba_tables(stem, values, header) if layout.kind in ("basis", "scene")
+                 else [Table(stem, values, channels.channel_names, header)])
+        names[table] = [table_file_name(part.name, formats[0]) for part in parts]
+        tables += parts
     scene_basis = next(iter(trained.values()), None)
     if scene_basis is not None:
-        texts.append((out / SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
+        texts.append((SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
     materials = {
         material.name: {
             "target": material.description,
@@ -84,7 +89,8 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     }
     document = {
         "scene": Path(plan.scene.source).name, "basis_hash": basis.content_hash, "tolerance": plan.scene.tolerance,
-        "space": plan.scene.space, "roughness_range": [low, high], "rows": plan.rows, "columns": plan.columns,
+        "space": plan.scene.space, "visibility": plan.scene.visibility, "roughness_range": [low, high], "rows": plan.rows,
+        "columns": plan.columns, "formats": formats,
         "layout": ("coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
                    "4-7 of a basis of more than four terms are R, G, B, A of second_lut"),
         "materials": materials,
@@ -96,8 +102,9 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     # report quotes the tables' sizes, so the tables are first encoded in a scratch folder of the system's
     # (nothing appears in ``out`` before the transaction, nothing is left there by a kill)
     with tempfile.TemporaryDirectory(prefix="fresnel-lut-scene-") as scratch:
-        measured = write_luts([(Path(scratch) / Path(path).name, *rest) for path, *rest in items])
+        measured = write_tables(tables, scratch, formats, half)
         written = {path.name: path.stat().st_size for path in measured}
+    exr_bytes = {name: size for name, size in written.items() if name.endswith(FORMATS["exr"].suffix)}
     reference_folder = shipped_path("") if reference_folder is None else Path(reference_folder)
     full = {name: (reference_folder / name).stat().st_size for name in (BASIS_LUT, SCHLICK_LUT)
             if (reference_folder / name).exists()}
@@ -124,14 +131,48 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         f"Left out: {', '.join(left_out) if left_out else 'no table'}"
         + ("" if "basis-4" in plan.tables or any(t.startswith("scene") for t in plan.tables) or not any(t.startswith("basis") for t in plan.tables)
            else f" (basis terms beyond {plan.tables[-1].split('-')[1]})") + ".",
-        (f"Bytes: {sum(written.values()):,} written against {sum(full.values()):,} for the full default build "
-         f"({100.0 * (1.0 - sum(written.values()) / max(1, sum(full.values()))):.1f} % saved)."),
+        (f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "
+         f"build ({100.0 * (1.0 - sum(exr_bytes.values()) / max(1, sum(full.values()))):.1f} % saved)"
+         + (f"; {sum(written.values()):,} in all of {', '.join(formats)}." if formats != ["exr"] else ".")
+         if exr_bytes else f"Bytes: {sum(written.values()):,} written in {', '.join(formats)}."),
     ]
     coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
-    # the tables (and scene basis) of a scene built here before are this build's set: those not written again go
-    previous = "|".join(re.escape(name) for name in sorted(_previous_files(coefficients_path))) or None
-    paths = write_luts(items, texts=[*texts, (coefficients_path, json.dumps(document, indent=1) + "\n"),
-                                     (report_path, "\n".join(report) + "\n")], owned=previous)
+    # the tables (in every format) and scene basis of a scene built here before are this build's set: those not
+    # written again go, in the same transaction
+    previous = _previous_files(coefficients_path)
+    paths = write_tables(tables, out, formats, half, owned=sorted({Path(name).stem for name in previous} - {"scene_basis"}),
+                         owned_files=sorted(previous & {SCENE_BASIS_FILE}),
+                         texts=[*texts, (coefficients_path.name, json.dumps(document, indent=1) + "\n"),
+                                (report_path.name, "\n".join(report) + "\n")])[: len(tables) * len(formats)]
     return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
             "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
             "full_bytes": full, "text": "\n".join(report)}
+
+
+def build_scene(file, out, formats=("exr",), half: bool = False, visibility: str | None = None,
+                progress: Callable[[str], None] | None = None) -> dict:
+    """``fresnel-lut scene``: read the scene file, plan it and write it (:func:`write_scene`); ``visibility``
+    (given on the command line) must agree with the scene file's where both say one. ``progress`` gets a line
+    before the plan and an indented one per trained scene basis."""
+    formats = check_formats(formats)  # refused before the work
+    scene = read_scene(file)
+    if visibility is not None:
+        check_choice("--visibility", visibility, list(VISIBILITIES))
+        stated = _stated_visibility(Path(file))
+        if stated is not None and stated != visibility:
+            raise SceneError(f"scene file {file} says visibility = {stated!r}, the command line {visibility!r}; give one")
+        scene = dataclasses.replace(scene, visibility=visibility)
+    if progress is not None:
+        columns = f"{scene.size}" if scene.size_fixed else f"{scene.size} or more"
+        progress(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {columns} columns, "
+                 f"{scene.visibility} G2) ...")
+    plan = plan_scene(scene, progress=None if progress is None else lambda text: progress(f"  {text}"))
+    # the plan refuses before anything is written
+    return write_scene(plan, out, formats=formats, half=half)
+
+
+def _stated_visibility(path: Path) -> str | None:
+    """The ``visibility`` a scene file states itself, if any (the file was read and checked already)."""
+    text = path.read_text(encoding="utf-8")
+    document = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
+    return document.get("visibility")

@@ -23,13 +23,13 @@ from basis.eigenbasis import shipped_basis_path
 from fresnel_lut import cli
 from preintegrate import exr
 from preintegrate.channels import basis_channels, schlick_table_channels
+from preintegrate import tables
 from preintegrate.exr import read_lut
-from preintegrate.lut import PIXEL_CONVENTION, SHIPPED_LUTS
+from preintegrate.lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, SHIPPED_LUTS
 from fresnel_lut.progress import Progress
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
 
-BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 SIZE = 32
 #: The basis channels of the default basis, then Schlick's scale and bias: the 6 LUT channels.
 _BASIS = basis_channels().functions
@@ -422,7 +422,7 @@ def test_interrupt_during_integration(tmp_path, monkeypatch, capsys):
     def build_table(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli, "build_table", build_table)
+    monkeypatch.setattr(tables, "build_table", build_table)
     assert run(["build", "--size", 8, "--out", tmp_path / "new"]) == 130
     assert "Traceback" not in capsys.readouterr().err
     assert not (tmp_path / "new").exists()

@@ -302,3 +302,64 @@ def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):
                        capture_output=True, env={**os.environ, "PYTHONHASHSEED": seed})
         written.append((out / "scene_coefficients.json").read_bytes())
     assert all(text == written[0] for text in written)
+
+
+def test_separable_scene_matches_an_independent_separable_integral_at_texel_centres(tmp_path, capsys):
+    """Issue 22: ``visibility = "separable"`` reaches the scene's tables. Texels of the Schlick table against adaptive
+    cubature over ω_i with G1(o) G1(i) re-typed in tests/references (1e-6: float32 storage, the cubature's 1e-10);
+    the height-correlated integral differs by far more at these texels, so the test tells the two apart."""
+    from tests.references.integration import reference_albedo
+
+    path = scene_file(tmp_path, 'visibility = "separable"\n' + SCHLICK_ONLY)
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 0
+    table, header = read_lut(tmp_path / "out" / "ggx_schlick_rg.exr")
+    assert header["convention"].endswith("GGX with separable Smith G2 = G1(omega_o) * G1(omega_i)")
+    rows = np.linspace(0.3, 0.8, table.shape[0])
+    schlick = lambda x: np.stack([1.0 - (1.0 - x) ** 5, (1.0 - x) ** 5], axis=-1)  # noqa: E731 (the two channels)
+    apart = 0.0
+    for j, i in ((0, 2), (table.shape[0] - 1, 1), (table.shape[0] - 1, 8), (1, SIZE - 1)):
+        mu_o, alpha = (i + 0.5) / SIZE, rows[j] ** 2
+        separable = reference_albedo(schlick, mu_o, alpha, visibility="separable")
+        correlated = reference_albedo(schlick, mu_o, alpha, visibility="height-correlated")
+        np.testing.assert_allclose(table[j, i], separable, rtol=0, atol=1e-6)
+        apart = max(apart, float(np.max(np.abs(correlated - separable))))
+    assert apart > 1e-2  # r = 0.8 near grazing
+    document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
+    assert document["visibility"] == "separable"
+
+
+def test_scene_visibility_on_the_command_line_and_a_conflict(tmp_path, capsys):
+    path = scene_file(tmp_path, SCHLICK_ONLY)
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "a"), "--visibility", "separable"]) == 0
+    assert read_lut(tmp_path / "a" / "ggx_schlick_rg.exr")[1]["convention"].endswith("G1(omega_i)")
+    stated = scene_file(tmp_path, 'visibility = "height-correlated"\n' + SCHLICK_ONLY, name="stated.toml")
+    capsys.readouterr()
+    assert cli.main(["scene", str(stated), "--out", str(tmp_path / "b"), "--visibility", "separable"]) == 2
+    assert "says visibility = 'height-correlated'" in capsys.readouterr().err and not (tmp_path / "b").exists()
+    bad = scene_file(tmp_path, 'visibility = "smith"\n' + SCHLICK_ONLY, name="bad.toml")
+    assert cli.main(["scene", str(bad), "--out", str(tmp_path / "c")]) == 2
+    assert "visibility must be one of ['height-correlated', 'separable']" in capsys.readouterr().err
+
+
+def test_a_scene_build_writes_every_format_with_the_same_values(tmp_path, capsys):
+    """Issue 22: scene builds write KTX2, 16-bit PNG and C headers through the build's writer; each holds the EXR's
+    values (KTX2 exactly, read by the reference reader; PNG within half its 16-bit step)."""
+    from tests.references.ktx2 import read_ktx2
+
+    path = scene_file(tmp_path, DIELECTRICS)
+    out = tmp_path / "out"
+    assert cli.main(["scene", str(path), "--out", str(out), "--format", "exr,ktx2,png16,header"]) == 0
+    document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
+    assert document["formats"] == ["exr", "ktx2", "png16", "header"]
+    stems = {name[: -len(".exr")] for entry in document["materials"].values() for key in ("lut", "second_lut")
+             if (name := entry.get(key))}
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [f"{stem}{suffix}" for stem in stems for suffix in (".exr", ".ktx2", ".png", ".h")]
+        + ["scene_basis.json"] * ("scene_basis" in document) + ["scene_coefficients.json", "scene_report.md"])
+    for stem in stems:
+        table, _ = read_lut(out / f"{stem}.exr")
+        ktx = read_ktx2((out / f"{stem}.ktx2").read_bytes())
+        np.testing.assert_array_equal(ktx["texels"][..., : table.shape[2]], table)
+    # a rebuild with EXR alone removes the other formats of the scene's set
+    assert cli.main(["scene", str(path), "--out", str(out)]) == 0
+    assert {p.suffix for p in out.iterdir()} == {".exr", ".json", ".md"}

@@ -146,14 +146,14 @@ def test_vndf_more_accurate_than_ndf(quadrature_16, samples):
 @pytest.mark.parametrize(
     "kwargs",
     [
-        {"width": 1},
-        {"width": 2.5},
-        {"width": 8, "height": 0},
-        {"width": 8, "samples": 0},
-        {"width": 8, "samples": True},
-        {"width": 8, "sampling": "uniform"},
-        {"width": 8, "max_samples": 0},
-        {"width": 8, "progress": 3},
+        {"grid": 1},
+        {"grid": 2.5},
+        {"grid": 8, "height": 0},
+        {"grid": 8, "samples": 0},
+        {"grid": 8, "samples": True},
+        {"grid": 8, "sampling": "uniform"},
+        {"grid": 8, "max_samples": 0},
+        {"grid": 8, "progress": 3},
     ],
 )
 def test_invalid_input(kwargs):

@@ -23,11 +23,11 @@ import pytest
 
 from basis.eigenbasis import shipped_basis_path
 from fresnel_lut import cli
-from preintegrate import exr
+from preintegrate import exr, tables
+from preintegrate.lut import BASIS_LUT, SCHLICK_LUT
 from preintegrate.lut import SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 
-BASIS_LUT, SCHLICK_LUT = cli.BASIS_LUT, cli.SCHLICK_LUT
 #: Values of the wrong type or form: argparse refuses them ("invalid int value", "expected one argument").
 NOT_INTEGERS = ["nan", "inf", "-inf", "1e9", "1.5", "x", "", "0x10", "2**10"]
 #: argparse reads "-inf", "-1e999", "-1e-9" as option names, not negative numbers: "expected 3 arguments".
@@ -117,7 +117,7 @@ def _snapshot(folder: Path) -> dict[str, bytes]:
     return {str(path.relative_to(folder)): path.read_bytes() for path in sorted(folder.rglob("*")) if path.is_file()}
 
 
-def _option_named(line: str, argv) -> bool:
+def option_named(line: str, argv) -> bool:
     """The error line names one of the options given (as --name, name or name_with_underscores) or the command."""
     names = [item for item in argv if item.startswith("--")] or argv[:1]
     return any(name in line or name.lstrip("-") in line or name.lstrip("-").replace("-", "_") in line for name in names)
@@ -131,7 +131,7 @@ def _check_refused(argv, kind, capsys, folder):
     assert captured.out == ""
     line = captured.err.strip()
     if kind != "usage":
-        assert _option_named(line, argv), line
+        assert option_named(line, argv), line
     if kind == "range":
         assert "[" in line or "must be one of" in line or "must be auto, talk or notebook" in line, line  # range/choices
     assert _snapshot(folder) == before, "something was written"
@@ -218,7 +218,7 @@ def test_unwritable_out_is_refused_before_the_work(command, tmp_path, monkeypatc
     def no_work(*args, **kwargs):
         raise AssertionError("the work started before --out was checked")
 
-    monkeypatch.setattr(cli, "build_table", no_work)
+    monkeypatch.setattr(tables, "build_table", no_work)
     monkeypatch.setattr(cli, "build_basis", no_work)
     argv = ["build", "--size", "4", "--out", "a_file/luts"] if command == "build" else ["basis", "--count", "100", "--out", "a_file/b.json"]
     _check_refused(argv, "usage", capsys, tmp_path)
@@ -250,7 +250,7 @@ def _shipped_text():
     return shipped_basis_path().read_text(encoding="utf-8")
 
 
-def _rehashed(edit):
+def rehashed(edit):
     """The shipped basis with ``edit(data)`` applied and its content hash recomputed (a consistent-looking file)."""
     data = json.loads(_shipped_text())
     edit(data)
@@ -344,7 +344,7 @@ def test_rehashed_degenerate_basis_is_refused(edit, tmp_path, monkeypatch, capsy
         else:
             data["curves"][3] = [0.0] * len(data["curves"][3])
 
-    path = _write(tmp_path, "b.json", _rehashed(apply))
+    path = _write(tmp_path, "b.json", rehashed(apply))
     assert run(list(BASES["coeffs_nk"]) + ["--basis", path]) == 2
     captured = capsys.readouterr()
     assert_one_line_error(captured.err)

@@ -1,0 +1,165 @@
+"""Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
+
+Public objects: ``Table``, ``DEFAULT_SET``, ``rgba_tables``, ``default_tables``, ``model_table``, ``table_file_name``,
+``write_tables``, ``write_default_build``, ``write_model_build``.
+
+A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
+channel names and its header. :func:`default_tables` is the list a default build writes (the basis table, split
+into RGBA files of four terms; Schlick's scale, bias and E; the one-column E_avg), :func:`model_table` a linear
+model's own exact table; :func:`write_tables` writes any list in every format of
+:data:`preintegrate.formats.FORMATS` as one transaction that owns its set (:func:`basis.storage.write_together`).
+``fresnel-lut build`` and ``fresnel-lut scene`` both write through it, and so does every later table.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from basis.eigenbasis import Basis, resolve_basis
+from basis.models import fresnel_model
+from basis.storage import write_together
+from basis.validation import ParameterError, check_positive_int
+
+from .channels import ChannelSet, average_albedo_channels, basis_channels, combine, model_channels, schlick_table_channels
+from .formats import FORMATS, check_formats, file_family
+from .lut import AVERAGE_LUT, BASIS_LUT, RGBA, SCHLICK_LUT, LutGrid, build_table, lut_attributes, model_lut_name
+from .multiple_scattering import AVERAGE_NODES, average_albedo
+from .quadrature import DEFAULT_ORDER
+
+__all__ = ["DEFAULT_SET", "Table", "default_tables", "model_table", "rgba_tables", "table_file_name", "write_default_build",
+           "write_model_build", "write_tables"]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Table:
+    """One table of a build: ``name`` (the file's stem), ``values`` (H, W, K) float64, the channel names and the
+    header attributes (texts)."""
+
+    name: str
+    values: np.ndarray
+    channel_names: tuple[str, ...]
+    attributes: dict[str, str]
+
+
+def _stem(file_name: str) -> str:
+    return Path(file_name).stem
+
+
+#: The stems of the default build's set: the basis table (terms 4 … 7 of a larger basis in ``_2``), Schlick's
+#: table and E_avg. A default build owns these in every format: those it does not write are removed.
+DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
+
+
+def table_file_name(name: str, format_name: str = "exr") -> str:
+    """The file a table of stem ``name`` is written to in a format of :data:`~preintegrate.formats.FORMATS`."""
+    return name + FORMATS[check_formats([format_name])[0]].suffix
+
+
+def rgba_tables(name: str, values: np.ndarray, attributes: dict[str, str]) -> list[Table]:
+    """A table of K ≤ 8 basis terms (H, W, K) as the textures an engine samples: terms 0 … 3 in ``name`` (R, G, B,
+    A), terms 4 … 7 in ``<name>_2`` (one more fetch in the shader). Each header is ``attributes`` with its own
+    channels and, when there are two, the terms it holds (``terms = "4-5 of 6"``)."""
+    count = check_positive_int("basis terms", np.shape(values)[-1], low=1, high=8)
+    parts = [(name, slice(0, min(count, 4)))] + ([(f"{name}_2", slice(4, count))] if count > 4 else [])
+    tables = []
+    for part, terms in parts:
+        names = RGBA[: terms.stop - terms.start]
+        header = {**attributes, "channels": ",".join(names)}
+        if count > 4:
+            header["terms"] = f"{terms.start}-{terms.stop - 1} of {count}"
+        tables.append(Table(part, values[..., terms], names, header))
+    return tables
+
+
+def default_tables(basis: Basis | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
+                   progress: Callable[[int, int], None] | None = None, command: str = "fresnel-lut build") -> list[Table]:
+    """The tables of a default build on ``grid`` (default 128 × 128, height-correlated): the basis and Schlick
+    channels integrated in one pass, then E_avg(r) at the grid's rows (Kulla and Conty 2017)."""
+    basis = resolve_basis(basis)
+    grid = LutGrid(128, 128) if grid is None else grid
+    if grid.rows != "centres":
+        raise ParameterError("the default build's tables have rows at texel centres over roughness 0-1")
+    basis_set, schlick_set, average_set = basis_channels(basis), schlick_table_channels(), average_albedo_channels()
+    values = build_table(combine(basis_set, schlick_set), grid, order=order, progress=progress)
+    k, quadrature, convention = basis_set.n_channels, order.describe(), grid.convention
+    basis_header = lut_attributes(basis_set, grid.width, grid.height, command, convention, quadrature=quadrature,
+                                  basis_hash=basis.content_hash,
+                                  basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))
+    average = average_albedo(grid.roughness, grid.visibility, order)[:, None, None]
+    return [
+        *rgba_tables(_stem(BASIS_LUT), values[:, :, :k], basis_header),
+        Table(_stem(SCHLICK_LUT), values[:, :, k:], schlick_set.channel_names,
+              lut_attributes(schlick_set, grid.width, grid.height, command, convention, quadrature=quadrature)),
+        Table(_stem(AVERAGE_LUT), average, average_set.channel_names,
+              lut_attributes(average_set, 1, grid.height, command, f"one column; rows as in: {convention}",
+                             quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}")),
+    ]
+
+
+def model_table(model: str, shape: dict | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
+                progress: Callable[[int, int], None] | None = None,
+                command: str = "fresnel-lut build --model") -> tuple[Table, ChannelSet]:
+    """The exact split-sum table of a linear model with its shape parameters (defaults filled in), named by both
+    (:func:`preintegrate.lut.model_lut_name`), and its channel set (whose ``combination`` says how to read it)."""
+    grid = LutGrid(128, 128) if grid is None else grid
+    found = fresnel_model(model)
+    given = dict(shape or {})
+    unused = sorted(set(given) - set(found.shape))
+    if unused:
+        raise ParameterError(f"model {found.name} takes the shape parameters {list(found.shape)}, not {unused}")
+    found.channel_functions(**given)  # a non-linear model is refused here, with the list of linear ones
+    shape = found.shape_values(**given)
+    channels = model_channels(found.name, **shape)
+    values = build_table(channels, grid, order=order, progress=progress)
+    header = lut_attributes(channels, grid.width, grid.height, command, grid.convention, quadrature=order.describe(),
+                            **{f"model_{key}": value for key, value in channels.provenance.items()})
+    return Table(_stem(model_lut_name(found.name, shape)), values, channels.channel_names, header), channels
+
+
+def write_tables(tables: Sequence[Table], out, formats=("exr",), half: bool = False, texts=(),
+                 owned: Sequence[str] = (), owned_files: Sequence[str] = ()) -> list[Path]:
+    """Write ``tables`` into the folder ``out`` in every format asked for, with ``texts`` ((file name, UTF-8 text)
+    pairs that belong to the same build), as one transaction; the paths written, tables first.
+
+    ``owned``: the stems of the set this build owns (e.g. :data:`DEFAULT_SET`); the tables of that set the build
+    does not write, in any format, are removed in the same transaction, and so are the files named in
+    ``owned_files`` that it does not write (a scene's basis); nothing else of the folder is.
+    ``half`` stores half floats (EXR, KTX2) and rounds the values of the other formats the same way.
+    """
+    formats = check_formats(formats)
+    out = Path(out)
+    writers = []  # every table is checked and encoded here, before any file is begun
+    for table in tables:
+        if not isinstance(table, Table):
+            raise ParameterError(f"tables must be Table records, got {type(table).__name__}")
+        for name in formats:
+            fmt = FORMATS[name]
+            writers.append((out / table_file_name(table.name, name),
+                            fmt.writer(table.values, table.channel_names, table.attributes, table.name, half)))
+    writers += [(out / name, lambda path, text=text: path.write_text(text, encoding="utf-8")) for name, text in texts]
+    if not writers:
+        raise ParameterError("write_tables needs at least one table or text to write")
+    patterns = ([file_family(owned)] if owned else []) + [re.escape(name) for name in owned_files]
+    return write_together(writers, owned="|".join(patterns) or None)
+
+
+def write_default_build(out, basis: Basis | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
+                        formats=("exr",), half: bool = False, progress: Callable[[int, int], None] | None = None
+                        ) -> list[Path]:
+    """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`."""
+    formats = check_formats(formats)  # refused before the work
+    return write_tables(default_tables(basis, grid, order, progress), out, formats, half, owned=DEFAULT_SET)
+
+
+def write_model_build(out, model: str, shape: dict | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
+                      formats=("exr",), half: bool = False, progress: Callable[[int, int], None] | None = None
+                      ) -> tuple[list[Path], ChannelSet]:
+    """``fresnel-lut build --model``: :func:`model_table` written by :func:`write_tables`, owning its own table."""
+    formats = check_formats(formats)
+    table, channels = model_table(model, shape, grid, order, progress)
+    return write_tables([table], out, formats, half, owned=[table.name]), channels
