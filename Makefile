@@ -8,25 +8,33 @@
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
+TEST_STAMP := $(VENV)/.test-installed-stamp
 
 .PHONY: luts test basis report materials render fidelity clean-venv
 
-# what the shader tests run on: the GLSL/HLSL reference compiler, Mesa's software OpenGL with headless EGL and
-# its software Vulkan driver (WebGPU's backend here)
-SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers
+# what the shader tests run on (only the test set-up installs them; building needs none): the GLSL/HLSL reference
+# compiler, Mesa's software OpenGL with headless EGL and its software Vulkan driver (WebGPU's backend here), and
+# Chromium for WebGL 2 (SwiftShader), driven by Playwright for Python (the 'browser' extra, no browser download)
+SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers chromium
+# another process holding the dpkg lock (unattended upgrades, a second set-up) is waited for, not failed on
+APT := DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 -o Acquire::Retries=3
 
 $(STAMP): pyproject.toml
-	@if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-		echo "installing $(SYSTEM_PACKAGES) (Debian)"; \
-		DEBIAN_FRONTEND=noninteractive apt-get update -qq && \
-		DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(SYSTEM_PACKAGES) >/dev/null; \
-	else \
-		echo "note: not root or no apt-get; the GPU shader tests need $(SYSTEM_PACKAGES) and skip without them"; \
-	fi
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install --quiet --upgrade pip
-	$(VENV)/bin/python -m pip install --quiet -e '.[test,gpu]'
+	$(VENV)/bin/python -m pip install --quiet -e .
 	touch $(STAMP)
+
+$(TEST_STAMP): $(STAMP)
+	@if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing $(SYSTEM_PACKAGES) (Debian)"; \
+		for attempt in 1 2 3 4 5 6 7 8 9 10; do $(APT) update -qq && break; echo "apt-get update busy; retrying"; sleep 15; done; \
+		$(APT) install -y -qq --no-install-recommends $(SYSTEM_PACKAGES) >/dev/null; \
+	else \
+		echo "note: not root or no apt-get; the GPU and browser tests need $(SYSTEM_PACKAGES) and skip without them"; \
+	fi
+	$(VENV)/bin/python -m pip install --quiet -e '.[test,gpu,browser]'
+	touch $(TEST_STAMP)
 
 luts: $(STAMP)
 	$(VENV)/bin/fresnel-lut build --out luts
@@ -35,7 +43,7 @@ basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json
 
 report: $(STAMP)
-	$(VENV)/bin/python -m pip install --quiet -e '.[test,plot]'
+	$(VENV)/bin/python -m pip install --quiet -e '.[plot]'
 	$(VENV)/bin/fresnel-lut report --out report
 
 materials: $(STAMP)
@@ -48,7 +56,7 @@ fidelity: $(STAMP)
 render: $(STAMP)
 	$(VENV)/bin/fresnel-lut render --out report/render
 
-test: $(STAMP)
+test: $(TEST_STAMP)
 	$(VENV)/bin/python -m pytest
 
 clean-venv:

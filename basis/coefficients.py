@@ -35,7 +35,15 @@ from .angles import check_theta_grid, cos_theta, theta_spline, trapezoid_weights
 from .eigenbasis import Basis, resolve_basis
 from .fresnel import ETA_RANGE, KAPPA_RANGE, fresnel_kernel, fresnel_normal_incidence
 from .gulbrandsen import gulbrandsen_to_nk
-from .validation import ParameterError, as_float_array, check_broadcast, check_choice, check_positive_int, check_range, check_shape_last
+from .validation import (
+    ParameterError,
+    as_float_array,
+    check_broadcast,
+    check_choice,
+    check_positive_int,
+    check_range,
+    check_shape_last,
+)
 
 __all__ = [
     "COEFFICIENT_FITS",
@@ -88,8 +96,10 @@ def coefficients_from_samples(samples, basis: Basis | None = None) -> np.ndarray
     with np.errstate(over="ignore", invalid="ignore"):
         coefficients = samples @ np.linalg.inv(fit_matrix(basis)).T
     if not np.all(np.isfinite(coefficients)):
-        raise ParameterError(f"samples as large as {np.max(np.abs(samples)):.3g} overflow the coefficients (float64); "
-                             "a reflectance is at most 1")
+        raise ParameterError(
+            f"samples as large as {np.max(np.abs(samples)):.3g} overflow the coefficients (float64); "
+            "a reflectance is at most 1"
+        )
     return coefficients
 
 
@@ -110,8 +120,9 @@ def coefficients_from_curve(curve: Callable, variable: str = "theta", basis: Bas
         raise ParameterError(f"variable must be 'theta' or 'mu', got {variable!r}")
     values = as_float_array("curve(angles)", curve(argument))
     if values.ndim == 0 or values.shape[-1] != basis.n_terms:
-        raise ParameterError(f"curve must return one value per fit angle ({basis.n_terms}) along its last axis, "
-                             f"got shape {values.shape}")
+        raise ParameterError(
+            f"curve must return one value per fit angle ({basis.n_terms}) along its last axis, got shape {values.shape}"
+        )
     return coefficients_from_samples(values, basis)
 
 
@@ -155,13 +166,20 @@ def coefficients_from_nk(eta, kappa, basis: Basis | None = None, fit: str = "fou
     kappa = check_range("kappa", kappa, KAPPA_RANGE[0], KAPPA_RANGE[1])
     check_broadcast(eta=eta, kappa=kappa)
     if fit.startswith("delta-e") if isinstance(fit, str) else False:
-        raise ParameterError(f"fit {fit!r} fits RGB curves in a colour space; for eta, kappa use "
-                             "'four-point', 'least-squares' or 'minimax'")
+        raise ParameterError(
+            f"fit {fit!r} fits RGB curves in a colour space; for eta, kappa use "
+            "'four-point', 'least-squares' or 'minimax'"
+        )
     if fit == "four-point":
         return _four_point_nk(np.broadcast_arrays(eta, kappa), resolve_basis(basis))
     coefficient_fit(fit)  # the name, checked before any work
-    return _in_chunks(np.broadcast_arrays(eta, kappa), lambda eta, kappa: coefficients_from_function(
-        lambda mu: fresnel_kernel(mu, eta[:, None], kappa[:, None]), fit, basis), resolve_basis(basis).n_terms)
+    return _in_chunks(
+        np.broadcast_arrays(eta, kappa),
+        lambda eta, kappa: coefficients_from_function(
+            lambda mu: fresnel_kernel(mu, eta[:, None], kappa[:, None]), fit, basis
+        ),
+        resolve_basis(basis).n_terms,
+    )
 
 
 def _in_chunks(eta_kappa: list[np.ndarray], fit: Callable, terms: int) -> np.ndarray:
@@ -200,7 +218,11 @@ def _four_point_nk(eta_kappa: list[np.ndarray], basis: Basis) -> np.ndarray:
         part = slice(start, start + _NK_CHUNK)
         f0 = fresnel_normal_incidence(eta[part], kappa[part])
         f90 = np.where((eta[part] == 1.0) & (kappa[part] == 0.0), 0.0, 1.0)
-        rest = fresnel_kernel(mu, eta[part, None], kappa[part, None]) - f0[:, None] * system[2:, 0] - (f90 - f0)[:, None] * system[2:, 1]
+        rest = (
+            fresnel_kernel(mu, eta[part, None], kappa[part, None])
+            - f0[:, None] * system[2:, 0]
+            - (f90 - f0)[:, None] * system[2:, 1]
+        )
         coefficients[part, 0], coefficients[part, 1] = f0, f90 - f0
         coefficients[part, 2:] = rest @ inner
     return coefficients.reshape(shape + (basis.n_terms,))
@@ -212,7 +234,9 @@ def coefficients_from_gulbrandsen(reflectivity, edge_tint, basis: Basis | None =
     r in [0, 1), g in [0, 1]; shapes broadcast; (..., 3) → (..., 3, K).
     """
     eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
-    reflectivity, edge_tint = np.broadcast_arrays(np.asarray(reflectivity, dtype=float), np.asarray(edge_tint, dtype=float))
+    reflectivity, edge_tint = np.broadcast_arrays(
+        np.asarray(reflectivity, dtype=float), np.asarray(edge_tint, dtype=float)
+    )
     outside = (eta < ETA_RANGE[0]) | (eta > ETA_RANGE[1]) | (kappa > KAPPA_RANGE[1])
     if np.any(outside):
         index = np.flatnonzero(np.broadcast_to(outside, eta.shape).ravel())[0]
@@ -362,8 +386,13 @@ def coefficients_least_squares(
     fit = _check_norm(fit)
     iterations = check_positive_int("iterations", iterations, low=1, high=10_000)
     mu = cos_theta(basis.theta)
-    return _in_chunks(np.broadcast_arrays(eta, kappa), lambda eta, kappa: _least_squares_on_grid(
-        fresnel_kernel(mu, eta[:, None], kappa[:, None]), basis, fit, iterations), basis.n_terms)
+    return _in_chunks(
+        np.broadcast_arrays(eta, kappa),
+        lambda eta, kappa: _least_squares_on_grid(
+            fresnel_kernel(mu, eta[:, None], kappa[:, None]), basis, fit, iterations
+        ),
+        basis.n_terms,
+    )
 
 
 def reconstruct(coefficients, mu, basis: Basis | None = None) -> np.ndarray:
@@ -472,8 +501,14 @@ def coefficient_fit(name: str) -> Callable:
     return COEFFICIENT_FITS[check_choice("fit", name, sorted(COEFFICIENT_FITS))]
 
 
-def coefficients_from_function(values_of: Callable, fit: str = "four-point", basis: Basis | None = None,
-                               space: str | None = None, start=None, report: dict | None = None) -> np.ndarray:
+def coefficients_from_function(
+    values_of: Callable,
+    fit: str = "four-point",
+    basis: Basis | None = None,
+    space: str | None = None,
+    start=None,
+    report: dict | None = None,
+) -> np.ndarray:
     """Coefficients (..., K) of any target given as a function of μ, by a fit of :data:`COEFFICIENT_FITS`.
 
     Parameters
@@ -503,8 +538,9 @@ def coefficients_from_function(values_of: Callable, fit: str = "four-point", bas
     return coefficient_fit(fit)(values_of, resolve_basis(basis), space, start, report)
 
 
-def coefficients_from_model(name: str, fit: str = "four-point", basis: Basis | None = None,
-                            **parameters) -> tuple[np.ndarray, np.ndarray]:
+def coefficients_from_model(
+    name: str, fit: str = "four-point", basis: Basis | None = None, **parameters
+) -> tuple[np.ndarray, np.ndarray]:
     """Project an RGB material of a model of :data:`basis.models.FRESNEL_MODELS` onto the basis.
 
     Returns the coefficients (3, K) by ``fit`` (``four-point``, ``least-squares`` or ``minimax``) and the

@@ -102,8 +102,10 @@ def spectral_to_rgb_weights(space: str) -> np.ndarray:
     """
     space = working_space(space)
     if space.illuminant is None:
-        raise ParameterError(f"colour space {space.name!r} is a conversion target; spectra are integrated in "
-                             f"{sorted(name for name, s in WORKING_SPACES.items() if s.illuminant)}")
+        raise ParameterError(
+            f"colour space {space.name!r} is a conversion target; spectra are integrated in "
+            f"{sorted(name for name, s in WORKING_SPACES.items() if s.illuminant)}"
+        )
     cmfs = colour.MSDS_CMFS[_OBSERVER].copy().align(_SHAPE).values  # (N, 3)
     illuminant = colour.SDS_ILLUMINANTS[space.illuminant].copy().align(_SHAPE).values  # (N,)
     tristimulus = (cmfs * illuminant[:, None]).T  # (3, N), XYZ of each wavelength's share
@@ -152,7 +154,8 @@ def delta_E_2000(rgb_a, rgb_b, space: str) -> np.ndarray:
 def rgb_to_rgb_matrix(source: str, target: str) -> np.ndarray:
     """(3, 3) matrix taking linear RGB of ``source`` to ``target`` (Bradford adaptation between whites)."""
     matrix = colour.matrix_RGB_to_RGB(
-        working_space(source).rgb_colourspace, working_space(target).rgb_colourspace,
+        working_space(source).rgb_colourspace,
+        working_space(target).rgb_colourspace,
         chromatic_adaptation_transform="Bradford",
     )
     matrix.setflags(write=False)
@@ -179,17 +182,31 @@ def delta_E_2000_components(lab_a, lab_b) -> np.ndarray:
     h2p = np.where((a2p == 0.0) & (b2 == 0.0), 0.0, np.mod(np.degrees(np.arctan2(b2, a2p)), 360.0))
     product = c1p * c2p
     dh = h2p - h1p
-    dh = np.where(product == 0.0, 0.0, np.where(dh > 180.0, dh - 360.0, np.where(dh < -180.0, dh + 360.0, dh)))  # eq. 10
+    dh = np.where(
+        product == 0.0, 0.0, np.where(dh > 180.0, dh - 360.0, np.where(dh < -180.0, dh + 360.0, dh))
+    )  # eq. 10
     d_lightness = L2 - L1  # eq. 8
     d_chroma = c2p - c1p  # eq. 9
     d_hue = 2.0 * np.sqrt(product) * np.sin(np.radians(0.5 * dh))  # eq. 11
     lightness_mean = 0.5 * (L1 + L2)  # eq. 12
     chroma_mean = 0.5 * (c1p + c2p)  # eq. 13
     hue_sum = h1p + h2p
-    hue_mean = np.where(product == 0.0, hue_sum, np.where(np.abs(h1p - h2p) <= 180.0, 0.5 * hue_sum,
-                        np.where(hue_sum < 360.0, 0.5 * (hue_sum + 360.0), 0.5 * (hue_sum - 360.0))))  # eq. 14
-    t = (1.0 - 0.17 * np.cos(np.radians(hue_mean - 30.0)) + 0.24 * np.cos(np.radians(2.0 * hue_mean))
-         + 0.32 * np.cos(np.radians(3.0 * hue_mean + 6.0)) - 0.20 * np.cos(np.radians(4.0 * hue_mean - 63.0)))  # eq. 15
+    hue_mean = np.where(
+        product == 0.0,
+        hue_sum,
+        np.where(
+            np.abs(h1p - h2p) <= 180.0,
+            0.5 * hue_sum,
+            np.where(hue_sum < 360.0, 0.5 * (hue_sum + 360.0), 0.5 * (hue_sum - 360.0)),
+        ),
+    )  # eq. 14
+    t = (
+        1.0
+        - 0.17 * np.cos(np.radians(hue_mean - 30.0))
+        + 0.24 * np.cos(np.radians(2.0 * hue_mean))
+        + 0.32 * np.cos(np.radians(3.0 * hue_mean + 6.0))
+        - 0.20 * np.cos(np.radians(4.0 * hue_mean - 63.0))
+    )  # eq. 15
     d_theta = 30.0 * np.exp(-(((hue_mean - 275.0) / 25.0) ** 2))  # eq. 16
     r_c = 2.0 * np.sqrt(chroma_mean**7 / (chroma_mean**7 + 25.0**7))  # eq. 17
     offset = (lightness_mean - 50.0) ** 2
@@ -198,4 +215,6 @@ def delta_E_2000_components(lab_a, lab_b) -> np.ndarray:
     s_h = 1.0 + 0.015 * chroma_mean * t  # eq. 20
     r_t = -np.sin(np.radians(2.0 * d_theta)) * r_c  # eq. 21
     lightness, chroma, hue = d_lightness / s_l, d_chroma / s_c, d_hue / s_h
-    return np.stack([lightness, chroma + 0.5 * r_t * hue, np.sqrt(np.maximum(1.0 - 0.25 * r_t * r_t, 0.0)) * hue], axis=-1)
+    return np.stack(
+        [lightness, chroma + 0.5 * r_t * hue, np.sqrt(np.maximum(1.0 - 0.25 * r_t * r_t, 0.0)) * hue], axis=-1
+    )

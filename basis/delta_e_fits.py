@@ -29,8 +29,13 @@ __all__ = ["delta_e_coefficients", "fit_summary", "minimise_delta_e"]
 FIT_DEGREES = np.linspace(0.0, 90.0, 361)
 
 
-def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], np.ndarray], initial: np.ndarray,
-                     space: str, bounds=(-np.inf, np.inf)) -> scipy.optimize.OptimizeResult:
+def minimise_delta_e(
+    reference_Lab: np.ndarray,
+    rgb_of: Callable[[np.ndarray], np.ndarray],
+    initial: np.ndarray,
+    space: str,
+    bounds=(-np.inf, np.inf),
+) -> scipy.optimize.OptimizeResult:
     """Parameters p minimising Σ ΔE2000(reference, rgb_of(p))² over the curve's samples.
 
     The residuals are the three components of :func:`basis.colorimetry.delta_E_2000_components` at every
@@ -44,7 +49,8 @@ def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], n
 
     def residuals(parameters: np.ndarray) -> np.ndarray:
         return delta_E_2000_components(reference_Lab, rgb_to_Lab(rgb_of(parameters), space)).reshape(
-            *np.shape(parameters)[:-1], -1)
+            *np.shape(parameters)[:-1], -1
+        )
 
     upper = np.broadcast_to(bounds[1], np.shape(initial))
 
@@ -54,18 +60,31 @@ def minimise_delta_e(reference_Lab: np.ndarray, rgb_of: Callable[[np.ndarray], n
         return ((residuals(parameters + np.diag(step)) - residuals(parameters)) / step[:, None]).T
 
     bounded = np.any(np.isfinite(bounds[0])) or np.any(np.isfinite(bounds[1]))
-    return scipy.optimize.least_squares(residuals, initial, jac=jacobian, bounds=bounds,
-                                        method="trf" if bounded else "lm", xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    return scipy.optimize.least_squares(
+        residuals,
+        initial,
+        jac=jacobian,
+        bounds=bounds,
+        method="trf" if bounded else "lm",
+        xtol=1e-12,
+        ftol=1e-12,
+        gtol=1e-12,
+    )
 
 
 def fit_summary(result: scipy.optimize.OptimizeResult) -> dict:
     """What a preset records of its fit: converged or not, scipy's status, evaluations, final gradient."""
-    return {"converged": bool(result.status > 0), "status": int(result.status), "evaluations": int(result.nfev),
-            "gradient": float(f"{result.optimality:.3g}")}
+    return {
+        "converged": bool(result.status > 0),
+        "status": int(result.status),
+        "evaluations": int(result.nfev),
+        "gradient": float(f"{result.optimality:.3g}"),
+    }
 
 
-def delta_e_coefficients(values_of: Callable, space: str, basis: Basis, start: np.ndarray, free_f0: bool,
-                         report: dict | None = None) -> np.ndarray:
+def delta_e_coefficients(
+    values_of: Callable, space: str, basis: Basis, start: np.ndarray, free_f0: bool, report: dict | None = None
+) -> np.ndarray:
     """(3, K): minimise Σ_θ ΔE2000² over c2 … c_{K−1} (and c0 if ``free_f0``) from the coefficients
     ``start`` (3, K), with c0 + c1 = F90 kept exact (and c0 = F0 unless ``free_f0``).
 

@@ -52,7 +52,11 @@ def _check_structure(curves: np.ndarray, fit_angles: np.ndarray, spline: CubicSp
     """The properties the coefficient scheme relies on (c0 = F(0), c1 = F(π/2) − F(0), a solvable fit)."""
     if not np.allclose(curves[0], 1.0, rtol=0, atol=1e-12):
         raise BasisFileError("curves[0] (b0) must be 1 everywhere")
-    if np.any(np.abs(curves[1:, 0]) > 1e-12) or abs(curves[1, -1] - 1.0) > 1e-12 or np.any(np.abs(curves[2:, -1]) > 1e-12):
+    if (
+        np.any(np.abs(curves[1:, 0]) > 1e-12)
+        or abs(curves[1, -1] - 1.0) > 1e-12
+        or np.any(np.abs(curves[2:, -1]) > 1e-12)
+    ):
         raise BasisFileError("b_k(0) must be 0 for k >= 1, b1(pi/2) = 1 and b_k(pi/2) = 0 for k >= 2")
     if abs(fit_angles[0]) > 1e-12 or abs(fit_angles[1] - 0.5 * np.pi) > 1e-12:
         raise BasisFileError(f"fit_angles must start with 0 and pi/2, got {fit_angles[:2].tolist()}")
@@ -79,10 +83,16 @@ def _check_derived(data: dict, basis: Basis) -> None:
         try:
             stored = np.asarray(stored, dtype=np.float64)
         except (TypeError, ValueError):
-            raise BasisFileError(f"hemispherical_averages must be {basis.n_terms} numbers, got {str(stored)[:60]!r}") from None
-        if stored.shape != (basis.n_terms,) or not np.all(np.abs(stored - basis.hemispherical_averages) <= AVERAGE_TOLERANCE):
-            raise BasisFileError(f"hemispherical_averages {stored.tolist()} do not match the curves' own "
-                                 f"{basis.hemispherical_averages.tolist()}: the file is corrupt or was edited")
+            raise BasisFileError(
+                f"hemispherical_averages must be {basis.n_terms} numbers, got {str(stored)[:60]!r}"
+            ) from None
+        if stored.shape != (basis.n_terms,) or not np.all(
+            np.abs(stored - basis.hemispherical_averages) <= AVERAGE_TOLERANCE
+        ):
+            raise BasisFileError(
+                f"hemispherical_averages {stored.tolist()} do not match the curves' own "
+                f"{basis.hemispherical_averages.tolist()}: the file is corrupt or was edited"
+            )
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -22,7 +22,14 @@ import numpy as np
 
 from .validation import check_broadcast, check_range
 
-__all__ = ["ETA_RANGE", "KAPPA_RANGE", "fresnel_conductor", "fresnel_dielectric", "fresnel_kernel", "fresnel_normal_incidence"]
+__all__ = [
+    "ETA_RANGE",
+    "KAPPA_RANGE",
+    "fresnel_conductor",
+    "fresnel_dielectric",
+    "fresnel_kernel",
+    "fresnel_normal_incidence",
+]
 
 #: Accepted η: [1e-8, 1e6] keeps every square and product of squares normal in float64 (below
 #: ~1e-81 they underflow and the formula degenerates); no material has η ≤ 0.

@@ -72,8 +72,14 @@ def material_curve(name: str, space: str = "ACEScg") -> Curve:
     return functools.partial(rgb_fresnel, material, space=space)
 
 
-def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None,
-                  start=None, report: dict | None = None) -> np.ndarray:
+def fit_rgb_curve(
+    curve: Curve,
+    space: str = "ACEScg",
+    fit: str = "delta-e",
+    basis: Basis | None = None,
+    start=None,
+    report: dict | None = None,
+) -> np.ndarray:
     """(3, K) coefficients of an RGB curve μ → (..., 3) by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`
     (``start`` and ``report`` as in :func:`basis.coefficients.coefficients_from_function`)."""
     working_space(space)
@@ -83,8 +89,9 @@ def fit_rgb_curve(curve: Curve, space: str = "ACEScg", fit: str = "delta-e", bas
 _FITS: dict[tuple, tuple[np.ndarray, dict]] = {}
 
 
-def fit_material(name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None,
-                 report: dict | None = None) -> np.ndarray:
+def fit_material(
+    name: str, space: str = "ACEScg", fit: str = "delta-e", basis: Basis | None = None, report: dict | None = None
+) -> np.ndarray:
     """(3, K) coefficients of a measured material by a fit of :data:`basis.coefficients.COEFFICIENT_FITS`
     (memoised per basis hash); ``report``, if given, receives the fit's convergence (iterative fits).
 

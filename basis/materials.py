@@ -85,7 +85,9 @@ class Material:
         """(model name, float64 parameters) of a ``schlick``, ``f82`` or ``model`` material."""
         if self.kind not in ("schlick", "f82", "model"):
             raise ParameterError(f"a {self.kind} material is not given by a model")
-        parameters = {key: np.asarray(value, dtype=np.float64) for key, value in self.description.items() if key != "model"}
+        parameters = {
+            key: np.asarray(value, dtype=np.float64) for key, value in self.description.items() if key != "model"
+        }
         return self.description["model"], parameters
 
 
@@ -97,7 +99,11 @@ def _colour(key: str, value) -> np.ndarray:
     """A number or three numbers R, G, B, as (3,) float64."""
     if _is_number(value):
         return np.full(3, float(value))
-    if isinstance(value, (list, tuple, np.ndarray)) and len(value) == 3 and all(_is_number(element) for element in value):
+    if (
+        isinstance(value, (list, tuple, np.ndarray))
+        and len(value) == 3
+        and all(_is_number(element) for element in value)
+    ):
         return np.array([float(element) for element in value])
     shown = " ".join(repr(value).split())
     raise ParameterError(f"{key} must be a number or 3 numbers (R, G, B), got {shown[:60]}")
@@ -111,8 +117,10 @@ def _kind(mapping: Mapping) -> str:
     exact = [kind for kind, names in MATERIAL_KINDS.items() if kind not in ("preset", "model") and keys == set(names)]
     if exact:
         return exact[0]
-    raise ParameterError("give one of: preset; eta and kappa; reflectivity and edge_tint; f0; f0 and f82; or model "
-                         f"with its parameters (got {sorted(keys)})")
+    raise ParameterError(
+        "give one of: preset; eta and kappa; reflectivity and edge_tint; f0; f0 and f82; or model "
+        f"with its parameters (got {sorted(keys)})"
+    )
 
 
 def material_from_mapping(mapping: Mapping, space: str = "ACEScg") -> Material:
@@ -137,17 +145,29 @@ def material_from_mapping(mapping: Mapping, space: str = "ACEScg") -> Material:
     if kind == "nk":
         eta = check_range("eta", colours["eta"], *ETA_RANGE)
         kappa = check_range("kappa", colours["kappa"], *KAPPA_RANGE)
-        return Material(kind, {"eta": eta.tolist(), "kappa": kappa.tolist()}, space,
-                        lambda mu: fresnel_kernel(mu[..., None], eta, kappa))
+        return Material(
+            kind,
+            {"eta": eta.tolist(), "kappa": kappa.tolist()},
+            space,
+            lambda mu: fresnel_kernel(mu[..., None], eta, kappa),
+        )
     if kind == "gulbrandsen":
         reflectivity, edge_tint = colours["reflectivity"], colours["edge_tint"]
         eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)  # checks both ranges
-        return Material(kind, {"reflectivity": reflectivity.tolist(), "edge_tint": edge_tint.tolist()}, space,
-                        lambda mu: fresnel_kernel(mu[..., None], eta, kappa))
+        return Material(
+            kind,
+            {"reflectivity": reflectivity.tolist(), "edge_tint": edge_tint.tolist()},
+            space,
+            lambda mu: fresnel_kernel(mu[..., None], eta, kappa),
+        )
     model = fresnel_model(kind)  # the schlick and f82 kinds are those models
     parameters = model.check(**colours)
-    return Material(kind, {"model": model.name, **{key: value.tolist() for key, value in parameters.items()}}, space,
-                    lambda mu: model.evaluate(mu[..., None], **parameters))
+    return Material(
+        kind,
+        {"model": model.name, **{key: value.tolist() for key, value in parameters.items()}},
+        space,
+        lambda mu: model.evaluate(mu[..., None], **parameters),
+    )
 
 
 def _preset(mapping: Mapping, space: str) -> Material:
@@ -156,8 +176,9 @@ def _preset(mapping: Mapping, space: str) -> Material:
 
     extra = sorted(set(mapping) - {"preset"})
     if extra:
-        raise ParameterError(f"a preset material takes only preset (its working space is the scene's or --space), "
-                             f"not {extra}")
+        raise ParameterError(
+            f"a preset material takes only preset (its working space is the scene's or --space), not {extra}"
+        )
     name = mapping["preset"]
     if not isinstance(name, str):
         raise ParameterError(f"preset must be a material's name (text), got {' '.join(repr(name).split())[:60]}")
@@ -179,8 +200,12 @@ def _model(mapping: Mapping) -> Material:
     model = fresnel_model(name)
     given = {key: mapping[key] for key in mapping if key != "model"}  # the mapping's order, not a set's
     for key, value in given.items():
-        if not (_is_number(value) or isinstance(value, (list, tuple)) and all(_is_number(element) for element in value)):
-            raise ParameterError(f"{key} must be a number or 3 numbers (R, G, B), got {' '.join(repr(value).split())[:60]}")
+        if not (
+            _is_number(value) or isinstance(value, (list, tuple)) and all(_is_number(element) for element in value)
+        ):
+            raise ParameterError(
+                f"{key} must be a number or 3 numbers (R, G, B), got {' '.join(repr(value).split())[:60]}"
+            )
     parameters = model.check(**{key: np.asarray(value, dtype=np.float64) for key, value in given.items()})
     description = {"model": model.name, **{key: np.asarray(value).tolist() for key, value in given.items()}}
     return Material("model", description, "", lambda mu: model.evaluate(mu[..., None], **parameters))

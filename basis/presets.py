@@ -80,8 +80,13 @@ def _read(path: str) -> dict:
 
 #: What a reader accepts of each number (a working-space reflectance may leave [0, 1] a little: sRGB gold's F0 red
 #: is 1.038; a basis coefficient of a curve in [0, 1] stays far inside ±10 as max |b_k| = 1; ΔE2000 is ≥ 0).
-RANGES = {"f0": (-0.25, 1.25), "f82": (-0.25, 1.25), "coefficients": (-10.0, 10.0), "delta_e2000_at_0": (0.0, 100.0),
-          "rms_delta_e2000": (0.0, 100.0)}
+RANGES = {
+    "f0": (-0.25, 1.25),
+    "f82": (-0.25, 1.25),
+    "coefficients": (-10.0, 10.0),
+    "delta_e2000_at_0": (0.0, 100.0),
+    "rms_delta_e2000": (0.0, 100.0),
+}
 
 
 def content_hash(document: dict) -> str:
@@ -93,6 +98,7 @@ def content_hash(document: dict) -> str:
 
 def _finite(where: str, value, shape: tuple[int, ...] | None, bounds: tuple[float, float] | None = None) -> None:
     """A number or nested list of numbers (no bool, string, NaN or inf) of the given shape, within ``bounds``."""
+
     def bad(reason: str):
         return PresetFileError(f"material presets {where} {reason}, got {str(value)[:60]!r}")
 
@@ -107,7 +113,9 @@ def _finite(where: str, value, shape: tuple[int, ...] | None, bounds: tuple[floa
         array = np.asarray(value, dtype=np.float64)
     except ValueError:  # ragged nesting
         raise bad("must be a regular array of numbers") from None
-    if shape is not None and (array.ndim != len(shape) or any(n not in (size, -1) for n, size in zip(shape, array.shape))):
+    if shape is not None and (
+        array.ndim != len(shape) or any(n not in (size, -1) for n, size in zip(shape, array.shape))
+    ):
         raise bad(f"must have shape {tuple('K' if n == -1 else n for n in shape)}")
     if not np.all(np.isfinite(array)):
         raise bad("must be finite (no NaN or inf)")
@@ -124,8 +132,11 @@ def _check_document(path: str, document: dict) -> None:
         raise PresetFileError(f"material presets {path}: materials must be a non-empty table of materials")
     for name, material in materials.items():
         where = f"{path}: {name!r}"
-        if not isinstance(material, dict) or not isinstance(material.get("kind"), str) \
-                or not isinstance(material.get("source"), dict):
+        if (
+            not isinstance(material, dict)
+            or not isinstance(material.get("kind"), str)
+            or not isinstance(material.get("source"), dict)
+        ):
             raise PresetFileError(f"material presets {where} must be a table with kind (text) and source (table)")
         for space in PRESET_SPACES:
             entry = material.get(space)
@@ -142,8 +153,10 @@ def _check_document(path: str, document: dict) -> None:
                 _finite(f"{where} {space} rms_delta_e2000 {key}", value, (), RANGES["rms_delta_e2000"])
     computed = content_hash(document)  # last: a field out of its range is named above
     if document.get("content_hash") != computed:
-        raise PresetFileError(f"material presets {path}: content hash {document.get('content_hash')!r} does not match "
-                              f"the document ({computed}): the file is corrupt or was edited")
+        raise PresetFileError(
+            f"material presets {path}: content hash {document.get('content_hash')!r} does not match "
+            f"the document ({computed}): the file is corrupt or was edited"
+        )
 
 
 def material_presets(path=None) -> dict:
@@ -160,7 +173,9 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
     (3, 4)
     """
     if not isinstance(name, str):
-        raise ParameterError(f"material must be a name (text), got {type(name).__name__} {' '.join(repr(name).split())[:60]}")
+        raise ParameterError(
+            f"material must be a name (text), got {type(name).__name__} {' '.join(repr(name).split())[:60]}"
+        )
     document = material_presets(path)
     check_choice("colour space", space, PRESET_SPACES)
     materials = document["materials"]
@@ -209,8 +224,10 @@ def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None 
             "that goes with them)"
         )
     if preset["coefficients"].shape != (3, default_basis().n_terms):
-        raise PresetFileError(f"{shipped_presets_path()}: {preset['name']} has coefficients of shape "
-                              f"{preset['coefficients'].shape}, the shipped basis has {default_basis().n_terms} terms")
+        raise PresetFileError(
+            f"{shipped_presets_path()}: {preset['name']} has coefficients of shape "
+            f"{preset['coefficients'].shape}, the shipped basis has {default_basis().n_terms} terms"
+        )
     return preset["coefficients"]
 
 
@@ -249,7 +266,9 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
                 "f82": [round(float(v), 8) for v in curve(np.array(F82_MU))],
                 "coefficients": [[round(float(v), 10) for v in row] for row in coefficients],
                 "rms_delta_e2000": {
-                    "basis": round(float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, space)), 4),
+                    "basis": round(
+                        float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, space)), 4
+                    ),
                     "schlick": round(float(rms_delta_E_2000(truth, schlick, space)), 4),
                 },
                 "delta_e2000_at_0": round(float(delta_E_2000(f0, coefficients[:, 0], space)), 4),
@@ -258,7 +277,9 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
         source = material.source
         materials[name] = {
             "kind": material.kind,
-            "source": {key: source[key] for key in ("database", "file", "references", "constant_eta", "note") if key in source},
+            "source": {
+                key: source[key] for key in ("database", "file", "references", "constant_eta", "note") if key in source
+            },
             **spaces,
         }
         if progress is not None:
@@ -271,14 +292,14 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
             "f0": "RGB reflectance at normal incidence, Hoffman 2020's spectral procedure (linear, working space)",
             "f82": "RGB reflectance at arccos(1/7) (about 82.3 degrees), for Hoffman 2019's F82 model",
             "coefficients": f"3 x {basis.n_terms}: per channel R, G, B the basis coefficients c0..c{basis.n_terms - 1} "
-                            f"({fit} fit; c0 = F0, c0 + c1 = F90 = 1)",
+            f"({fit} fit; c0 = F0, c0 + c1 = F90 = 1)",
             "rms_delta_e2000": "RMS over 0, 1, ..., 90 degrees of CIEDE2000 against the spectral ground truth",
             "delta_e2000_at_0": "CIEDE2000 between f0 and the fitted c0 (the fit trades F0 exactness for the RMS)",
             "fit": "convergence of the fit: converged (scipy status > 0), status, function evaluations, final "
-                   "gradient (max norm of J^T r over the dE2000 residual components)",
+            "gradient (max norm of J^T r over the dE2000 residual components)",
             "spaces": "ACEScg: D60 illuminant, Bradford to the ACES white; sRGB: linear Rec.709 primaries, D65",
             "content_hash": "first 16 hex digits of the SHA-256 of this document without content_hash, as UTF-8 "
-                            "JSON with sorted keys and no spaces",
+            "JSON with sorted keys and no spaces",
         },
         "materials": materials,
     }

@@ -67,26 +67,47 @@ class Source:
 
 #: Registry: material name → data source, in the order of Hoffman's tables.
 MEASURED_SOURCES: dict[str, Source] = {
-    "Silver": Source("metal", "main", "Ag", "Rakic-BB",
-                     note="Johnson & Christy 1972 gives Schlick 0.12 against Hoffman's 0.27; Rakic's 0.35 is the "
-                          "nearest bulk set"),
+    "Silver": Source(
+        "metal",
+        "main",
+        "Ag",
+        "Rakic-BB",
+        note="Johnson & Christy 1972 gives Schlick 0.12 against Hoffman's 0.27; Rakic's 0.35 is the nearest bulk set",
+    ),
     "Copper": Source("metal", "main", "Cu", "Johnson"),
     "Gold": Source("metal", "main", "Au", "Johnson"),
-    "Bronze": Source("metal", "other", "Cu-Zn", "Querry-Cu90Zn10",
-                     note="Cu90Zn10, 'commercial bronze' (C22000), as Hoffman's external-media table names it; "
-                          "the database has no Cu-Sn data"),
-    "Brass": Source("metal", "other", "Cu-Zn", "Querry-Cu70Zn30", note="Cu70Zn30, 'cartridge brass', as Hoffman names it"),
+    "Bronze": Source(
+        "metal",
+        "other",
+        "Cu-Zn",
+        "Querry-Cu90Zn10",
+        note="Cu90Zn10, 'commercial bronze' (C22000), as Hoffman's external-media table names it; "
+        "the database has no Cu-Sn data",
+    ),
+    "Brass": Source(
+        "metal", "other", "Cu-Zn", "Querry-Cu70Zn30", note="Cu70Zn30, 'cartridge brass', as Hoffman names it"
+    ),
     "Aluminum": Source("metal", "main", "Al", "Rakic-BB"),
     "Palladium": Source("metal", "main", "Pd", "Johnson"),
     "Nickel": Source("metal", "main", "Ni", "Johnson"),
-    "Titanium": Source("metal", "main", "Ti", "Rakic-LD",
-                       note="Johnson & Christy 1974 gives Schlick 2.27 against Hoffman's 1.87; Rakic LD gives 1.86"),
+    "Titanium": Source(
+        "metal",
+        "main",
+        "Ti",
+        "Rakic-LD",
+        note="Johnson & Christy 1974 gives Schlick 2.27 against Hoffman's 1.87; Rakic LD gives 1.86",
+    ),
     "Mercury": Source("metal", "main", "Hg", "Inagaki"),
     "Platinum": Source("metal", "main", "Pt", "Rakic-BB"),
     "Iron": Source("metal", "main", "Fe", "Johnson"),
-    "Zinc": Source("metal", "main", "Zn", "Werner",
-                   note="Hoffman's Schlick 2.44 is reproduced only by Werner's DFT calculation (2.37); the "
-                        "measured sets give 1.18 (Werner 2009, used) and 4.30 (Querry 1987)"),
+    "Zinc": Source(
+        "metal",
+        "main",
+        "Zn",
+        "Werner",
+        note="Hoffman's Schlick 2.44 is reproduced only by Werner's DFT calculation (2.37); the "
+        "measured sets give 1.18 (Werner 2009, used) and 4.30 (Querry 1987)",
+    ),
     "Chromium": Source("metal", "main", "Cr", "Johnson"),
     "Beryllium": Source("metal", "main", "Be", "Rakic-BB"),
     "Diamond": Source("dielectric", "main", "C", "Phillip"),
@@ -98,12 +119,20 @@ MEASURED_SOURCES: dict[str, Source] = {
     "Glass BK7": Source("dielectric", "popular_glass", "BK7", "SCHOTT"),
     "Glass SF11": Source("dielectric", "popular_glass", "SF11", "SCHOTT"),
     "Quartz": Source("dielectric", "main", "SiO2", "Ghosh-o", note="crystalline quartz, ordinary ray"),
-    "Ruby": Source("dielectric", "main", "Al2O3", "Malitson-o",
-                   note="corundum (sapphire), ordinary ray; ruby's Cr doping colours the bulk, not the reflection"),
+    "Ruby": Source(
+        "dielectric",
+        "main",
+        "Al2O3",
+        "Malitson-o",
+        note="corundum (sapphire), ordinary ray; ruby's Cr doping colours the bulk, not the reflection",
+    ),
     "Glass F5": Source("dielectric", "specs", "SCHOTT-optical", "F5"),
     "Polycarbonate": Source("dielectric", "organic", "polycarbonate", "Sultanova"),
-    "Tourmaline": Source("dielectric", constant_eta=1.64,
-                         note="no tourmaline in the database; constant eta = 1.64, the middle of its 1.61-1.67 range"),
+    "Tourmaline": Source(
+        "dielectric",
+        constant_eta=1.64,
+        note="no tourmaline in the database; constant eta = 1.64, the middle of its 1.61-1.67 range",
+    ),
     "PET": Source("dielectric", "organic", "polyethylene_terephthalate", "Zhang"),
 }
 
@@ -185,7 +214,9 @@ def _sample_page(source: Source) -> tuple[np.ndarray, np.ndarray, dict]:
         references = " ".join(re.sub(r"<[^>]+>", "", str(yaml.safe_load(stream).get("REFERENCES", ""))).split())
     provenance = {
         "database": f"refractiveindex.info {_database_version()}",
-        "shelf": source.shelf, "book": source.book, "page": source.page,
+        "shelf": source.shelf,
+        "book": source.book,
+        "page": source.page,
         "file": str(Path(entry.path).relative_to(implementation._DEFAULT_DB_PATH / "data")),
         "references": references,
         "measured_range_nm": [round(float(low), 3), round(float(high), 3)],
@@ -231,7 +262,7 @@ def spectra_from_database(names=None) -> dict:
         "format": FORMAT,
         "version": VERSION,
         "description": "measured eta, kappa sampled at wavelengths_nm (linear interpolation of the data set, "
-                       "edge value held outside measured_range_nm)",
+        "edge value held outside measured_range_nm)",
         "wavelengths_nm": WAVELENGTHS.tolist(),
         "materials": materials,
     }
@@ -242,7 +273,9 @@ def write_spectra(document: dict, path=None) -> Path:
     target = shipped_spectra_path() if path is None else Path(path)
     text = json.dumps(document, indent=1, ensure_ascii=False)
     # one line per list of numbers: the file stays readable and diffs show which material changed
-    text = re.sub(r"\[\s*([-0-9.e+,\s]+?)\s*\]", lambda m: "[" + ", ".join(m.group(1).split()).replace(",,", ",") + "]", text)
+    text = re.sub(
+        r"\[\s*([-0-9.e+,\s]+?)\s*\]", lambda m: "[" + ", ".join(m.group(1).split()).replace(",,", ",") + "]", text
+    )
     written = write_text(target, text + "\n")
     _read.cache_clear()
     return written

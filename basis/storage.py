@@ -35,8 +35,19 @@ try:
 except ImportError:  # Windows: no advisory locks; groups are still renamed together, but writers may interleave
     fcntl = None
 
-__all__ = ["Journal", "read_journal", "read_json_document", "recover_folder", "replace_together", "shipped_path",
-           "temporary_sibling", "unfinished_group", "write_json", "write_text", "write_together"]
+__all__ = [
+    "Journal",
+    "read_journal",
+    "read_json_document",
+    "recover_folder",
+    "replace_together",
+    "shipped_path",
+    "temporary_sibling",
+    "unfinished_group",
+    "write_json",
+    "write_text",
+    "write_together",
+]
 
 
 def shipped_path(name: str) -> Path:
@@ -121,8 +132,14 @@ def _temporary_pattern(target_name: str) -> re.Pattern:
 
 def _plain_name(name) -> bool:
     """A file name of the folder itself: no separator, not ``.`` or ``..``, not the journal."""
-    return (isinstance(name, str) and name not in ("", ".", "..", JOURNAL) and "/" not in name and "\\" not in name
-            and "\x00" not in name and Path(name).name == name)
+    return (
+        isinstance(name, str)
+        and name not in ("", ".", "..", JOURNAL)
+        and "/" not in name
+        and "\\" not in name
+        and "\x00" not in name
+        and Path(name).name == name
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -145,12 +162,19 @@ class Journal:
 
     def pending(self) -> bool:
         """Whether some rename or removal has not happened yet (the group is half done)."""
-        return (any((self.folder / temporary).is_file() for temporary, _ in self.renames)
-                or any(os.path.lexists(self.folder / name) for name in self.removals))
+        return any((self.folder / temporary).is_file() for temporary, _ in self.renames) or any(
+            os.path.lexists(self.folder / name) for name in self.removals
+        )
 
     def text(self) -> str:
-        return json.dumps({"format": JOURNAL_FORMAT, "version": JOURNAL_VERSION,
-                           "renames": [list(pair) for pair in self.renames], "removals": list(self.removals)})
+        return json.dumps(
+            {
+                "format": JOURNAL_FORMAT,
+                "version": JOURNAL_VERSION,
+                "renames": [list(pair) for pair in self.renames],
+                "removals": list(self.removals),
+            }
+        )
 
 
 def read_journal(folder) -> Journal | None:
@@ -161,15 +185,22 @@ def read_journal(folder) -> Journal | None:
         document = json.loads((folder / JOURNAL).read_text(encoding="utf-8"))
     except (OSError, ValueError, RecursionError):
         return None
-    if not isinstance(document, dict) or document.get("format") != JOURNAL_FORMAT \
-            or document.get("version") != JOURNAL_VERSION:
+    if (
+        not isinstance(document, dict)
+        or document.get("format") != JOURNAL_FORMAT
+        or document.get("version") != JOURNAL_VERSION
+    ):
         return None
     renames, removals = document.get("renames"), document.get("removals", [])
     if not isinstance(renames, list) or not isinstance(removals, list):
         return None
     for pair in renames:
-        if not (isinstance(pair, list) and len(pair) == 2 and all(map(_plain_name, pair))
-                and _temporary_pattern(pair[1]).match(pair[0])):
+        if not (
+            isinstance(pair, list)
+            and len(pair) == 2
+            and all(map(_plain_name, pair))
+            and _temporary_pattern(pair[1]).match(pair[0])
+        ):
             return None
     if not all(map(_plain_name, removals)):
         return None
@@ -285,8 +316,11 @@ def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: st
                     writer(temporaries[-1])
                 except BaseException as error:
                     raise _one_line(error, target) from None
-            removals = sorted(path.name for path in folder.iterdir()
-                              if owns(path.name) and path.name not in names and (path.is_file() or path.is_symlink()))
+            removals = sorted(
+                path.name
+                for path in folder.iterdir()
+                if owns(path.name) and path.name not in names and (path.is_file() or path.is_symlink())
+            )
             journal = Journal(folder, tuple((t.name, p.name) for t, p in zip(temporaries, targets)), tuple(removals))
             # a journal cut short by a kill is unreadable and dropped: the renames had not begun
             (folder / JOURNAL).write_text(journal.text(), encoding="utf-8")
@@ -318,8 +352,9 @@ def write_json(path, document: dict) -> Path:
     return write_text(path, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
 
 
-def read_json_document(path, what: str, format_tag: str | None = None, version: int | None = None,
-                       error=ParameterError) -> dict:
+def read_json_document(
+    path, what: str, format_tag: str | None = None, version: int | None = None, error=ParameterError
+) -> dict:
     """Read the JSON document ``what`` (e.g. "basis file") and check its ``format`` tag and ``version``
     where given; every failure raises ``error`` with one line that names the file."""
     path = Path(path)

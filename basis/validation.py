@@ -15,8 +15,16 @@ import numbers
 
 import numpy as np
 
-__all__ = ["ParameterError", "as_float_array", "check_broadcast", "check_choice", "check_positive_int", "check_range",
-           "check_shape_last", "choose"]
+__all__ = [
+    "ParameterError",
+    "as_float_array",
+    "check_broadcast",
+    "check_choice",
+    "check_positive_int",
+    "check_range",
+    "check_shape_last",
+    "choose",
+]
 
 
 class ParameterError(ValueError):

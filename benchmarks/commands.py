@@ -45,16 +45,28 @@ def _jobs(folder: Path, full: bool, tree: Path | None) -> list[tuple[str, list[s
         ("coefficients_from_nk, 10^6 materials (in-process time)", [sys.executable, "-c", COEFFICIENTS_1E6], "0.30 s"),
     ]
     # the showcase trains its scene basis up to seven terms (issue 14); the others stop at four
-    jobs += [(f"fresnel-lut scene examples/{scene.name}", lut + ["scene", str(scene), "--out", str(folder / scene.stem)],
-              "<= 8 s" if scene.stem == "showcase" else "<= 3 s") for scene in sorted((ROOT / "examples").glob("*.toml"))]
+    jobs += [
+        (
+            f"fresnel-lut scene examples/{scene.name}",
+            lut + ["scene", str(scene), "--out", str(folder / scene.stem)],
+            "<= 8 s" if scene.stem == "showcase" else "<= 3 s",
+        )
+        for scene in sorted((ROOT / "examples").glob("*.toml"))
+    ]
     jobs += [
         ("fresnel-lut materials", lut + ["materials", "--presets", str(folder / "materials.json")], "<= 30 s"),
-        ("fresnel-lut basis --count 1000000", lut + ["basis", "--count", "1000000", "--out", str(folder / "b.json")], "<= 20 s"),
+        (
+            "fresnel-lut basis --count 1000000",
+            lut + ["basis", "--count", "1000000", "--out", str(folder / "b.json")],
+            "<= 20 s",
+        ),
         ("fresnel-lut render --quick", lut + ["render", "--quick", "--out", str(folder / "render")], "<= 8 s"),
     ]
     if full:
-        jobs += [("fresnel-lut render", lut + ["render", "--out", str(folder / "render-full")], "<= 90 s"),
-                 ("make test", ["make", "-s", "test"], "<= 100 s")]
+        jobs += [
+            ("fresnel-lut render", lut + ["render", "--out", str(folder / "render-full")], "<= 90 s"),
+            ("make test", ["make", "-s", "test"], "<= 100 s"),
+        ]
     return jobs
 
 
@@ -75,13 +87,26 @@ def benchmark(repeats: int = 5, full: bool = False, tree: Path | None = None) ->
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for label, argv, target in _jobs(Path(folder), full, tree):
-            count = repeats if not label.startswith(("fresnel-lut basis", "fresnel-lut materials", "fresnel-lut render", "make")) else 1
+            count = (
+                repeats
+                if not label.startswith(("fresnel-lut basis", "fresnel-lut materials", "fresnel-lut render", "make"))
+                else 1
+            )
             runs = [_measure(argv, ROOT if tree is None else tree) for _ in range(count)]
             seconds = [run[0] for run in runs]
             if label.startswith("coefficients_from_nk"):
                 seconds = [float(run[2].strip().splitlines()[-1]) for run in runs]
-            rows.append({"job": label, "seconds": statistics.median(seconds), "low": min(seconds), "high": max(seconds),
-                         "runs": count, "peak_mib": max(run[1] for run in runs), "target": target})
+            rows.append(
+                {
+                    "job": label,
+                    "seconds": statistics.median(seconds),
+                    "low": min(seconds),
+                    "high": max(seconds),
+                    "runs": count,
+                    "peak_mib": max(run[1] for run in runs),
+                    "target": target,
+                }
+            )
             print(f"{label}: {rows[-1]['seconds']:.2f} s, {rows[-1]['peak_mib']:.0f} MiB", file=sys.stderr, flush=True)
     return rows
 
@@ -90,17 +115,22 @@ def markdown(rows: list[dict]) -> str:
     baseline = rows[0]["seconds"]
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     lines = [
-        "# Command benchmark", "",
+        "# Command benchmark",
+        "",
         f"`python -m benchmarks.commands`, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
         f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, load average after the run "
         f"{load[0]:.2f}. Wall time of a fresh process (median of the runs, range in brackets), peak resident memory, "
-        "and the time as a multiple of `python -c 'import numpy'` measured in the same run.", "",
-        "| job | wall time | × import numpy | peak memory | target |", "|---|---:|---:|---:|---|",
+        "and the time as a multiple of `python -c 'import numpy'` measured in the same run.",
+        "",
+        "| job | wall time | × import numpy | peak memory | target |",
+        "|---|---:|---:|---:|---|",
     ]
     for row in rows:
         spread = f" [{row['low']:.2f}–{row['high']:.2f}]" if row["runs"] > 1 else ""
-        lines.append(f"| {row['job']} | {row['seconds']:.2f} s{spread} | {row['seconds'] / baseline:.1f} | "
-                     f"{row['peak_mib']:.0f} MiB | {row['target']} |")
+        lines.append(
+            f"| {row['job']} | {row['seconds']:.2f} s{spread} | {row['seconds'] / baseline:.1f} | "
+            f"{row['peak_mib']:.0f} MiB | {row['target']} |"
+        )
     return "\n".join(lines) + "\n"
 
 

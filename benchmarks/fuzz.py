@@ -34,13 +34,44 @@ from basis.eigenbasis import Basis, shipped_basis_path
 from basis.presets import material_preset, material_presets, shipped_presets_path
 from basis.validation import ParameterError
 from fresnel_lut import cli
-from preintegrate import formats, multiple_scattering
 from fresnel_lut.scene import read_scene
+from preintegrate import formats, multiple_scattering
 
 #: Values that break naive readers: every JSON/TOML type, non-finite and extreme numbers, odd text.
-ODD = [None, True, False, "", "text", "0.3", "Gold", "\x00", "é" * 300, [], {}, [1, 2], [1, 2, 3, 4], ["a", "b", "c"],
-       [[1, 2, 3]], {"a": 1}, 0, -1, 1, 2, 0.5, -0.5, 1e-320, 1e308, -1e308, float("nan"), float("inf"), float("-inf"),
-       10**30, 3.5, [0.1, 0.2, 0.3], [float("nan")] * 3]
+ODD = [
+    None,
+    True,
+    False,
+    "",
+    "text",
+    "0.3",
+    "Gold",
+    "\x00",
+    "é" * 300,
+    [],
+    {},
+    [1, 2],
+    [1, 2, 3, 4],
+    ["a", "b", "c"],
+    [[1, 2, 3]],
+    {"a": 1},
+    0,
+    -1,
+    1,
+    2,
+    0.5,
+    -0.5,
+    1e-320,
+    1e308,
+    -1e308,
+    float("nan"),
+    float("inf"),
+    float("-inf"),
+    10**30,
+    3.5,
+    [0.1, 0.2, 0.3],
+    [float("nan")] * 3,
+]
 
 
 class Outcome:
@@ -65,8 +96,11 @@ def _api_outcome(outcome: Outcome, call, case: str) -> None:
     except Exception:  # noqa: BLE001 - every other exception is the crash this harness counts
         outcome.add("crashed", f"{case}: {' | '.join(traceback.format_exc().strip().splitlines()[-3:])}")
         return
-    values = [np.asarray(part, dtype=float) for part in (result if isinstance(result, tuple) else (result,))
-              if isinstance(part, (np.ndarray, float, int))]
+    values = [
+        np.asarray(part, dtype=float)
+        for part in (result if isinstance(result, tuple) else (result,))
+        if isinstance(part, (np.ndarray, float, int))
+    ]
     finite = all(np.all(np.isfinite(value)) for value in values)
     outcome.add("accepted" if finite else "crashed", f"{case}: non-finite result")
 
@@ -127,8 +161,11 @@ def fuzz_presets(rng, count: int, folder: Path) -> Outcome:
             path.write_bytes(rng.bytes(int(rng.integers(0, 64))))
         else:
             path.write_text(json.dumps(_mutate(rng, shipped)), encoding="utf-8")
-        _api_outcome(outcome, lambda: (material_presets(path), material_preset("Gold", "sRGB", path)["coefficients"])[1],
-                     f"presets case {index}")
+        _api_outcome(
+            outcome,
+            lambda: (material_presets(path), material_preset("Gold", "sRGB", path)["coefficients"])[1],
+            f"presets case {index}",
+        )
     return outcome
 
 
@@ -152,17 +189,24 @@ def fuzz_bases(rng, count: int, folder: Path) -> Outcome:
             document = _rehash(document)
         path = folder / f"basis{index}.json"
         path.write_text(json.dumps(document), encoding="utf-8")
-        _api_outcome(outcome, lambda: basis.coefficients_from_nk([1.5, 0.3], [0.0, 3.0], Basis.read(path)),
-                     f"basis case {index}")
+        _api_outcome(
+            outcome, lambda: basis.coefficients_from_nk([1.5, 0.3], [0.0, 3.0], Basis.read(path)), f"basis case {index}"
+        )
     return outcome
 
 
-SCENE = {"tolerance": 0.0039, "space": "ACEScg", "size": 16,
-         "material": [{"name": "a", "f0": [0.9, 0.6, 0.3], "roughness": [0.3, 0.5]},
-                      {"name": "b", "eta": 1.5, "kappa": 0.0, "roughness": 0.4},
-                      {"name": "c", "model": "f82", "f0": 0.9, "f82": 0.8, "roughness": 0.5},
-                      {"name": "d", "preset": "Gold", "roughness": [0.2, 0.3]},
-                      {"name": "e", "reflectivity": 0.5, "edge_tint": 0.2, "roughness": 0.6}]}
+SCENE = {
+    "tolerance": 0.0039,
+    "space": "ACEScg",
+    "size": 16,
+    "material": [
+        {"name": "a", "f0": [0.9, 0.6, 0.3], "roughness": [0.3, 0.5]},
+        {"name": "b", "eta": 1.5, "kappa": 0.0, "roughness": 0.4},
+        {"name": "c", "model": "f82", "f0": 0.9, "f82": 0.8, "roughness": 0.5},
+        {"name": "d", "preset": "Gold", "roughness": [0.2, 0.3]},
+        {"name": "e", "reflectivity": 0.5, "edge_tint": 0.2, "roughness": 0.6},
+    ],
+}
 
 
 def fuzz_scenes(rng, count: int, folder: Path) -> Outcome:
@@ -184,13 +228,56 @@ def fuzz_scenes(rng, count: int, folder: Path) -> Outcome:
 
 OPTIONS = {
     "build": ["--size", "--out", "--half", "--order", "--basis", "--model", "--exponent", "--alpha", "--eta-prime"],
-    "coeffs": ["--eta", "--kappa", "--reflectivity", "--edge-tint", "--material", "--space", "--model", "--f0", "--f82",
-               "--tint", "--r0", "--r90", "--exponent", "--eta-e", "--fit", "--json", "--basis", "--a", "--rs"],
+    "coeffs": [
+        "--eta",
+        "--kappa",
+        "--reflectivity",
+        "--edge-tint",
+        "--material",
+        "--space",
+        "--model",
+        "--f0",
+        "--f82",
+        "--tint",
+        "--r0",
+        "--r90",
+        "--exponent",
+        "--eta-e",
+        "--fit",
+        "--json",
+        "--basis",
+        "--a",
+        "--rs",
+    ],
     "basis": ["--count", "--seed", "--grid-size", "--terms", "--fit-angles", "--out"],
     "scene": ["--out"],
 }
-VALUES = ["0", "1", "-1", "2", "8", "0.5", "1e308", "-1e-9", "-inf", "nan", "inf", "abc", "", "Gold", "f82", "schlick",
-          "sRGB", "P3", "least-squares", "talk", "/dev/null", "3", "100", "64"]
+VALUES = [
+    "0",
+    "1",
+    "-1",
+    "2",
+    "8",
+    "0.5",
+    "1e308",
+    "-1e-9",
+    "-inf",
+    "nan",
+    "inf",
+    "abc",
+    "",
+    "Gold",
+    "f82",
+    "schlick",
+    "sRGB",
+    "P3",
+    "least-squares",
+    "talk",
+    "/dev/null",
+    "3",
+    "100",
+    "64",
+]
 
 
 def fuzz_cli(rng, count: int, folder: Path) -> Outcome:
@@ -237,8 +324,9 @@ API = {
     "gulbrandsen_to_nk": lambda r: basis.gulbrandsen_to_nk(_random_value(r), _random_value(r)),
     "nk_to_gulbrandsen": lambda r: basis.nk_to_gulbrandsen(_random_value(r), _random_value(r)),
     "coefficients_from_curve": lambda r: basis.coefficients_from_curve(lambda x: np.full(int(r.integers(1, 6)), 0.5)),
-    "compensated_albedo": lambda r: multiple_scattering.compensated_albedo(_random_value(r), _random_value(r),
-                                                                           _random_value(r)),
+    "compensated_albedo": lambda r: multiple_scattering.compensated_albedo(
+        _random_value(r), _random_value(r), _random_value(r)
+    ),
     "basis_albedo": lambda r: multiple_scattering.basis_albedo(_random_value(r), _random_value(r), _random_value(r)),
     "average_albedo": lambda r: multiple_scattering.average_albedo(_random_value(r)),
     "ktx2_bytes": lambda r: formats.ktx2_bytes(_random_value(r), {}, half=bool(r.integers(2))),
@@ -280,11 +368,16 @@ def fuzz(cases: int = 1000, seed: int = 17) -> dict[str, Outcome]:
 
 
 def markdown(results: dict[str, Outcome], seed: int) -> str:
-    lines = ["# Fuzzing", "",
-             f"`python -m benchmarks.fuzz --seed {seed}`, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC: "
-             "seeded mutations of valid inputs; refused = one-line error, accepted = exit 0 or a finite result, "
-             "crashed = anything else.", "",
-             "| category | tried | refused with one line | accepted | crashed |", "|---|---:|---:|---:|---:|"]
+    lines = [
+        "# Fuzzing",
+        "",
+        f"`python -m benchmarks.fuzz --seed {seed}`, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC: "
+        "seeded mutations of valid inputs; refused = one-line error, accepted = exit 0 or a finite result, "
+        "crashed = anything else.",
+        "",
+        "| category | tried | refused with one line | accepted | crashed |",
+        "|---|---:|---:|---:|---:|",
+    ]
     for name, outcome in results.items():
         lines.append(f"| {name} | {outcome.tried} | {outcome.refused} | {outcome.accepted} | {outcome.crashed} |")
     total = sum(outcome.crashed for outcome in results.values())
@@ -297,7 +390,9 @@ def markdown(results: dict[str, Outcome], seed: int) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, default=1000, help="cases per category (basis files: half, API calls: twice)")
+    parser.add_argument(
+        "--cases", type=int, default=1000, help="cases per category (basis files: half, API calls: twice)"
+    )
     parser.add_argument("--seed", type=int, default=17)
     parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parents[1] / "report" / "fuzz.md")
     arguments = parser.parse_args(argv)

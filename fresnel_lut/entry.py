@@ -12,13 +12,18 @@ on standard output (``fresnel-lut … | head``) ends the command quietly. Everyt
 
 from __future__ import annotations
 
-import os
-import signal
 import sys
 
 __all__ = ["main"]
 
 INTERRUPTED = "\nfresnel-lut: interrupted; no file was written or replaced"
+
+try:  # Ctrl-C while this module's own imports load (the signal module itself takes ~10 ms on a busy machine)
+    import os
+    import signal
+except KeyboardInterrupt:
+    print(INTERRUPTED, file=sys.stderr)
+    raise SystemExit(130) from None
 
 
 def main() -> int:

@@ -1,7 +1,7 @@
 """A small vectorised renderer: spheres under an environment, split sum against Monte Carlo.
 
 Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``,
-``render_split_sum``, ``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
+``render_split_sum``, ``render_point_light``, ``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
 
 * **Environment**: a procedural studio made of spherical Gaussians (SGs) — a sky dome, a ground
   bounce, two soft boxes and a rim light — so that both the exact radiance L(ω) and Karis's prefiltered
@@ -11,6 +11,10 @@ Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENE
 * **Split sum**: pixel = prefiltered L(r, α) × F̄(μo, α), F̄ from the shipped LUTs by bilinear lookup
   (texel centres, clamp to edge, as a GPU): Schlick's two channels with F0 = F(0°), or the basis'
   four with the material's coefficients.
+* **Point light**: L ρ(ωo, ωl) μl with the GGX BRDF ρ = D G2 F / (4 μo μl), F(ωo·h) three ways: Schlick's,
+  the basis' (the shaders' direct-light curves, :func:`preintegrate.shaders.direct_fresnel`, with the
+  material's coefficients: one material, one curve for the environment and the lamp) and the exact curve
+  (the reference of a punctual light needs no integral).
 * **Reference**: Monte Carlo of ∫ F(ωo·h) ρ(ωo, ωi) L(ωi) μi dωi with VNDF sampling (Heitz 2018),
   weight F · G2/G1, the material's exact RGB Fresnel curve, seeded; its standard error is returned.
 
@@ -38,17 +42,18 @@ from basis.eigenbasis import default_basis
 from basis.materials import material_from_mapping
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import check_choice, check_positive_int, check_range
-
 from preintegrate.estimators import contributions
-from preintegrate.ggx import VISIBILITIES, roughness_to_alpha
+from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
+from preintegrate.shaders import direct_fresnel
 
 __all__ = [
     "DEFAULT_SCENES",
     "STUDIO",
     "Environment",
     "RenderMaterial",
+    "render_point_light",
     "render_reference",
     "render_split_sum",
     "sphere_geometry",
@@ -120,8 +125,12 @@ def _render_material(name: str, mapping: dict, space: str, roughness: tuple[floa
 
 
 def _figure2(space: str) -> RenderMaterial:
-    return _render_material("Figure 2 (r 0.44, g (0, 1, 0))", {"reflectivity": 0.44, "edge_tint": [0.0, 1.0, 0.0]}, space,
-                            (float(np.sqrt(0.08)), 0.5))
+    return _render_material(
+        "Figure 2 (r 0.44, g (0, 1, 0))",
+        {"reflectivity": 0.44, "edge_tint": [0.0, 1.0, 0.0]},
+        space,
+        (float(np.sqrt(0.08)), 0.5),
+    )
 
 
 def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
@@ -164,8 +173,14 @@ def sphere_geometry(size: int) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([x, y, z], axis=-1), mask
 
 
-def render_split_sum(material: RenderMaterial, roughness: float, size: int, basis_lut: np.ndarray,
-                     schlick_lut: np.ndarray, environment: Environment = STUDIO) -> dict[str, np.ndarray]:
+def render_split_sum(
+    material: RenderMaterial,
+    roughness: float,
+    size: int,
+    basis_lut: np.ndarray,
+    schlick_lut: np.ndarray,
+    environment: Environment = STUDIO,
+) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of the split sum with the Schlick and the basis LUTs, the basis one
     compensated for multiple scattering (:mod:`preintegrate.multiple_scattering`), and their time."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
@@ -181,12 +196,47 @@ def render_split_sum(material: RenderMaterial, roughness: float, size: int, basi
     images = {
         "schlick": prefiltered * (schlick[..., :1] * f0 + schlick[..., 1:2]),
         "basis": prefiltered * basis,
-        "basis_multiple_scattering": prefiltered * compensate_lookup(basis, schlick, material.coefficients,
-                                                                     default_basis()),
+        "basis_multiple_scattering": prefiltered
+        * compensate_lookup(basis, schlick, material.coefficients, default_basis()),
     }
     for image in images.values():
         image[~mask] = 0.0
     images["seconds"] = time.perf_counter() - started
+    return images
+
+
+def render_point_light(
+    material: RenderMaterial,
+    roughness: float,
+    size: int,
+    direction=(0.5, 0.6, 0.62),
+    radiance: float = 3.0,
+    visibility: str = "height-correlated",
+) -> dict[str, np.ndarray]:
+    """Linear RGB images (S, S, 3) of a directional (punctual) light of ``radiance`` from ``direction`` on the
+    sphere: the GGX BRDF with Schlick's F, the basis' direct-light F and the exact F (module docstring)."""
+    roughness = float(check_range("roughness", roughness, 1e-3, 1.0))
+    check_choice("visibility", visibility, list(VISIBILITIES))
+    light = _unit(direction)
+    normals, mask = sphere_geometry(size)
+    view = np.array([0.0, 0.0, 1.0])
+    half = _unit(view + light)
+    mu_o, mu_l = np.clip(normals[..., 2], 0.0, 1.0), np.clip(normals @ light, 0.0, 1.0)
+    mu_h = np.clip(normals @ half, 0.0, 1.0)
+    v_dot_h = float(np.clip(view @ half, 0.0, 1.0))
+    alpha = roughness_to_alpha(roughness)
+    g2 = VISIBILITIES[visibility].g2(mu_o, mu_l, alpha)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        brdf_cos = np.where((mu_o > 0) & (mu_l > 0), ndf(mu_h, alpha) * g2 / (4.0 * mu_o), 0.0)  # ρ μl without F
+    f0 = material.curve(np.array(1.0))
+    fresnel = {
+        "schlick": f0 + (1.0 - f0) * (1.0 - v_dot_h) ** 5,
+        "basis": direct_fresnel(material.coefficients, np.full(3, v_dot_h)),
+        "exact": material.curve(np.array(v_dot_h)),
+    }
+    images = {name: radiance * brdf_cos[..., None] * np.broadcast_to(value, (3,)) for name, value in fresnel.items()}
+    for image in images.values():
+        image[~mask] = 0.0
     return images
 
 
@@ -217,9 +267,17 @@ def _uniform_points(rng: np.random.Generator, sampling: str, samples: int, pixel
 _BATCH = 16
 
 
-def render_reference(material: RenderMaterial, roughness: float, size: int, samples: int, seed: int = 0,
-                     environment: Environment = STUDIO, sampling: str = "lattice",
-                     workers: int | None = None, visibility: str = "height-correlated") -> tuple[np.ndarray, np.ndarray, float]:
+def render_reference(
+    material: RenderMaterial,
+    roughness: float,
+    size: int,
+    samples: int,
+    seed: int = 0,
+    environment: Environment = STUDIO,
+    sampling: str = "lattice",
+    workers: int | None = None,
+    visibility: str = "height-correlated",
+) -> tuple[np.ndarray, np.ndarray, float]:
     """(image (S, S, 3), spread (S, S, 3), seconds): VNDF Monte Carlo with the exact Fresnel curve.
 
     ``sampling="random"`` draws independent uniform numbers and ``spread`` is the standard error of the mean;
@@ -242,16 +300,21 @@ def render_reference(material: RenderMaterial, roughness: float, size: int, samp
     tangent = view - mu_o[:, None] * n
     length = np.linalg.norm(tangent, axis=-1, keepdims=True)
     fallback = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    tangent = np.where(length > 1e-9, tangent / np.maximum(length, 1e-300), fallback - (fallback * n).sum(-1, keepdims=True) * n)
+    tangent = np.where(
+        length > 1e-9, tangent / np.maximum(length, 1e-300), fallback - (fallback * n).sum(-1, keepdims=True) * n
+    )
     tangent /= np.linalg.norm(tangent, axis=-1, keepdims=True)
     bitangent = np.cross(n, tangent)
     total = np.zeros((n.shape[0], 3))
     total_sq = np.zeros_like(total)
 
     def accumulate(pixels: slice, u1: np.ndarray, u2: np.ndarray) -> None:
-        cos_d, local_i, weight = contributions(mu_o[None, pixels], alpha, u1[:, pixels], u2[:, pixels],
-                                               visibility=visibility)  # local frame
-        world_i = local_i[..., :1] * tangent[pixels] + local_i[..., 1:2] * bitangent[pixels] + local_i[..., 2:] * n[pixels]
+        cos_d, local_i, weight = contributions(
+            mu_o[None, pixels], alpha, u1[:, pixels], u2[:, pixels], visibility=visibility
+        )  # local frame
+        world_i = (
+            local_i[..., :1] * tangent[pixels] + local_i[..., 1:2] * bitangent[pixels] + local_i[..., 2:] * n[pixels]
+        )
         value = material.curve(cos_d) * weight[..., None] * environment.radiance(world_i)
         total[pixels] += value.sum(axis=0)
         total_sq[pixels] += (value**2).sum(axis=0)
@@ -285,4 +348,3 @@ def to_srgb8(linear: np.ndarray) -> np.ndarray:
     linear = np.clip(linear, 0.0, 1.0)
     encoded = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1.0 / 2.4) - 0.055)
     return np.round(encoded * 255.0).astype(np.uint8)
-

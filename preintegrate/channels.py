@@ -79,7 +79,7 @@ def average_albedo_channels() -> ChannelSet:
         functions=albedo_channels().functions,
         channel_names=("Y",),
         combination="Y = E_avg(r) = 2 * integral of E(mu, r) mu dmu over [0, 1], E = the Schlick table's B "
-                    "(Kulla and Conty 2017); one column, rows as in the other tables",
+        "(Kulla and Conty 2017); one column, rows as in the other tables",
     )
 
 
@@ -92,14 +92,16 @@ def schlick_table_channels() -> ChannelSet:
         functions=combine(schlick, albedo).functions,
         channel_names=schlick.channel_names + albedo.channel_names,
         combination=f"{schlick.combination}; {albedo.combination} (multiple-scattering compensation; the "
-                    "'multiscatter DFG' form some engines store is (G, B))",
+        "'multiscatter DFG' form some engines store is (G, B))",
     )
 
 
 def basis_channels(basis: Basis | None = None) -> ChannelSet:
     """One channel per basis element b_k(arccos x): R, G, B, A = b0 … b3 for K = 4."""
     basis = resolve_basis(basis)
-    names = ("R", "G", "B", "A")[: basis.n_terms] if basis.n_terms <= 4 else tuple(f"b{k}" for k in range(basis.n_terms))
+    names = (
+        ("R", "G", "B", "A")[: basis.n_terms] if basis.n_terms <= 4 else tuple(f"b{k}" for k in range(basis.n_terms))
+    )
     return ChannelSet(
         name="basis",
         functions=basis._evaluate_mu_unchecked,
@@ -111,6 +113,7 @@ def basis_channels(basis: Basis | None = None) -> ChannelSet:
 
 def combine(*channel_sets: ChannelSet) -> ChannelSet:
     """One set whose channels are all the given sets' side by side: one integration pass for all."""
+
     def functions(x: np.ndarray) -> np.ndarray:
         return np.concatenate([channels.functions(x) for channels in channel_sets], axis=-1)
 
@@ -131,7 +134,8 @@ def model_channels(name: str, **shape) -> ChannelSet:
     names = ("R", "G", "B", "A")[:count]
     fixed = {key: float(value) for key, value in shape.items() if key in model.shape}
     combination = model.combination or (
-        "Fbar = " + " + ".join(f"w{n} * {channel}" for n, channel in enumerate(names))
+        "Fbar = "
+        + " + ".join(f"w{n} * {channel}" for n, channel in enumerate(names))
         + f"; {model.name}: F = sum_n w_n t_n(cos theta), t = {model.terms_description}"
     )
     return ChannelSet(

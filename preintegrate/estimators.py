@@ -42,8 +42,14 @@ from basis.validation import ParameterError, as_float_array, check_choice, check
 
 from .ggx import VISIBILITIES, g1, ndf_inverse_cdf, sample_vndf, view_vector, visibility_g2
 
-__all__ = ["SAMPLINGS", "contributions", "hammersley_albedo", "hammersley_points", "monte_carlo_albedo",
-           "radical_inverse_base2"]
+__all__ = [
+    "SAMPLINGS",
+    "contributions",
+    "hammersley_albedo",
+    "hammersley_points",
+    "monte_carlo_albedo",
+    "radical_inverse_base2",
+]
 
 #: Importance-sampling strategies of :func:`contributions`.
 SAMPLINGS = ("ndf", "vndf")
@@ -90,10 +96,10 @@ def radical_inverse_base2(indices) -> np.ndarray:
         raise ParameterError(f"indices must be integers in [0, 2^32 - 1], got {bad!r}")
     bits = array.astype(np.uint64).astype(np.uint32)
     bits = ((bits << np.uint32(16)) | (bits >> np.uint32(16))).astype(np.uint32)
-    bits = (((bits & np.uint32(0x55555555)) << np.uint32(1)) | ((bits & np.uint32(0xAAAAAAAA)) >> np.uint32(1)))
-    bits = (((bits & np.uint32(0x33333333)) << np.uint32(2)) | ((bits & np.uint32(0xCCCCCCCC)) >> np.uint32(2)))
-    bits = (((bits & np.uint32(0x0F0F0F0F)) << np.uint32(4)) | ((bits & np.uint32(0xF0F0F0F0)) >> np.uint32(4)))
-    bits = (((bits & np.uint32(0x00FF00FF)) << np.uint32(8)) | ((bits & np.uint32(0xFF00FF00)) >> np.uint32(8)))
+    bits = ((bits & np.uint32(0x55555555)) << np.uint32(1)) | ((bits & np.uint32(0xAAAAAAAA)) >> np.uint32(1))
+    bits = ((bits & np.uint32(0x33333333)) << np.uint32(2)) | ((bits & np.uint32(0xCCCCCCCC)) >> np.uint32(2))
+    bits = ((bits & np.uint32(0x0F0F0F0F)) << np.uint32(4)) | ((bits & np.uint32(0xF0F0F0F0)) >> np.uint32(4))
+    bits = ((bits & np.uint32(0x00FF00FF)) << np.uint32(8)) | ((bits & np.uint32(0xFF00FF00)) >> np.uint32(8))
     return bits.astype(np.float64) * 2.0**-32
 
 
@@ -168,8 +174,9 @@ def hammersley_albedo(
         for first in range(0, samples, sample_chunk):
             points = slice(first, first + sample_chunk)
             # the engines feed Φ₂(i) to θ_h (NDF) or to the disk radius (VNDF), i/N to the angle
-            v_dot_h, _, weight = contributions(mu_chunk, alpha_chunk, radical[None, points], fraction[None, points],
-                                               sampling, visibility)
+            v_dot_h, _, weight = contributions(
+                mu_chunk, alpha_chunk, radical[None, points], fraction[None, points], sampling, visibility
+            )
             total += np.einsum("ts,tsk->tk", weight, functions(v_dot_h))
         result[start:stop] = total / samples
         if progress is not None:

@@ -87,10 +87,13 @@ def write_luts(items, half: bool = False, texts=(), extra_writers=(), owned: str
     tables in other formats); ``owned`` the names of the set the transaction owns (files it matches and does
     not write are removed: :func:`basis.storage.write_together`).
     """
-    writers = [(Path(path), exr_writer(table, channel_names, attributes, half))
-               for path, table, channel_names, attributes in items]
-    writers += [(Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8"))
-                for path, text in texts]
+    writers = [
+        (Path(path), exr_writer(table, channel_names, attributes, half))
+        for path, table, channel_names, attributes in items
+    ]
+    writers += [
+        (Path(path), lambda temporary, text=text: temporary.write_text(text, encoding="utf-8")) for path, text in texts
+    ]
     write_together(writers + [(Path(path), writer) for path, writer in extra_writers], owned=owned)
     return [path for path, _ in writers[: len(items)]]
 
@@ -130,8 +133,10 @@ def _check_layout(path: Path, attributes: dict[str, str], pixels: list[np.ndarra
     if "pixel_type" in attributes:
         expected = PIXEL_TYPES.get(attributes["pixel_type"])
         if expected is None or any(array.dtype != expected for array in pixels):
-            raise LutFileError(f"{path}: header pixel_type {attributes['pixel_type']!r} does not match the pixels "
-                               f"({sorted({array.dtype.name for array in pixels})})")
+            raise LutFileError(
+                f"{path}: header pixel_type {attributes['pixel_type']!r} does not match the pixels "
+                f"({sorted({array.dtype.name for array in pixels})})"
+            )
 
 
 def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
@@ -141,9 +146,11 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     """
     path = Path(path)
     if unfinished_group(path) is not None:  # a reader never renames or removes: it refuses a mixed set
-        raise LutFileError(f"{path} belongs to a group of files that a killed write left half-renamed in "
-                           f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
-                           "folder (its first step finishes the group)")
+        raise LutFileError(
+            f"{path} belongs to a group of files that a killed write left half-renamed in "
+            f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
+            "folder (its first step finishes the group)"
+        )
     if not path.is_file():
         raise LutFileError(f"LUT file {path} does not exist")
     try:

@@ -49,7 +49,18 @@ from basis.validation import ParameterError, as_float_array
 
 from .exr import exr_writer, stored_values
 
-__all__ = ["FORMATS", "Format", "c_header", "check_formats", "file_family", "payload_hash", "ktx2_bytes", "png16_bytes", "png16_encoding"]
+__all__ = [
+    "FORMATS",
+    "Format",
+    "c_header",
+    "check_formats",
+    "file_family",
+    "payload_hash",
+    "ktx2_bytes",
+    "png16_bytes",
+    "png16_encoding",
+]
+
 
 @dataclasses.dataclass(frozen=True)
 class Format:
@@ -73,18 +84,39 @@ def _half_rounded(table, half: bool) -> np.ndarray:
 
 
 #: Registry: the formats of ``fresnel-lut build --format`` and ``fresnel-lut scene --format``.
-FORMATS = {fmt.name: fmt for fmt in (
-    Format("exr", ".exr", lambda table, names, attributes, name, half: exr_writer(table, names, attributes, half),
-           "OpenEXR, ZIP scanlines, float32 (half with --half)"),
-    Format("ktx2", ".ktx2", lambda table, names, attributes, name, half: _bytes_writer(ktx2_bytes(table, attributes, half)),
-           "KTX2, RGBA32F (RGBA16F with --half)"),
-    Format("png16", ".png", lambda table, names, attributes, name, half:
-           _bytes_writer(png16_bytes(_half_rounded(table, half), attributes)),
-           "16-bit PNG, offset and scale per channel in the file"),
-    Format("header", ".h", lambda table, names, attributes, name, half:
-           _bytes_writer(c_header(_half_rounded(table, half), name, names, attributes).encode("utf-8")),
-           "C/C++ header of float arrays"),
-)}
+FORMATS = {
+    fmt.name: fmt
+    for fmt in (
+        Format(
+            "exr",
+            ".exr",
+            lambda table, names, attributes, name, half: exr_writer(table, names, attributes, half),
+            "OpenEXR, ZIP scanlines, float32 (half with --half)",
+        ),
+        Format(
+            "ktx2",
+            ".ktx2",
+            lambda table, names, attributes, name, half: _bytes_writer(ktx2_bytes(table, attributes, half)),
+            "KTX2, RGBA32F (RGBA16F with --half)",
+        ),
+        Format(
+            "png16",
+            ".png",
+            lambda table, names, attributes, name, half: _bytes_writer(
+                png16_bytes(_half_rounded(table, half), attributes)
+            ),
+            "16-bit PNG, offset and scale per channel in the file",
+        ),
+        Format(
+            "header",
+            ".h",
+            lambda table, names, attributes, name, half: _bytes_writer(
+                c_header(_half_rounded(table, half), name, names, attributes).encode("utf-8")
+            ),
+            "C/C++ header of float arrays",
+        ),
+    )
+}
 
 
 def check_formats(formats) -> list[str]:
@@ -99,8 +131,11 @@ def check_formats(formats) -> list[str]:
 def file_family(stems) -> str:
     """A regular expression of the files the tables ``stems`` are, in every format of :data:`FORMATS`: the set
     a build owns in its folder (:func:`basis.storage.write_together`'s ``owned``)."""
-    return (f"(?:{'|'.join(re.escape(stem) for stem in sorted(set(stems)))})"
-            f"(?:{'|'.join(re.escape(fmt.suffix) for fmt in FORMATS.values())})")
+    return (
+        f"(?:{'|'.join(re.escape(stem) for stem in sorted(set(stems)))})"
+        f"(?:{'|'.join(re.escape(fmt.suffix) for fmt in FORMATS.values())})"
+    )
+
 
 KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 #: VkFormat of an RGBA float table by bytes per channel.
@@ -140,18 +175,31 @@ def _sealed(attributes: dict[str, str], pixel_type: str, payload: bytes) -> dict
 def _ktx2_descriptor(bytes_per_channel: int) -> bytes:
     """The data format descriptor of RGBA signed float: total size, then one basic block (KDFS §5)."""
     samples = b"".join(
-        struct.pack("<HBB4xff", 8 * bytes_per_channel * channel, 8 * bytes_per_channel - 1,
-                    (_ALPHA if channel == 3 else channel) | _FLOAT_SIGNED, -1.0, 1.0)
+        struct.pack(
+            "<HBB4xff",
+            8 * bytes_per_channel * channel,
+            8 * bytes_per_channel - 1,
+            (_ALPHA if channel == 3 else channel) | _FLOAT_SIGNED,
+            -1.0,
+            1.0,
+        )
         for channel in range(4)
     )
-    block = struct.pack("<IHHBBBB4B8B", 0, 2, 24 + len(samples), 1, 1, 1, 0, 0, 0, 0, 0,
-                        4 * bytes_per_channel, 0, 0, 0, 0, 0, 0, 0) + samples
+    block = (
+        struct.pack(
+            "<IHHBBBB4B8B", 0, 2, 24 + len(samples), 1, 1, 1, 0, 0, 0, 0, 0, 4 * bytes_per_channel, 0, 0, 0, 0, 0, 0, 0
+        )
+        + samples
+    )
     return struct.pack("<I", 4 + len(block)) + block
 
 
 def _ktx2_key_values(attributes: dict[str, str], writer: str) -> bytes:
-    pairs = {"KTXorientation": "rd", "KTXwriter": writer,
-             **{f"fresnel:{key}": value for key, value in attributes.items()}}
+    pairs = {
+        "KTXorientation": "rd",
+        "KTXwriter": writer,
+        **{f"fresnel:{key}": value for key, value in attributes.items()},
+    }
     data = b""
     for key in sorted(pairs, key=lambda name: name.encode("utf-8")):
         entry = key.encode("utf-8") + b"\x00" + pairs[key].encode("utf-8") + b"\x00"
@@ -164,8 +212,9 @@ def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False
     table, attributes = _checked_table("a KTX2 LUT", table, attributes)
     height, width, channels = table.shape
     size = 2 if half else 4
-    rgba = np.concatenate([table, np.zeros((height, width, max(0, 3 - channels))),
-                           np.ones((height, width, 4 - max(channels, 3)))], axis=2)
+    rgba = np.concatenate(
+        [table, np.zeros((height, width, max(0, 3 - channels))), np.ones((height, width, 4 - max(channels, 3)))], axis=2
+    )
     texels = stored_values(rgba, half).astype("<f2" if half else "<f4").tobytes()
     attributes = _sealed(attributes, "half" if half else "float32", texels)
     descriptor = _ktx2_descriptor(size)
@@ -178,6 +227,7 @@ def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False
     index = struct.pack("<4I2Q", header_size, len(descriptor), key_values_offset, len(key_values), 0, 0)
     levels = struct.pack("<3Q", level_offset, len(texels), len(texels))
     return header + index + levels + descriptor + key_values + b"\x00" * (level_offset - end) + texels
+
 
 #: PNG colour type by channel count: grey, grey + alpha, RGB, RGBA.
 _COLOUR_TYPE = {1: 0, 2: 4, 3: 2, 4: 6}
@@ -207,12 +257,17 @@ def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
     texels = np.round(np.clip((table - offset) / scale, 0.0, 1.0) * 65535.0).astype(">u2")
     attributes = _sealed(attributes, "uint16", texels.tobytes())
     rows = b"".join(b"\x00" + row.tobytes() for row in texels.reshape(height, width * channels))  # filter 0
-    encoding = {"offset": offset.tolist(), "scale": scale.tolist(),
-                "rule": "value = offset[c] + scale[c] * texel / 65535 for channel c"}
+    encoding = {
+        "offset": offset.tolist(),
+        "scale": scale.tolist(),
+        "rule": "value = offset[c] + scale[c] * texel / 65535 for channel c",
+    }
     text = {**{f"fresnel:{key}": value for key, value in attributes.items()}, "fresnel:encoding": json.dumps(encoding)}
     chunks = [_chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 16, _COLOUR_TYPE[channels], 0, 0, 0))]
-    chunks += [_chunk(b"tEXt", key.encode("latin-1") + b"\x00" + value.encode("latin-1", "replace"))
-               for key, value in text.items()]
+    chunks += [
+        _chunk(b"tEXt", key.encode("latin-1") + b"\x00" + value.encode("latin-1", "replace"))
+        for key, value in text.items()
+    ]
     chunks += [_chunk(b"IDAT", zlib.compress(rows, 9)), _chunk(b"IEND", b"")]
     return b"\x89PNG\r\n\x1a\n" + b"".join(chunks)
 
@@ -226,11 +281,13 @@ def c_header(table: np.ndarray, name: str, channel_names, attributes: dict[str, 
     height, width, channels = table.shape
     values = table.astype(np.float32).ravel()
     attributes = _sealed(attributes, "float32", values.astype("<f4").tobytes())
-    body = ",\n".join("    " + ", ".join(f"{float(v)!r}f" for v in values[i:i + 8]) for i in range(0, values.size, 8))
+    body = ",\n".join("    " + ", ".join(f"{float(v)!r}f" for v in values[i : i + 8]) for i in range(0, values.size, 8))
     upper = name.upper()
     notes = "\n".join(f" * {key}: {value}".replace("*/", "* /") for key, value in attributes.items())
-    return (f"/* fresnel-basis LUT {name}: {height} rows x {width} columns x {channels} channels "
-            f"({', '.join(channel_names)}), float32.\n * Element [j][i][c] = {name}[(j * {width} + i) * {channels} + c].\n"
-            f"{notes}\n */\n#ifndef {upper}_H\n#define {upper}_H\n\n"
-            f"#define {upper}_WIDTH {width}\n#define {upper}_HEIGHT {height}\n#define {upper}_CHANNELS {channels}\n\n"
-            f"static const float {name}[{values.size}] = {{\n{body}\n}};\n\n#endif\n")
+    return (
+        f"/* fresnel-basis LUT {name}: {height} rows x {width} columns x {channels} channels "
+        f"({', '.join(channel_names)}), float32.\n * Element [j][i][c] = {name}[(j * {width} + i) * {channels} + c].\n"
+        f"{notes}\n */\n#ifndef {upper}_H\n#define {upper}_H\n\n"
+        f"#define {upper}_WIDTH {width}\n#define {upper}_HEIGHT {height}\n#define {upper}_CHANNELS {channels}\n\n"
+        f"static const float {name}[{values.size}] = {{\n{body}\n}};\n\n#endif\n"
+    )

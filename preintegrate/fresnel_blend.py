@@ -34,7 +34,12 @@ from basis.validation import check_positive_int, check_range
 from .channels import schlick_channels
 from .ggx import ndf, ndf_inverse_cdf
 
-__all__ = ["fresnel_blend_albedo", "fresnel_blend_brdf", "fresnel_blend_diffuse_albedo", "fresnel_blend_specular_albedo"]
+__all__ = [
+    "fresnel_blend_albedo",
+    "fresnel_blend_brdf",
+    "fresnel_blend_diffuse_albedo",
+    "fresnel_blend_specular_albedo",
+]
 
 
 def _diffuse_factor(mu):
@@ -104,4 +109,6 @@ def fresnel_blend_specular_albedo(mu_o, alpha, rs, nodes_u: int = 256, nodes_phi
 
 def fresnel_blend_albedo(mu_o, alpha, rd, rs, nodes_u: int = 256, nodes_phi: int = 256) -> np.ndarray:
     """E(μo, α) = E_d + E_s of pbrt's FresnelBlend with a GGX distribution of width α."""
-    return fresnel_blend_diffuse_albedo(mu_o, rd, rs) + fresnel_blend_specular_albedo(mu_o, alpha, rs, nodes_u, nodes_phi)
+    return fresnel_blend_diffuse_albedo(mu_o, rd, rs) + fresnel_blend_specular_albedo(
+        mu_o, alpha, rs, nodes_u, nodes_phi
+    )

@@ -120,12 +120,23 @@ class Visibility:
 
 #: Registry: the masking-shadowing forms a table can be built for (``fresnel-lut build --visibility``, a scene's
 #: ``visibility``); an engine's table must match its own BRDF (the two differ by up to 0.15 at r = 0.8 near grazing).
-VISIBILITIES = {visibility.name: visibility for visibility in (
-    Visibility("height-correlated", g2_height_correlated, "height-correlated Smith G2",
-               "height-correlated Smith G2 (Heitz 2014 eq. 99; most real-time engines)"),
-    Visibility("separable", g2_separable, "separable Smith G2 = G1(omega_o) * G1(omega_i)",
-               "separable G1(o) G1(i) (Heitz 2014 eq. 98; several offline renderers)"),
-)}
+VISIBILITIES = {
+    visibility.name: visibility
+    for visibility in (
+        Visibility(
+            "height-correlated",
+            g2_height_correlated,
+            "height-correlated Smith G2",
+            "height-correlated Smith G2 (Heitz 2014 eq. 99; most real-time engines)",
+        ),
+        Visibility(
+            "separable",
+            g2_separable,
+            "separable Smith G2 = G1(omega_o) * G1(omega_i)",
+            "separable G1(o) G1(i) (Heitz 2014 eq. 98; several offline renderers)",
+        ),
+    )
+}
 
 
 def visibility_g2(name: str) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:

@@ -109,8 +109,10 @@ class LutGrid:
         else:
             check_positive_int("height", self.height, low=1, high=8192)
             if high < low or (self.height > 1 and high == low):
-                raise ParameterError(f"roughness_range must be (low, high) with low < high (low = high for one row), "
-                                     f"got {(low, high)} for {self.height} rows")
+                raise ParameterError(
+                    f"roughness_range must be (low, high) with low < high (low = high for one row), "
+                    f"got {(low, high)} for {self.height} rows"
+                )
         object.__setattr__(self, "roughness_range", (low, high))
 
     @property
@@ -138,14 +140,18 @@ class LutGrid:
             rows = "row j <-> perceptual roughness r = (j + 0.5) / height"
         elif self.height > 1:
             low, high = (f"{value:.6g}" for value in self.roughness_range)
-            rows = (f"row j <-> perceptual roughness r = {low} + j * ({high} - {low}) / (height - 1) (rows at the range's "
-                    f"end points; engine: v = ((r - {low}) / ({high} - {low}) * (height - 1) + 0.5) / height)")
+            rows = (
+                f"row j <-> perceptual roughness r = {low} + j * ({high} - {low}) / (height - 1) (rows at the range's "
+                f"end points; engine: v = ((r - {low}) / ({high} - {low}) * (height - 1) + 0.5) / height)"
+            )
         else:
             rows = f"one row, at perceptual roughness r = {self.roughness_range[0]:.6g} (engine: v = 0.5)"
-        return (f"column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; {rows}, GGX alpha = r^2; row 0 first in the "
-                "file (top); texel centres; values are directional albedos Fbar_k(mu_o, alpha) = integral of "
-                "f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
-                f"GGX with {VISIBILITIES[self.visibility].header}")
+        return (
+            f"column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; {rows}, GGX alpha = r^2; row 0 first in the "
+            "file (top); texel centres; values are directional albedos Fbar_k(mu_o, alpha) = integral of "
+            "f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
+            f"GGX with {VISIBILITIES[self.visibility].header}"
+        )
 
     def lookup(self, table: np.ndarray, mu_o, roughness) -> np.ndarray:
         """Bilinear, clamp-to-edge fetch of a table on this grid at (μo, r), as a GPU samples it at level 0."""
@@ -229,14 +235,19 @@ def build_table(
     return compute(channels.functions, grid.mu_o[None, :], grid.alpha[:, None], progress, grid.visibility, **options)
 
 
-def lut_attributes(channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION,
-                   **extra) -> dict[str, str]:
+def lut_attributes(
+    channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION, **extra
+) -> dict[str, str]:
     """The header of a table of ``channels``: convention, size, channel names, the engine's combination
     rule, the generating command and any ``extra`` attributes (quadrature, basis hash, …)."""
     return {
-        "convention": convention, "width": str(width), "height": str(height),
-        "generator": f"{GENERATOR} ({command})", "channel_set": channels.name,
-        "channels": ",".join(channels.channel_names), "combination": channels.combination,
+        "convention": convention,
+        "width": str(width),
+        "height": str(height),
+        "generator": f"{GENERATOR} ({command})",
+        "channel_set": channels.name,
+        "channels": ",".join(channels.channel_names),
+        "combination": channels.combination,
         **{key: str(value) for key, value in extra.items()},
     }
 
@@ -281,5 +292,6 @@ def _bilinear(table: np.ndarray, mu_o, roughness, columns: np.ndarray, rows: np.
         y0, fy = _clamped_position(roughness, rows)
         y1 = y0 + 1
     fx, fy = fx[..., None], fy[..., None]
-    return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
-            + fy * ((1 - fx) * table[y1, x0] + fx * table[y1, x0 + 1]))
+    return (1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1]) + fy * (
+        (1 - fx) * table[y1, x0] + fx * table[y1, x0 + 1]
+    )

@@ -55,8 +55,13 @@ def average_albedo(roughness, visibility: str = "height-correlated", order=DEFAU
     roughness = check_range("roughness", roughness, 0.0, 1.0)
     nodes, weights = np.polynomial.legendre.leggauss(AVERAGE_NODES)
     mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
-    albedo = directional_albedo(lambda x: np.ones(x.shape + (1,)), mu, roughness_to_alpha(roughness)[..., None],
-                                order=order, visibility=visibility)[..., 0]
+    albedo = directional_albedo(
+        lambda x: np.ones(x.shape + (1,)),
+        mu,
+        roughness_to_alpha(roughness)[..., None],
+        order=order,
+        visibility=visibility,
+    )[..., 0]
     return 2.0 * albedo @ (weights * mu)
 
 
@@ -71,8 +76,14 @@ def compensated_albedo(single_scattering, albedo, average_fresnel) -> np.ndarray
     return single_scattering + single_scattering * average_fresnel / (1.0 - lost * average_fresnel) * lost
 
 
-def basis_albedo(coefficients, mu_o, roughness, basis: Basis | None = None, multiple_scattering: bool = True,
-                 tables: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+def basis_albedo(
+    coefficients,
+    mu_o,
+    roughness,
+    basis: Basis | None = None,
+    multiple_scattering: bool = True,
+    tables: tuple[np.ndarray, np.ndarray] | None = None,
+) -> np.ndarray:
     """F̄ per colour channel (..., 3) of a material's coefficients (3, K) at (μo, r) from the shipped LUTs
     (or ``tables`` = (basis table, Schlick table)), bilinear as a GPU reads them, compensated for multiple
     scattering unless ``multiple_scattering`` is False."""
@@ -93,7 +104,11 @@ def compensate_lookup(single_scattering, schlick_texels, coefficients, basis: Ba
     """:func:`compensated_albedo` of a basis split sum (..., 3) from Schlick-table texels (..., ≥ 2): E =
     scale + bias (the B channel where there is one), F_avg = Σ c_k avg(b_k); both clipped to [0, 1], which
     float32 rounding and out-of-gamut colours (an sRGB F_avg above 1) can leave."""
-    albedo = np.clip(schlick_texels[..., 0] + schlick_texels[..., 1], 0.0, 1.0)
+    # one definition of E with the shaders: the stored B channel (a scene's two-channel table: scale + bias)
+    stored = (
+        schlick_texels[..., 2] if schlick_texels.shape[-1] >= 3 else schlick_texels[..., 0] + schlick_texels[..., 1]
+    )
+    albedo = np.clip(stored, 0.0, 1.0)
     average = np.clip(np.asarray(coefficients) @ basis.hemispherical_averages, 0.0, 1.0)
     return compensated_albedo(single_scattering, albedo, average)
 

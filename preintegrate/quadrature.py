@@ -57,8 +57,15 @@ from basis.validation import ParameterError, check_choice, check_positive_int, c
 
 from .ggx import VISIBILITIES, g2_denominator
 
-__all__ = ["DEFAULT_ORDER", "LagrangeCardinals", "QuadratureOrder", "QuadratureSchedule", "directional_albedo",
-           "lagrange_cardinals", "texel_weights"]
+__all__ = [
+    "DEFAULT_ORDER",
+    "LagrangeCardinals",
+    "QuadratureOrder",
+    "QuadratureSchedule",
+    "directional_albedo",
+    "lagrange_cardinals",
+    "texel_weights",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -123,11 +130,15 @@ class QuadratureSchedule:
 
     def scaled(self, factor: float) -> "QuadratureSchedule":
         """Every node count multiplied by ``factor`` (rounded, at least 2): a cheaper or dearer schedule."""
-        def scale(order: QuadratureOrder) -> QuadratureOrder:
-            return QuadratureOrder(*(max(2, int(round(getattr(order, field.name) * factor)))
-                                     for field in dataclasses.fields(order)))
 
-        return dataclasses.replace(self, regular=scale(self.regular), stiff=scale(self.stiff), extreme=scale(self.extreme))
+        def scale(order: QuadratureOrder) -> QuadratureOrder:
+            return QuadratureOrder(
+                *(max(2, int(round(getattr(order, field.name) * factor))) for field in dataclasses.fields(order))
+            )
+
+        return dataclasses.replace(
+            self, regular=scale(self.regular), stiff=scale(self.stiff), extreme=scale(self.extreme)
+        )
 
     def tiers(self, mu_o: np.ndarray, alpha: np.ndarray) -> list[tuple[np.ndarray, QuadratureOrder]]:
         """(mask, order) for each tier; the masks partition the texels."""
@@ -195,7 +206,11 @@ def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
     def half_vector(sin_s, cos_s, weight):
         """sin θ_h, cos θ_h and the weight times the measure 2 sin θ' √(α² sin²θ' + cos²θ') (module notes)."""
         norm = np.sqrt((alpha_column * sin_s) ** 2 + cos_s**2)
-        return (alpha_column * sin_s / norm)[:, :, None], (cos_s / norm)[:, :, None], (weight * 2.0 * sin_s * norm)[:, :, None]
+        return (
+            (alpha_column * sin_s / norm)[:, :, None],
+            (cos_s / norm)[:, :, None],
+            (weight * 2.0 * sin_s * norm)[:, :, None],
+        )
 
     def piece(sin_h, mu_h, cos_phi, weight):
         x = sin_o * sin_h * cos_phi + cos_o * mu_h
@@ -228,7 +243,9 @@ def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
 
 
-def _integrate_batch(functions, mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder, visibility: str) -> np.ndarray:
+def _integrate_batch(
+    functions, mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder, visibility: str
+) -> np.ndarray:
     """(T, K) directional albedos of one batch of rough texels."""
     total = 0.0
     for x, mu_i, weight in _texel_pieces(mu_o, alpha, order):
@@ -307,7 +324,10 @@ def directional_albedo(
     rough_count = int(np.count_nonzero(~mirror))
     workers = worker_count(workers)
     with one_blas_thread(), concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order, visibility) for index, batch_order in batches]
+        futures = [
+            pool.submit(_integrate_batch, functions, mu_o[index], alpha[index], batch_order, visibility)
+            for index, batch_order in batches
+        ]
         try:
             done = 0
             for (index, _), future in zip(batches, futures):

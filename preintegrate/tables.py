@@ -1,6 +1,6 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
-Public objects: ``Table``, ``DEFAULT_SET``, ``rgba_tables``, ``default_tables``, ``model_table``, ``table_file_name``,
+Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
@@ -25,14 +25,32 @@ from basis.models import fresnel_model
 from basis.storage import write_together
 from basis.validation import ParameterError, check_positive_int
 
-from .channels import ChannelSet, average_albedo_channels, basis_channels, combine, model_channels, schlick_table_channels
+from .channels import (
+    ChannelSet,
+    average_albedo_channels,
+    basis_channels,
+    combine,
+    model_channels,
+    schlick_table_channels,
+)
 from .formats import FORMATS, check_formats, file_family
 from .lut import AVERAGE_LUT, BASIS_LUT, RGBA, SCHLICK_LUT, LutGrid, build_table, lut_attributes, model_lut_name
 from .multiple_scattering import AVERAGE_NODES, average_albedo
 from .quadrature import DEFAULT_ORDER
+from .shaders import SHADER_INCLUDES, shader_includes
 
-__all__ = ["DEFAULT_SET", "Table", "default_tables", "model_table", "rgba_tables", "table_file_name", "write_default_build",
-           "write_model_build", "write_tables"]
+__all__ = [
+    "DEFAULT_BUILD_FILES",
+    "DEFAULT_SET",
+    "Table",
+    "default_tables",
+    "model_table",
+    "rgba_tables",
+    "table_file_name",
+    "write_default_build",
+    "write_model_build",
+    "write_tables",
+]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -53,6 +71,10 @@ def _stem(file_name: str) -> str:
 #: The stems of the default build's set: the basis table (terms 4 … 7 of a larger basis in ``_2``), Schlick's
 #: table and E_avg. A default build owns these in every format: those it does not write are removed.
 DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
+
+
+#: Every file of a default build of a four-term basis: the tables and the generated shader includes.
+DEFAULT_BUILD_FILES = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT, *(name for name, _ in SHADER_INCLUDES.values()))
 
 
 def table_file_name(name: str, format_name: str = "exr") -> str:
@@ -76,8 +98,13 @@ def rgba_tables(name: str, values: np.ndarray, attributes: dict[str, str]) -> li
     return tables
 
 
-def default_tables(basis: Basis | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
-                   progress: Callable[[int, int], None] | None = None, command: str = "fresnel-lut build") -> list[Table]:
+def default_tables(
+    basis: Basis | None = None,
+    grid: LutGrid | None = None,
+    order=DEFAULT_ORDER,
+    progress: Callable[[int, int], None] | None = None,
+    command: str = "fresnel-lut build",
+) -> list[Table]:
     """The tables of a default build on ``grid`` (default 128 × 128, height-correlated): the basis and Schlick
     channels integrated in one pass, then E_avg(r) at the grid's rows (Kulla and Conty 2017)."""
     basis = resolve_basis(basis)
@@ -87,23 +114,49 @@ def default_tables(basis: Basis | None = None, grid: LutGrid | None = None, orde
     basis_set, schlick_set, average_set = basis_channels(basis), schlick_table_channels(), average_albedo_channels()
     values = build_table(combine(basis_set, schlick_set), grid, order=order, progress=progress)
     k, quadrature, convention = basis_set.n_channels, order.describe(), grid.convention
-    basis_header = lut_attributes(basis_set, grid.width, grid.height, command, convention, quadrature=quadrature,
-                                  basis_hash=basis.content_hash,
-                                  basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles))
+    basis_header = lut_attributes(
+        basis_set,
+        grid.width,
+        grid.height,
+        command,
+        convention,
+        quadrature=quadrature,
+        basis_hash=basis.content_hash,
+        basis_fit_angles=",".join(f"{angle:.6f}" for angle in basis.fit_angles),
+    )
     average = average_albedo(grid.roughness, grid.visibility, order)[:, None, None]
     return [
         *rgba_tables(_stem(BASIS_LUT), values[:, :, :k], basis_header),
-        Table(_stem(SCHLICK_LUT), values[:, :, k:], schlick_set.channel_names,
-              lut_attributes(schlick_set, grid.width, grid.height, command, convention, quadrature=quadrature)),
-        Table(_stem(AVERAGE_LUT), average, average_set.channel_names,
-              lut_attributes(average_set, 1, grid.height, command, f"one column; rows as in: {convention}",
-                             quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}")),
+        Table(
+            _stem(SCHLICK_LUT),
+            values[:, :, k:],
+            schlick_set.channel_names,
+            lut_attributes(schlick_set, grid.width, grid.height, command, convention, quadrature=quadrature),
+        ),
+        Table(
+            _stem(AVERAGE_LUT),
+            average,
+            average_set.channel_names,
+            lut_attributes(
+                average_set,
+                1,
+                grid.height,
+                command,
+                f"one column; rows as in: {convention}",
+                quadrature=f"{AVERAGE_NODES} Gauss-Legendre nodes in mu, each: {quadrature}",
+            ),
+        ),
     ]
 
 
-def model_table(model: str, shape: dict | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
-                progress: Callable[[int, int], None] | None = None,
-                command: str = "fresnel-lut build --model") -> tuple[Table, ChannelSet]:
+def model_table(
+    model: str,
+    shape: dict | None = None,
+    grid: LutGrid | None = None,
+    order=DEFAULT_ORDER,
+    progress: Callable[[int, int], None] | None = None,
+    command: str = "fresnel-lut build --model",
+) -> tuple[Table, ChannelSet]:
     """The exact split-sum table of a linear model with its shape parameters (defaults filled in), named by both
     (:func:`preintegrate.lut.model_lut_name`), and its channel set (whose ``combination`` says how to read it)."""
     grid = LutGrid(128, 128) if grid is None else grid
@@ -116,13 +169,27 @@ def model_table(model: str, shape: dict | None = None, grid: LutGrid | None = No
     shape = found.shape_values(**given)
     channels = model_channels(found.name, **shape)
     values = build_table(channels, grid, order=order, progress=progress)
-    header = lut_attributes(channels, grid.width, grid.height, command, grid.convention, quadrature=order.describe(),
-                            **{f"model_{key}": value for key, value in channels.provenance.items()})
+    header = lut_attributes(
+        channels,
+        grid.width,
+        grid.height,
+        command,
+        grid.convention,
+        quadrature=order.describe(),
+        **{f"model_{key}": value for key, value in channels.provenance.items()},
+    )
     return Table(_stem(model_lut_name(found.name, shape)), values, channels.channel_names, header), channels
 
 
-def write_tables(tables: Sequence[Table], out, formats=("exr",), half: bool = False, texts=(),
-                 owned: Sequence[str] = (), owned_files: Sequence[str] = ()) -> list[Path]:
+def write_tables(
+    tables: Sequence[Table],
+    out,
+    formats=("exr",),
+    half: bool = False,
+    texts=(),
+    owned: Sequence[str] = (),
+    owned_files: Sequence[str] = (),
+) -> list[Path]:
     """Write ``tables`` into the folder ``out`` in every format asked for, with ``texts`` ((file name, UTF-8 text)
     pairs that belong to the same build), as one transaction; the paths written, tables first.
 
@@ -139,8 +206,12 @@ def write_tables(tables: Sequence[Table], out, formats=("exr",), half: bool = Fa
             raise ParameterError(f"tables must be Table records, got {type(table).__name__}")
         for name in formats:
             fmt = FORMATS[name]
-            writers.append((out / table_file_name(table.name, name),
-                            fmt.writer(table.values, table.channel_names, table.attributes, table.name, half)))
+            writers.append(
+                (
+                    out / table_file_name(table.name, name),
+                    fmt.writer(table.values, table.channel_names, table.attributes, table.name, half),
+                )
+            )
     writers += [(out / name, lambda path, text=text: path.write_text(text, encoding="utf-8")) for name, text in texts]
     if not writers:
         raise ParameterError("write_tables needs at least one table or text to write")
@@ -148,17 +219,42 @@ def write_tables(tables: Sequence[Table], out, formats=("exr",), half: bool = Fa
     return write_together(writers, owned="|".join(patterns) or None)
 
 
-def write_default_build(out, basis: Basis | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
-                        formats=("exr",), half: bool = False, progress: Callable[[int, int], None] | None = None
-                        ) -> list[Path]:
-    """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`."""
+def write_default_build(
+    out,
+    basis: Basis | None = None,
+    grid: LutGrid | None = None,
+    order=DEFAULT_ORDER,
+    formats=("exr",),
+    half: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[Path]:
+    """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
+    the shader includes generated from the same basis (:mod:`preintegrate.shaders`; four-term bases) in the same
+    transaction, so that tables and per-pixel coefficients always share one basis."""
     formats = check_formats(formats)  # refused before the work
-    return write_tables(default_tables(basis, grid, order, progress), out, formats, half, owned=DEFAULT_SET)
+    basis = resolve_basis(basis)
+    includes = shader_includes(basis, grid=grid) if basis.n_terms == 4 else []
+    return write_tables(
+        default_tables(basis, grid, order, progress),
+        out,
+        formats,
+        half,
+        texts=includes,
+        owned=DEFAULT_SET,
+        owned_files=[name for name, _ in SHADER_INCLUDES.values()],
+    )
 
 
-def write_model_build(out, model: str, shape: dict | None = None, grid: LutGrid | None = None, order=DEFAULT_ORDER,
-                      formats=("exr",), half: bool = False, progress: Callable[[int, int], None] | None = None
-                      ) -> tuple[list[Path], ChannelSet]:
+def write_model_build(
+    out,
+    model: str,
+    shape: dict | None = None,
+    grid: LutGrid | None = None,
+    order=DEFAULT_ORDER,
+    formats=("exr",),
+    half: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[list[Path], ChannelSet]:
     """``fresnel-lut build --model``: :func:`model_table` written by :func:`write_tables`, owning its own table."""
     formats = check_formats(formats)
     table, channels = model_table(model, shape, grid, order, progress)

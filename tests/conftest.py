@@ -43,3 +43,173 @@ def fail_on_call(monkeypatch, owner, name, call, failure):
         return original(*arguments)
 
     monkeypatch.setattr(owner, name, patched)
+
+
+def gpu_missing(what: str):
+    """Skip a GPU test whose tool is not installed here; under ``CI=true`` fail instead (the set-up installs it)."""
+    import os
+
+    import pytest
+
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"{what} is missing: the project's set-up installs it (make .venv/.installed-stamp as root)")
+    pytest.skip(f"{what} is not installed here (the set-up installs it as root)")
+
+
+GL_VERTEX = """#version 330
+in vec2 position;
+void main() { gl_Position = vec4(position, 0.0, 1.0); }
+"""
+
+
+def gl_draw(fragment: str, textures, uniforms: dict, outputs: int, size: int = 32, mipmaps: bool = False):
+    """Run ``fragment`` on Mesa's llvmpipe (headless EGL, moderngl) over a ``size`` × ``size`` framebuffer of
+    ``outputs`` RGBA32F colour attachments; ``textures`` (float arrays (H, W, C)) are bound to units 0, 1, … with
+    bilinear filtering and clamp to edge (and mipmaps if asked). Returns each attachment as (size², 4)."""
+    import numpy as np
+
+    try:
+        import moderngl
+    except ImportError:
+        gpu_missing("moderngl (the 'gpu' extra)")
+    try:
+        context = moderngl.create_standalone_context(backend="egl")
+    except Exception as error:  # noqa: BLE001 - no EGL/Mesa: a missing system library
+        gpu_missing(f"a headless OpenGL context (Mesa's EGL: {error})")
+    try:
+        for unit, table in enumerate(textures):
+            table = np.asarray(table, dtype="f4")
+            texture = context.texture(table.shape[1::-1], table.shape[2], table.tobytes(), dtype="f4")
+            texture.repeat_x = texture.repeat_y = False  # clamp to edge
+            if mipmaps:
+                texture.build_mipmaps()
+                texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+            else:
+                texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            texture.use(unit)
+        program = context.program(vertex_shader=GL_VERTEX, fragment_shader=fragment)
+        for name, value in uniforms.items():
+            program[name] = value
+        targets = [context.texture((size, size), 4, dtype="f4") for _ in range(outputs)]
+        framebuffer = context.framebuffer(color_attachments=targets)
+        framebuffer.use()
+        quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
+        context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
+        return [
+            np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4").reshape(size * size, 4)
+            for k in range(outputs)
+        ]
+    finally:
+        context.release()
+
+
+def per_pixel_inputs():
+    """(1024, 4) texels (η, κ, a, b) of the per-pixel shader tests: the documented ranges, their edges (η → 1,
+    η < 1, κ → 10⁴, r → 1, g at 0 and 1) and bad values (NaN, ±inf, negative, beyond the range)."""
+    import numpy as np
+
+    rng = np.random.default_rng(23)
+    eta_special = [1.0, 1.0 + 1e-6, 1.0 - 1e-6, 0.5, 0.67, 1e-4, 1e4, 1e6, 0.0, -1.0, np.nan, np.inf, -np.inf]
+    kappa_special = [0.0, 1e-6, 1e4, 1e6, -1.0, np.nan, np.inf]
+    unit_special = [0.0, 1.0, 0.9999, 0.99999, 1e-7, -0.5, 1.5, np.nan, np.inf, -np.inf]
+    count = 1024
+    eta = np.exp(rng.uniform(np.log(1e-2), np.log(50.0), count))
+    kappa = np.where(rng.random(count) < 0.3, 0.0, np.exp(rng.uniform(np.log(1e-3), np.log(20.0), count)))
+    a, b = rng.uniform(0.0, 1.0, count), rng.uniform(0.0, 1.0, count)
+    eta[: len(eta_special) * len(kappa_special)] = np.repeat(eta_special, len(kappa_special))
+    kappa[: len(eta_special) * len(kappa_special)] = np.tile(kappa_special, len(eta_special))
+    a[200 : 200 + len(unit_special) ** 2] = np.repeat(unit_special, len(unit_special))
+    b[200 : 200 + len(unit_special) ** 2] = np.tile(unit_special, len(unit_special))
+    return np.stack([eta, kappa, a, b], axis=-1)
+
+
+#: The per-pixel shader tests' outputs, in order: the call each makes of the generated include on texel q.
+PER_PIXEL_CALLS = (
+    "fresnelCoefficientsNK(q.x, q.y)",
+    "fresnelCoefficientsGulbrandsen(q.z, q.w)",
+    "fresnelCoefficientsSchlick(q.z, q.w)",
+    "fresnelCoefficientsF82(q.z, q.w)",
+    "fresnelCoefficientsF82Tint(q.z, q.w)",
+    "fresnelCoefficientsGeneralizedAdobe(q.z, 1.0, q.w)",
+    "fresnelBasisCurves(q.z)",
+    "fresnelBasisLutUV(q.z, q.w).xyxy",
+)
+
+
+def per_pixel_expected(inputs):
+    """The Python mirrors (preintegrate.shaders) of every call of :data:`PER_PIXEL_CALLS`, (1024, 4) each, for the
+    texels as float32 holds them."""
+    import numpy as np
+
+    from preintegrate.shaders import (
+        coefficients_per_pixel_gulbrandsen,
+        coefficients_per_pixel_model,
+        coefficients_per_pixel_nk,
+        direct_fresnel,
+        lut_coordinates,
+        shader_constants,
+    )
+
+    constants = shader_constants()
+    eta, kappa, a, b = np.asarray(inputs, dtype=np.float32).astype(np.float64).T
+    return [
+        coefficients_per_pixel_nk(eta, kappa, constants),
+        coefficients_per_pixel_gulbrandsen(a, b, constants),
+        coefficients_per_pixel_model("schlick", constants, f0=a, f90=b),
+        coefficients_per_pixel_model("f82", constants, f0=a, f82=b),
+        coefficients_per_pixel_model("f82-tint", constants, f0=a, tint=b),
+        coefficients_per_pixel_model("generalized-adobe", constants, r0=a, r90=np.ones_like(a), tint=b),
+        direct_fresnel(np.eye(4)[:, None, :], a[None, :], constants).T,
+        np.tile(lut_coordinates(a, b, constants), 2),
+    ]
+
+
+def assert_per_pixel_outputs(outputs, inputs, where: str) -> dict:
+    """Each output (1024, 4) finite and within 1e-5 of its mirror (1e-4 for the direct-light curves); the errors."""
+    import numpy as np
+
+    errors = {}
+    for call, got, want in zip(PER_PIXEL_CALLS, outputs, per_pixel_expected(inputs)):
+        got = np.asarray(got, dtype=np.float64)
+        assert np.all(np.isfinite(got)), f"{call}: NaN or inf on {where}"
+        errors[call] = float(np.max(np.abs(got - want)))
+    for call, error in errors.items():
+        assert error <= (1e-4 if "Curves" in call else 1e-5), (where, call, error, errors)
+    return errors
+
+
+def wgpu_device(monkeypatch, features=()):
+    """A WebGPU device on Mesa's lavapipe (wgpu), with ``features``; skipped (failed under CI) where there is none."""
+    import os
+
+    try:
+        import wgpu
+    except ImportError:
+        gpu_missing("wgpu (the 'gpu' extra)")
+    monkeypatch.setenv("XDG_RUNTIME_DIR", os.environ.get("XDG_RUNTIME_DIR") or "/tmp")
+    adapter = wgpu.gpu.request_adapter_sync(power_preference="high-performance")
+    if adapter is None or any(feature not in adapter.features for feature in features):
+        gpu_missing(
+            f"a WebGPU adapter{' with ' + ', '.join(features) if features else ''} (Mesa's lavapipe: Debian "
+            "mesa-vulkan-drivers)"
+        )
+    return adapter.request_device_sync(required_features=list(features))
+
+
+def wgpu_compute(device, code: str, resources: list, output_buffer, count: int) -> bytes:
+    """Run the compute shader ``code`` (entry ``main``, workgroups of 64) over ``count`` invocations with
+    ``resources`` bound to bindings 0, 1, … of group 0; the bytes of ``output_buffer`` afterwards."""
+    module = device.create_shader_module(code=code)
+    pipeline = device.create_compute_pipeline(layout="auto", compute={"module": module, "entry_point": "main"})
+    group = device.create_bind_group(
+        layout=pipeline.get_bind_group_layout(0),
+        entries=[{"binding": k, "resource": resource} for k, resource in enumerate(resources)],
+    )
+    encoder = device.create_command_encoder()
+    compute = encoder.begin_compute_pass()
+    compute.set_pipeline(pipeline)
+    compute.set_bind_group(0, group)
+    compute.dispatch_workgroups((count + 63) // 64)
+    compute.end()
+    device.queue.submit([encoder.finish()])
+    return device.queue.read_buffer(output_buffer)

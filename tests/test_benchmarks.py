@@ -18,7 +18,7 @@ def _run(*argv, timeout=300):
 
 
 def test_every_benchmark_is_listed_here():
-    assert ENTRIES == ["commands", "fuzz", "quadrature_vs_montecarlo", "stability_table"]
+    assert ENTRIES == ["commands", "fuzz", "quadrature_vs_montecarlo", "shader_cost", "stability_table"]
 
 
 @pytest.mark.parametrize("entry", ENTRIES)
@@ -38,3 +38,11 @@ def test_the_stability_table_regenerates():
 def test_quadrature_against_monte_carlo_runs_small():
     completed = _run("benchmarks.quadrature_vs_montecarlo", "--samples", "2000", "--size", "8")
     assert completed.returncode == 0, completed.stderr[-2000:]
+
+
+@pytest.mark.slow
+def test_shader_cost_runs_small():
+    """The shader-cost benchmark on llvmpipe at 64 × 36, one round: every variant compiles and draws."""
+    completed = _run("benchmarks.shader_cost", "--width", "64", "--height", "36", "--frames", "1", "--rounds", "1")
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    assert completed.stdout.count("| basis per pixel") == 3

@@ -7,7 +7,8 @@ from benchmarks.fuzz import fuzz
 
 def test_no_fuzzed_input_crashes():
     results = fuzz(cases=80, seed=2026)
-    assert {name: outcome.crashed for name, outcome in results.items()} == dict.fromkeys(results, 0), \
-        {name: outcome.crashes for name, outcome in results.items()}
+    assert {name: outcome.crashed for name, outcome in results.items()} == dict.fromkeys(results, 0), {
+        name: outcome.crashes for name, outcome in results.items()
+    }
     for outcome in results.values():
         assert outcome.tried > 0 and outcome.refused > 0

@@ -39,8 +39,14 @@ def _resolves(target: str) -> bool:
 @pytest.mark.parametrize("path", MODULES, ids=lambda path: str(path.relative_to(ROOT)))
 def test_public_objects_line_is_the_modules_all(path):
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    exported = next((set(ast.literal_eval(node.value)) for node in tree.body if isinstance(node, ast.Assign)
-                     and any(getattr(target, "id", None) == "__all__" for target in node.targets)), None)
+    exported = next(
+        (
+            set(ast.literal_eval(node.value))
+            for node in tree.body
+            if isinstance(node, ast.Assign) and any(getattr(target, "id", None) == "__all__" for target in node.targets)
+        ),
+        None,
+    )
     line = re.search(r"Public objects:(.*?)(?:\n\n|$)", ast.get_docstring(tree) or "", re.S)
     if exported is None:
         assert line is None, "a Public objects line without __all__"
@@ -51,5 +57,7 @@ def test_public_objects_line_is_the_modules_all(path):
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda path: str(path.relative_to(ROOT)))
 def test_references_to_project_objects_resolve(path):
-    unresolved = sorted({target for target in REFERENCE.findall(path.read_text(encoding="utf-8")) if not _resolves(target)})
+    unresolved = sorted(
+        {target for target in REFERENCE.findall(path.read_text(encoding="utf-8")) if not _resolves(target)}
+    )
     assert not unresolved, f"{_module_name(path)} names objects that do not exist: {unresolved}"

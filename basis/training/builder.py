@@ -28,7 +28,14 @@ from .domain import DEFAULT_DOMAIN, TrainingDomain
 from .holdout import holdout_materials
 from .svd import build_curves
 
-__all__ = ["FIT_ANGLE_CHOICES", "NOTEBOOK_ANGLES", "TALK_ANGLES", "build_basis", "choose_fit_angles", "holdout_fit_errors"]
+__all__ = [
+    "FIT_ANGLE_CHOICES",
+    "NOTEBOOK_ANGLES",
+    "TALK_ANGLES",
+    "build_basis",
+    "choose_fit_angles",
+    "holdout_fit_errors",
+]
 
 #: θ2, θ3 as printed in the talk.
 TALK_ANGLES = (1.45, 1.31)
@@ -145,10 +152,14 @@ def build_basis(
     if isinstance(fit_angles, str):
         check_choice("fit_angles", fit_angles, FIT_ANGLE_CHOICES)
         if fit_angles != "auto" and n_terms != 4:
-            raise ParameterError(f"fit_angles {fit_angles!r} are two angles, for 4 terms; with {n_terms} terms use 'auto' "
-                                 f"or give {n_terms - 2} angles")
+            raise ParameterError(
+                f"fit_angles {fit_angles!r} are two angles, for 4 terms; with {n_terms} terms use 'auto' "
+                f"or give {n_terms - 2} angles"
+            )
     elif len(tuple(fit_angles)) != n_terms - 2:
-        raise ParameterError(f"{n_terms} terms need {n_terms - 2} fit angles besides 0 and pi/2, got {len(tuple(fit_angles))}")
+        raise ParameterError(
+            f"{n_terms} terms need {n_terms - 2} fit angles besides 0 and pi/2, got {len(tuple(fit_angles))}"
+        )
     with one_blas_thread():  # basis.json's bytes, statistics included, must not depend on BLAS threads
         return _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress, weighting)
 
@@ -156,8 +167,13 @@ def build_basis(
 def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progress, weighting) -> Basis:
     theta = angle_grid(grid_size, grid_kind)
     curves, stats = build_curves(theta, domain.curves(theta, count, seed), n_terms, progress, weighting)
-    training = {"domain": domain.describe(), "count": count, "seed": seed, "grid": {"kind": grid_kind, "size": grid_size},
-                "fit_angle_choice": fit_angles if isinstance(fit_angles, str) else "given"}
+    training = {
+        "domain": domain.describe(),
+        "count": count,
+        "seed": seed,
+        "grid": {"kind": grid_kind, "size": grid_size},
+        "fit_angle_choice": fit_angles if isinstance(fit_angles, str) else "given",
+    }
     if weighting != "normalised":  # the shipped basis' description (and bytes) stay as they were
         training["weighting"] = weighting
     if n_terms != 4:  # the talk's and the notebook's angles are for four terms: choose one angle per extra term
@@ -174,7 +190,9 @@ def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progr
     errors = {name: holdout_fit_errors(provisional, angles) for name, angles in {**named, "chosen": chosen}.items()}
     training = {
         **training,
-        "holdout_max_abs_error": {name: {"angles": list(named.get(name, chosen)), **errs} for name, errs in errors.items()},
+        "holdout_max_abs_error": {
+            name: {"angles": list(named.get(name, chosen)), **errs} for name, errs in errors.items()
+        },
         **stats,
     }
     return Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *chosen]), training)

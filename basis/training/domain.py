@@ -31,6 +31,7 @@ from ..validation import ParameterError, check_positive_int
 
 __all__ = ["DEFAULT_DOMAIN", "NOTEBOOK_DOMAIN", "REFINEMENT_DOMAINS", "Component", "TrainingDomain"]
 
+
 @dataclasses.dataclass(frozen=True)
 class Component:
     """One box of the training mixture.
@@ -157,10 +158,16 @@ NOTEBOOK_DOMAIN = TrainingDomain(
 #: conductors), never the material itself.
 REFINEMENT_DOMAINS = {
     "dielectrics": TrainingDomain((Component("dielectrics", "nk", first=(1.2, 2.9), second=(0.0, 0.0), share=1.0),)),
-    "metals": TrainingDomain((Component("metals", "nk", first=(0.1, 4.0), second=(1.0, 8.0), share=1.0, first_log=True),)),
-    "showcase": TrainingDomain((
-        Component("showcase-g0", "gulbrandsen", first=(0.3, 0.6), second=(0.0, 0.0), share=0.5),
-        Component("showcase-g1", "gulbrandsen", first=(0.3, 0.6), second=(1.0, 1.0), share=0.5),
-    )),
-    "gulbrandsen": TrainingDomain((Component("gulbrandsen", "gulbrandsen", first=(0.0, 0.9), second=(0.0, 1.0), share=1.0),)),
+    "metals": TrainingDomain(
+        (Component("metals", "nk", first=(0.1, 4.0), second=(1.0, 8.0), share=1.0, first_log=True),)
+    ),
+    "showcase": TrainingDomain(
+        (
+            Component("showcase-g0", "gulbrandsen", first=(0.3, 0.6), second=(0.0, 0.0), share=0.5),
+            Component("showcase-g1", "gulbrandsen", first=(0.3, 0.6), second=(1.0, 1.0), share=0.5),
+        )
+    ),
+    "gulbrandsen": TrainingDomain(
+        (Component("gulbrandsen", "gulbrandsen", first=(0.0, 0.9), second=(0.0, 1.0), share=1.0),)
+    ),
 }

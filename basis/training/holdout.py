@@ -39,8 +39,12 @@ def holdout_materials(seed: int = 20200817) -> dict[str, tuple[np.ndarray, np.nd
         "metals": (np.exp(rng.uniform(np.log(0.1), np.log(4.0), 400)), rng.uniform(1.0, 8.0, 400)),
         "gulbrandsen": gulbrandsen_to_nk(r_grid.ravel(), g_grid.ravel()),
         "stiff": (
-            np.concatenate([np.geomspace(0.05, 50.0, 12), np.full(6, 1.0), gulbrandsen_to_nk(stiff_r, stiff_g)[0].ravel()]),
-            np.concatenate([np.zeros(12), np.geomspace(10.0, 100.0, 6), gulbrandsen_to_nk(stiff_r, stiff_g)[1].ravel()]),
+            np.concatenate(
+                [np.geomspace(0.05, 50.0, 12), np.full(6, 1.0), gulbrandsen_to_nk(stiff_r, stiff_g)[0].ravel()]
+            ),
+            np.concatenate(
+                [np.zeros(12), np.geomspace(10.0, 100.0, 6), gulbrandsen_to_nk(stiff_r, stiff_g)[1].ravel()]
+            ),
         ),
     }
 

@@ -80,8 +80,10 @@ class _Objective:
         coefficients = self.target_spline(angles).T @ inverse.T
         on_grid = self.on_grid @ mixing
         residual = coefficients @ on_grid.T - self.curves
-        scaled = [(residual[rows] if operator is None else residual[rows] @ operator.T) / self.tolerances[rows, None]
-                  for rows, operator in self.blocks]
+        scaled = [
+            (residual[rows] if operator is None else residual[rows] @ operator.T) / self.tolerances[rows, None]
+            for rows, operator in self.blocks
+        ]
         return scaled, (mixing, angles, inverse, coefficients, on_grid)
 
     def __call__(self, x: np.ndarray) -> tuple[float, np.ndarray]:
@@ -100,14 +102,20 @@ class _Objective:
         gradient = np.zeros_like(self.curves)
         for (rows, operator), block in zip(self.blocks, scaled):
             unit = block / largest
-            piece = mean ** (1.0 / p - 1.0) * np.abs(unit) ** (p - 1.0) * np.sign(unit) / count / self.tolerances[rows, None]
+            piece = (
+                mean ** (1.0 / p - 1.0)
+                * np.abs(unit) ** (p - 1.0)
+                * np.sign(unit)
+                / count
+                / self.tolerances[rows, None]
+            )
             gradient[rows] = piece if operator is None else piece @ operator
         d_grid = gradient.T @ coefficients
         d_coefficients = gradient @ on_grid
         d_system = -inverse.T @ d_coefficients.T @ coefficients
         d_samples = d_coefficients @ inverse
         d_mixing = self.on_grid.T @ d_grid + self.spline(angles).T @ d_system
-        d_weights = d_mixing[self.n_terms:, 1:].T.ravel()
+        d_weights = d_mixing[self.n_terms :, 1:].T.ravel()
         slopes = self.spline(angles, 1) @ mixing  # (K, K): b_k'(θ_i)
         target_slopes = self.target_spline(angles, 1).T  # (N, K)
         d_angles = (np.sum(d_samples * target_slopes, axis=0) + np.sum(d_system * slopes, axis=1))[2:]
@@ -195,7 +203,11 @@ def refine_basis(
         else:
             if start.n_terms != n_terms:
                 raise ParameterError(f"start has {start.n_terms} terms, expected {n_terms}")
-            start_curves, dictionary, angles = start.evaluate(theta).T, svd[2:meaningful][:dictionary_terms], start.fit_angles[2:]
+            start_curves, dictionary, angles = (
+                start.evaluate(theta).T,
+                svd[2:meaningful][:dictionary_terms],
+                start.fit_angles[2:],
+            )
         objective = _Objective(theta, curves, tolerances, start_curves, dictionary, blocks)
         x = np.concatenate([np.zeros((n_terms - 1) * dictionary.shape[0]), angles])
         bounds = [(None, None)] * ((n_terms - 1) * dictionary.shape[0]) + [ANGLE_BOUNDS] * (n_terms - 2)
@@ -210,21 +222,34 @@ def refine_basis(
         refined = objective.on_grid @ mixing
     worst = np.concatenate([np.max(np.abs(block), axis=1) for block in scaled]) * tolerances
     achieved = {name: float(np.max(worst[names == name])) for name in groups}
-    return Basis(theta, _conventional(theta, refined.T), np.concatenate([[0.0, 0.5 * np.pi], np.round(angles[2:], 6)]), {
-        "refinement": {
-            "groups": {name: {"curves": int(np.count_nonzero(names == name)), "tolerance": float(groups[name][1]),
-                              "measure": "F" if len(groups[name]) == 2 or groups[name][2] is None else "operator",
-                              "max_abs_error": achieved[name]} for name in groups},
-            "dictionary_terms": dictionary_terms, "powers": powers, "iterations": iterations,
-            "start": start.content_hash if start is not None else "svd",
-        }
-    })
+    return Basis(
+        theta,
+        _conventional(theta, refined.T),
+        np.concatenate([[0.0, 0.5 * np.pi], np.round(angles[2:], 6)]),
+        {
+            "refinement": {
+                "groups": {
+                    name: {
+                        "curves": int(np.count_nonzero(names == name)),
+                        "tolerance": float(groups[name][1]),
+                        "measure": "F" if len(groups[name]) == 2 or groups[name][2] is None else "operator",
+                        "max_abs_error": achieved[name],
+                    }
+                    for name in groups
+                },
+                "dictionary_terms": dictionary_terms,
+                "powers": powers,
+                "iterations": iterations,
+                "start": start.content_hash if start is not None else "svd",
+            }
+        },
+    )
 
 
 def _smooth_fillers(theta: np.ndarray, first: int) -> np.ndarray:
     """Smooth elements for a basis whose training curves have fewer shapes than terms: the shipped basis'
     elements from index ``first`` on, then sin(jπ cos θ), j = 1, 2, … (even in θ, zero at 0 and π/2)."""
-    shipped = default_basis().evaluate(theta).T[max(first, 2):]
+    shipped = default_basis().evaluate(theta).T[max(first, 2) :]
     waves = np.sin(np.arange(1, MAX_ELEMENTS + 1)[:, None] * np.pi * np.cos(theta)[None, :])
     return np.concatenate([shipped, waves])
 

@@ -31,7 +31,6 @@ from basis.coefficients import (
 )
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS
-
 from preintegrate.lut import lut_texel_weights
 
 __all__ = ["approximation_markdown", "approximation_table"]
@@ -48,8 +47,12 @@ def _sweep_description(sweep: tuple[dict, ...]) -> str:
         return "; ".join(f"{name} ∈ {{{', '.join(f'{v:g}' for v in values[name])}}}" for name in names)
     first, rest = names[0], names[1:]
     pairs = sorted({tuple(point[name] for name in rest) for point in sweep})
-    return (f"{first} ∈ {{{', '.join(f'{v:g}' for v in values[first])}}}; ({', '.join(rest)}) ∈ "
-            + "{" + ", ".join("(" + ", ".join(f"{v:g}" for v in pair) + ")" for pair in pairs) + "}")
+    return (
+        f"{first} ∈ {{{', '.join(f'{v:g}' for v in values[first])}}}; ({', '.join(rest)}) ∈ "
+        + "{"
+        + ", ".join("(" + ", ".join(f"{v:g}" for v in pair) + ")" for pair in pairs)
+        + "}"
+    )
 
 
 def approximation_table(basis: Basis | None = None, size: int = 32, names=None) -> dict:
@@ -69,16 +72,25 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
             "four-point": coefficients_from_samples(at_angles, basis),
             "least-squares": coefficients_least_squares_from_table(basis.theta, targets, basis),
         }
-        row = {"model": name, "reference": model.reference, "formula": model.formula,
-               "sweep": _sweep_description(model.sweep), "points": len(model.sweep)}
+        row = {
+            "model": name,
+            "reference": model.reference,
+            "formula": model.formula,
+            "sweep": _sweep_description(model.sweep),
+            "points": len(model.sweep),
+        }
         for fit, coefficients in fits.items():
             difference = targets - coefficients @ curves
             curve_error = np.max(np.abs(difference), axis=1)
             albedo_error = np.max(np.abs(difference @ weights.T), axis=1)
             worst = int(np.argmax(albedo_error))
-            row[fit] = {"curve": float(curve_error.max()), "albedo": float(albedo_error.max()),
-                        "albedo_median": float(np.median(albedo_error)),
-                        "worst": _describe(model.sweep[worst]), "over_1_255": int(np.sum(albedo_error > 1 / 255))}
+            row[fit] = {
+                "curve": float(curve_error.max()),
+                "albedo": float(albedo_error.max()),
+                "albedo_median": float(np.median(albedo_error)),
+                "worst": _describe(model.sweep[worst]),
+                "over_1_255": int(np.sum(albedo_error > 1 / 255)),
+            }
         if model.linear:
             inactive = sum(bool(np.all(model.clamp_is_inactive(**point))) for point in model.sweep)
             channels = model.channel_functions(**model.sweep[0])(np.array([0.5])).shape[-1]
@@ -94,14 +106,18 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
 def approximation_markdown(result: dict) -> str:
     """One row per model: parameters, own split-sum channels, basis projection error."""
     lines = [
-        (f"Projection onto the basis (hash {result['basis_hash']}): max |ΔF| over θ and max |ΔF̄| over a "
-         f"{result['size']} × {result['size']} LUT grid: worst and median over each model's sweep [points with "
-         "|ΔF̄| > 1/255 / points]. 'Own channels': LUT channels of the model's exact split sum "
-         "(`fresnel-lut build --model NAME`)."),
+        (
+            f"Projection onto the basis (hash {result['basis_hash']}): max |ΔF| over θ and max |ΔF̄| over a "
+            f"{result['size']} × {result['size']} LUT grid: worst and median over each model's sweep [points with "
+            "|ΔF̄| > 1/255 / points]. 'Own channels': LUT channels of the model's exact split sum "
+            "(`fresnel-lut build --model NAME`)."
+        ),
         "",
-        ("| model | parameters swept | own channels | four-point: worst max abs dF | worst max abs dFbar "
-         "| median max abs dFbar | least squares: worst max abs dF | worst max abs dFbar | median max abs dFbar "
-         "| worst point (four-point) |"),
+        (
+            "| model | parameters swept | own channels | four-point: worst max abs dF | worst max abs dFbar "
+            "| median max abs dFbar | least squares: worst max abs dF | worst max abs dFbar | median max abs dFbar "
+            "| worst point (four-point) |"
+        ),
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for row in result["rows"]:

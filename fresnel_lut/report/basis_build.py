@@ -44,12 +44,23 @@ def basis_build_cost(counts=(100_000, 1_000_000)) -> list[dict]:
     for count in counts:
         with tempfile.TemporaryDirectory() as folder:
             started = time.perf_counter()
-            completed = subprocess.run([sys.executable, "-c", _CHILD, str(count), str(Path(folder) / "b.json")],
-                                       capture_output=True, text=True, check=True)
+            completed = subprocess.run(
+                [sys.executable, "-c", _CHILD, str(count), str(Path(folder) / "b.json")],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
             wall = time.perf_counter() - started
         measured = json.loads(completed.stdout)
-        rows.append({"count": count, "angles": 512, "build_seconds": measured["seconds"],
-                     "process_seconds": wall, "peak_rss_mib": round(measured["peak_rss_mib"])})
+        rows.append(
+            {
+                "count": count,
+                "angles": 512,
+                "build_seconds": measured["seconds"],
+                "process_seconds": wall,
+                "peak_rss_mib": round(measured["peak_rss_mib"]),
+            }
+        )
     return rows
 
 
@@ -73,9 +84,17 @@ def basis_convergence(start: int = 25_000, doublings: int = 4, seed: int = 1) ->
 def basis_build_markdown(cost: list[dict], convergence: list[dict]) -> str:
     """Two Markdown tables."""
     lines = ["| training curves × angles | build time (s) | peak RSS (MiB) |", "|---|---|---|"]
-    lines += [f"| {row['count']:,} × {row['angles']} | {row['build_seconds']:.1f} | {row['peak_rss_mib']} |" for row in cost]
-    lines += ["", "| curves N | max Δb1 vs N/2 | max Δb2 | max Δb3 | held-out metals, max ΔF | held-out dielectrics, max ΔF |", "|---|---|---|---|---|---|"]
+    lines += [
+        f"| {row['count']:,} × {row['angles']} | {row['build_seconds']:.1f} | {row['peak_rss_mib']} |" for row in cost
+    ]
+    lines += [
+        "",
+        "| curves N | max Δb1 vs N/2 | max Δb2 | max Δb3 | held-out metals, max ΔF | held-out dielectrics, max ΔF |",
+        "|---|---|---|---|---|---|",
+    ]
     for row in convergence:
         changes = " | ".join(f"{row[f'change_b{k}']:.1e}" if f"change_b{k}" in row else "–" for k in (1, 2, 3))
-        lines.append(f"| {row['count']:,} | {changes} | {row['holdout_metals']:.4f} | {row['holdout_dielectrics']:.4f} |")
+        lines.append(
+            f"| {row['count']:,} | {changes} | {row['holdout_metals']:.4f} | {row['holdout_dielectrics']:.4f} |"
+        )
     return "\n".join(lines)

@@ -39,17 +39,37 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples, coefficients_from_table, coefficients_least_squares_from_table
 from basis.eigenbasis import Basis, default_basis
-from basis.training import (FIGURE_2, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, build_basis, build_curves, refine_basis,
-                            validation_groups)
 from basis.storage import write_text
+from basis.training import (
+    FIGURE_2,
+    NOTEBOOK_DOMAIN,
+    REFINEMENT_DOMAINS,
+    build_basis,
+    build_curves,
+    refine_basis,
+    validation_groups,
+)
 from basis.validation import ParameterError
-
 from preintegrate.lut import lut_axes, lut_texel_weights
 from preintegrate.quadrature import texel_weights
+
 from .figures import pyplot, save_figure
 
-__all__ = ["BOUNDS", "FRONTIER", "QUICK", "TARGETS", "bound_basis", "fidelity_markdown", "fidelity_study", "group_errors",
-           "notebook_basis", "plot_fidelity", "refined_basis", "terms_sweep", "write_fidelity_report"]
+__all__ = [
+    "BOUNDS",
+    "FRONTIER",
+    "QUICK",
+    "TARGETS",
+    "bound_basis",
+    "fidelity_markdown",
+    "fidelity_study",
+    "group_errors",
+    "notebook_basis",
+    "plot_fidelity",
+    "refined_basis",
+    "terms_sweep",
+    "write_fidelity_report",
+]
 
 #: Issue 14's targets for the shipped default: group → (measure, bound); "curve" is max |ΔF| over θ,
 #: "preintegrated" max |ΔF̄| over the LUT's (μo, r).
@@ -66,8 +86,14 @@ TARGETS = {
 _AT_TARGETS = {"dielectrics": 0.004, "metals": 0.010, "showcase": 0.006, "gulbrandsen": 0.24}
 FRONTIER = {
     "refined: issue targets": ("shipped", _AT_TARGETS),
-    "refined: metals first": ("shipped", {"dielectrics": 0.0035, "metals": 0.009, "showcase": 0.009, "gulbrandsen": 0.24}),
-    "refined: dielectrics first": ("shipped", {"dielectrics": 0.003, "metals": 0.008, "showcase": 0.015, "gulbrandsen": 0.24}),
+    "refined: metals first": (
+        "shipped",
+        {"dielectrics": 0.0035, "metals": 0.009, "showcase": 0.009, "gulbrandsen": 0.24},
+    ),
+    "refined: dielectrics first": (
+        "shipped",
+        {"dielectrics": 0.003, "metals": 0.008, "showcase": 0.015, "gulbrandsen": 0.24},
+    ),
     # the same objective from another start: does the optimum depend on where it begins?
     "refined from the notebook: issue targets": ("notebook-style", _AT_TARGETS),
 }
@@ -83,15 +109,34 @@ BOUNDS = {
     "bound from the notebook: issue targets": ("notebook-style", _TARGET_BOUNDS),
     "bound: better of notebook-style and shipped": ("shipped", "better"),
     "bound: the shipped basis' own errors": ("shipped", "shipped"),
-    "bound: issue targets without measured metals": ("shipped", {g: b for g, b in _TARGET_BOUNDS.items() if g != "measured metals"}),
+    "bound: issue targets without measured metals": (
+        "shipped",
+        {g: b for g, b in _TARGET_BOUNDS.items() if g != "measured metals"},
+    ),
 }
 
 #: Settings of ``quick=True``: fewer curves, a smaller grid, the first frontier point and bound only, K = 4 and 6.
-QUICK = {"count": 20_000, "size": 24, "theta": 513, "per_group": 60, "terms": (4, 6), "refinements": 1, "bounds": 1,
-         "bound_iterations": 60}
+QUICK = {
+    "count": 20_000,
+    "size": 24,
+    "theta": 513,
+    "per_group": 60,
+    "terms": (4, 6),
+    "refinements": 1,
+    "bounds": 1,
+    "bound_iterations": 60,
+}
 
-_FULL = {"count": 200_000, "size": 64, "theta": 2049, "per_group": 300, "terms": (2, 3, 4, 5, 6, 7, 8),
-         "refinements": len(FRONTIER), "bounds": len(BOUNDS), "bound_iterations": 800}
+_FULL = {
+    "count": 200_000,
+    "size": 64,
+    "theta": 2049,
+    "per_group": 300,
+    "terms": (2, 3, 4, 5, 6, 7, 8),
+    "refinements": len(FRONTIER),
+    "bounds": len(BOUNDS),
+    "bound_iterations": 800,
+}
 
 #: θ grid on which the refinements are trained (their bases live on it).
 _REFINEMENT_GRID = np.linspace(0.0, 0.5 * np.pi, 257)
@@ -114,8 +159,13 @@ def refined_basis(tolerances: dict[str, float], start: Basis | None = None, per_
     unknown = set(tolerances) - set(REFINEMENT_DOMAINS)
     if unknown:
         raise ParameterError(f"tolerances name unknown groups {sorted(unknown)}; known: {sorted(REFINEMENT_DOMAINS)}")
-    groups = {name: (np.concatenate(list(REFINEMENT_DOMAINS[name].curves(_REFINEMENT_GRID, per_group, _REFINEMENT_SEED))),
-                     tolerance) for name, tolerance in tolerances.items()}
+    groups = {
+        name: (
+            np.concatenate(list(REFINEMENT_DOMAINS[name].curves(_REFINEMENT_GRID, per_group, _REFINEMENT_SEED))),
+            tolerance,
+        )
+        for name, tolerance in tolerances.items()
+    }
     return refine_basis(_REFINEMENT_GRID, groups, start=default_basis() if start is None else start)
 
 
@@ -129,10 +179,14 @@ def bound_basis(tolerances: dict[str, float], start: Basis, size: int = 64, iter
         raise ParameterError(f"tolerances name groups without a target {sorted(unknown)}; known: {sorted(TARGETS)}")
     weights = lut_texel_weights(_REFINEMENT_GRID, size)
     groups = validation_groups()
-    training = {name: (groups[name](cos_theta(_REFINEMENT_GRID)), bound)
-                + ((weights,) if TARGETS[name][0] == "preintegrated" else ()) for name, bound in tolerances.items()}
-    return refine_basis(_REFINEMENT_GRID, training, start=start, dictionary_terms=12, powers=(16.0, 64.0, 256.0),
-                        iterations=iterations)
+    training = {
+        name: (groups[name](cos_theta(_REFINEMENT_GRID)), bound)
+        + ((weights,) if TARGETS[name][0] == "preintegrated" else ())
+        for name, bound in tolerances.items()
+    }
+    return refine_basis(
+        _REFINEMENT_GRID, training, start=start, dictionary_terms=12, powers=(16.0, 64.0, 256.0), iterations=iterations
+    )
 
 
 def _bound_tolerances(kind, errors: dict) -> dict[str, float]:
@@ -140,7 +194,9 @@ def _bound_tolerances(kind, errors: dict) -> dict[str, float]:
     if isinstance(kind, dict):
         return kind
     of = ("notebook-style", "shipped") if kind == "better" else ("shipped",)
-    return {group: min(errors[name]["four-point"][group][measure] for name in of) for group, (measure, _) in TARGETS.items()}
+    return {
+        group: min(errors[name]["four-point"][group][measure] for name in of) for group, (measure, _) in TARGETS.items()
+    }
 
 
 def _worst_ratio(errors: dict, tolerances: dict[str, float]) -> float:
@@ -154,8 +210,9 @@ def _coefficients(basis: Basis, group: Callable, fit: str) -> np.ndarray:
     return coefficients_least_squares_from_table(basis.theta, group(cos_theta(basis.theta)), basis, fit="minimax")
 
 
-def group_errors(basis: Basis, groups: dict[str, Callable], theta: np.ndarray, weights: np.ndarray,
-                 fits=FITS) -> dict[str, dict[str, dict[str, float]]]:
+def group_errors(
+    basis: Basis, groups: dict[str, Callable], theta: np.ndarray, weights: np.ndarray, fits=FITS
+) -> dict[str, dict[str, dict[str, float]]]:
     """fit → group → ``curve`` (max |ΔF| on ``theta``) and ``preintegrated`` (max |ΔF̄| over the texels of
     ``weights`` (T, len(theta)))."""
     exact = {name: group(cos_theta(theta)) for name, group in groups.items()}
@@ -165,8 +222,10 @@ def group_errors(basis: Basis, groups: dict[str, Callable], theta: np.ndarray, w
         result[fit] = {}
         for name, group in groups.items():
             difference = _coefficients(basis, group, fit) @ curves.T - exact[name]
-            result[fit][name] = {"curve": float(np.max(np.abs(difference))),
-                                 "preintegrated": float(np.max(np.abs(difference @ weights.T)))}
+            result[fit][name] = {
+                "curve": float(np.max(np.abs(difference))),
+                "preintegrated": float(np.max(np.abs(difference @ weights.T))),
+            }
     return result
 
 
@@ -202,19 +261,33 @@ def terms_sweep(terms, groups, theta, weights, count: int, progress=None, column
         worst = {}
         for material in scene.materials:
             coefficients = coefficients_from_table(shipped.theta, material.curve.T, trained)
-            worst[material.name] = float(np.max(np.abs((coefficients @ values.T - material.curve.T) @ operators[material.name].T)))
+            worst[material.name] = float(
+                np.max(np.abs((coefficients @ values.T - material.curve.T) @ operators[material.name].T))
+            )
         scene_errors[k] = worst
         # the issue's reference: the plain SVD of the same curves with least-squares coefficients (c0, c1 exact;
         # least squares reads no fit angle, so the ones given only complete the Basis)
-        plain = Basis(shipped.theta, build_curves(shipped.theta, [curves], k)[0],
-                      np.concatenate([[0.0, 0.5 * np.pi], np.linspace(1.45, 1.2, k - 2)]))
-        differences = {m.name: coefficients_least_squares_from_table(shipped.theta, m.curve.T, plain) @ plain.curves - m.curve.T
-                       for m in scene.materials}
-        plain_errors[k] = {"preintegrated": max(float(np.max(np.abs(d @ operators[name].T))) for name, d in differences.items()),
-                           "curve": max(float(np.max(np.abs(d))) for d in differences.values())}
+        plain = Basis(
+            shipped.theta,
+            build_curves(shipped.theta, [curves], k)[0],
+            np.concatenate([[0.0, 0.5 * np.pi], np.linspace(1.45, 1.2, k - 2)]),
+        )
+        differences = {
+            m.name: coefficients_least_squares_from_table(shipped.theta, m.curve.T, plain) @ plain.curves - m.curve.T
+            for m in scene.materials
+        }
+        plain_errors[k] = {
+            "preintegrated": max(float(np.max(np.abs(d @ operators[name].T))) for name, d in differences.items()),
+            "curve": max(float(np.max(np.abs(d))) for d in differences.values()),
+        }
         if progress is not None:
             progress(f"K = {k}: scene basis")
-    return {"generic": generic, "scene": scene_errors, "scene_plain": plain_errors, "scene_file": "examples/showcase.toml"}
+    return {
+        "generic": generic,
+        "scene": scene_errors,
+        "scene_plain": plain_errors,
+        "scene_file": "examples/showcase.toml",
+    }
 
 
 def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
@@ -225,10 +298,13 @@ def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None =
     theta = np.linspace(0.0, 0.5 * np.pi, settings["theta"])
     weights = lut_texel_weights(theta, settings["size"])
     groups = validation_groups()
-    bases = {"notebook-style": notebook_basis(settings["count"]), "shipped": default_basis(),
-             # the issue's first lever: the SVD of the error in F, each curve weighted by (F90 − F0)²
-             "SVD weighted by span²: default domain": build_basis(count=settings["count"], weighting="span"),
-             "SVD weighted by span²: notebook recipe": notebook_basis(settings["count"], weighting="span")}
+    bases = {
+        "notebook-style": notebook_basis(settings["count"]),
+        "shipped": default_basis(),
+        # the issue's first lever: the SVD of the error in F, each curve weighted by (F90 − F0)²
+        "SVD weighted by span²: default domain": build_basis(count=settings["count"], weighting="span"),
+        "SVD weighted by span²: notebook recipe": notebook_basis(settings["count"], weighting="span"),
+    }
     say("built the notebook-style and span-weighted bases")
     for name, (start, tolerances) in list(FRONTIER.items())[: settings["refinements"]]:
         bases[name] = refined_basis(tolerances, start=bases[start], per_group=settings["per_group"])
@@ -240,20 +316,31 @@ def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None =
         basis = bound_basis(tolerances, bases[start], settings["size"], settings["bound_iterations"])
         bases[name] = basis
         errors[name] = group_errors(basis, groups, theta, weights)
-        trained = {group: {TARGETS[group][0]: entry["max_abs_error"]}
-                   for group, entry in basis.training["refinement"]["groups"].items()}
+        trained = {
+            group: {TARGETS[group][0]: entry["max_abs_error"]}
+            for group, entry in basis.training["refinement"]["groups"].items()
+        }
         # measured on the study's grid; "trained" is what the refinement saw on its coarser θ grid
-        bounds[name] = {"tolerances": tolerances, "worst_ratio": _worst_ratio(errors[name]["four-point"], tolerances),
-                        "trained_ratio": _worst_ratio(trained, tolerances)}
+        bounds[name] = {
+            "tolerances": tolerances,
+            "worst_ratio": _worst_ratio(errors[name]["four-point"], tolerances),
+            "trained_ratio": _worst_ratio(trained, tolerances),
+        }
         say(f"{name}: worst error / tolerance {bounds[name]['worst_ratio']:.3f}")
     figure_2 = {name: _figure_2_at_its_roughness(basis, theta) for name, basis in bases.items()}
     sweep = terms_sweep(settings["terms"], groups, theta, weights, settings["count"], say, settings["size"])
     return {
-        "quick": quick, "settings": {key: list(value) if isinstance(value, tuple) else value for key, value in settings.items()},
+        "quick": quick,
+        "settings": {key: list(value) if isinstance(value, tuple) else value for key, value in settings.items()},
         "groups": {name: int(group(np.array([1.0])).shape[0]) for name, group in groups.items()},
-        "bases": {name: {"hash": basis.content_hash, "fit_angles": basis.fit_angles[2:].round(4).tolist()}
-                  for name, basis in bases.items()},
-        "errors": errors, "bounds": bounds, "figure_2_at_alpha": figure_2, "terms": sweep,
+        "bases": {
+            name: {"hash": basis.content_hash, "fit_angles": basis.fit_angles[2:].round(4).tolist()}
+            for name, basis in bases.items()
+        },
+        "errors": errors,
+        "bounds": bounds,
+        "figure_2_at_alpha": figure_2,
+        "terms": sweep,
         "seconds": time.perf_counter() - started,
     }
 
@@ -267,53 +354,84 @@ def fidelity_markdown(result: dict) -> str:
     """The section as Markdown: one table per fit, the targets, the frontier and the K sweep."""
     groups = list(result["groups"])
     lines = [
-        "## Basis fidelity: which basis holds which group", "",
-        ("Validation groups (fresh draws, never trained on; curves per group: "
-         + ", ".join(f"{name} {count}" for name, count in result["groups"].items())
-         + f"). max |ΔF| over {result['settings']['theta']} θ samples / max |ΔF̄| over the "
-         f"{result['settings']['size']} × {result['settings']['size']} LUT texel centres. Made by `fresnel-lut report "
-         f"--fidelity{' --quick' if result['quick'] else ''}` in {result['seconds']:.0f} s."), "",
+        "## Basis fidelity: which basis holds which group",
+        "",
+        (
+            "Validation groups (fresh draws, never trained on; curves per group: "
+            + ", ".join(f"{name} {count}" for name, count in result["groups"].items())
+            + f"). max |ΔF| over {result['settings']['theta']} θ samples / max |ΔF̄| over the "
+            f"{result['settings']['size']} × {result['settings']['size']} LUT texel centres. Made by `fresnel-lut report "
+            f"--fidelity{' --quick' if result['quick'] else ''}` in {result['seconds']:.0f} s."
+        ),
+        "",
     ]
     for fit in FITS:
-        lines += [f"**{fit} coefficients** (max |ΔF| / max |ΔF̄|):", "",
-                  "| basis | fit angles θ2, θ3 | " + " | ".join(groups) + " |",
-                  "|---|---|" + "---|" * len(groups)]
+        lines += [
+            f"**{fit} coefficients** (max |ΔF| / max |ΔF̄|):",
+            "",
+            "| basis | fit angles θ2, θ3 | " + " | ".join(groups) + " |",
+            "|---|---|" + "---|" * len(groups),
+        ]
         for name, entry in result["errors"].items():
             angles = ", ".join(f"{angle:.3f}" for angle in result["bases"][name]["fit_angles"])
-            lines.append(f"| {name} | {angles} | " + " | ".join(
-                f"{entry[fit][group]['curve']:.4f} / {entry[fit][group]['preintegrated']:.4f}" for group in groups) + " |")
+            lines.append(
+                f"| {name} | {angles} | "
+                + " | ".join(
+                    f"{entry[fit][group]['curve']:.4f} / {entry[fit][group]['preintegrated']:.4f}" for group in groups
+                )
+                + " |"
+            )
         lines.append("")
-    lines += ["**Targets** (four-point; " + ", ".join(
-        f"{group} {measure} ≤ {bound:.4g}" for group, (measure, bound) in TARGETS.items()) + "):", "",
+    lines += [
+        "**Targets** (four-point; "
+        + ", ".join(f"{group} {measure} ≤ {bound:.4g}" for group, (measure, bound) in TARGETS.items())
+        + "):",
+        "",
         "| basis | " + " | ".join(TARGETS) + " | Figure 2 at α = 0.08 (max over μo of ΔF̄) |",
-        "|---|" + "---|" * (len(TARGETS) + 1)]
+        "|---|" + "---|" * (len(TARGETS) + 1),
+    ]
     for name, entry in result["errors"].items():
-        lines.append(f"| {name} | " + " | ".join(_meets(entry["four-point"], group) for group in TARGETS)
-                     + f" | {result['figure_2_at_alpha'][name]:.4f} |")
+        lines.append(
+            f"| {name} | "
+            + " | ".join(_meets(entry["four-point"], group) for group in TARGETS)
+            + f" | {result['figure_2_at_alpha'][name]:.4f} |"
+        )
     if result["bounds"]:
-        lines += ["", "**Bounds: four-point bases trained on the validation curves themselves** (rows \"bound\" above; "
-                  "no candidates, since they have seen what they are judged on). Each minimises the worst error / tolerance "
-                  "over these very curves, so a ratio above 1 means no four-term basis found meets those tolerances "
-                  "together, however it is trained; the same bound from two starts shows how local the optimum is:", "",
-                  "| bound | tolerances (" + ", ".join(TARGETS) + ") | worst error / tolerance | as trained (257 θ) |",
-                  "|---|---|---|---|"]
+        lines += [
+            "",
+            '**Bounds: four-point bases trained on the validation curves themselves** (rows "bound" above; '
+            "no candidates, since they have seen what they are judged on). Each minimises the worst error / tolerance "
+            "over these very curves, so a ratio above 1 means no four-term basis found meets those tolerances "
+            "together, however it is trained; the same bound from two starts shows how local the optimum is:",
+            "",
+            "| bound | tolerances (" + ", ".join(TARGETS) + ") | worst error / tolerance | as trained (257 θ) |",
+            "|---|---|---|---|",
+        ]
         for name, bound in result["bounds"].items():
-            tolerances = ", ".join(f"{bound['tolerances'][group]:.4f}" if group in bound["tolerances"] else "—"
-                                   for group in TARGETS)
+            tolerances = ", ".join(
+                f"{bound['tolerances'][group]:.4f}" if group in bound["tolerances"] else "—" for group in TARGETS
+            )
             lines.append(f"| {name} | {tolerances} | {bound['worst_ratio']:.3f} | {bound['trained_ratio']:.3f} |")
     sweep = result["terms"]
     terms = list(sweep["generic"])
-    lines += ["", "**Error against the number of terms K** (four-point; max |ΔF̄|). Generic: the default domain's "
-              "build with K terms and greedy fit angles. Scene: a basis refined on the F̄ of "
-              f"`{sweep['scene_file']}` (six materials, each over its roughness range), worst material; beside it the "
-              "issue's reference, the plain SVD of the same curves with least-squares coefficients (max |ΔF̄| / max |ΔF|):", "",
-              "| K | " + " | ".join(groups) + " | scene (worst material) | scene, plain SVD + least squares |",
-              "|---|" + "---|" * (len(groups) + 2)]
+    lines += [
+        "",
+        "**Error against the number of terms K** (four-point; max |ΔF̄|). Generic: the default domain's "
+        "build with K terms and greedy fit angles. Scene: a basis refined on the F̄ of "
+        f"`{sweep['scene_file']}` (six materials, each over its roughness range), worst material; beside it the "
+        "issue's reference, the plain SVD of the same curves with least-squares coefficients (max |ΔF̄| / max |ΔF|):",
+        "",
+        "| K | " + " | ".join(groups) + " | scene (worst material) | scene, plain SVD + least squares |",
+        "|---|" + "---|" * (len(groups) + 2),
+    ]
     for k in terms:
         scene, plain = sweep["scene"][k], sweep["scene_plain"][k]
         worst = max(scene, key=scene.get)
-        lines.append(f"| {k} | " + " | ".join(f"{sweep['generic'][k][group]['preintegrated']:.4f}" for group in groups)
-                     + f" | {scene[worst]:.2e} ({worst}) | {plain['preintegrated']:.2e} / {plain['curve']:.2e} |")
+        lines.append(
+            f"| {k} | "
+            + " | ".join(f"{sweep['generic'][k][group]['preintegrated']:.4f}" for group in groups)
+            + f" | {scene[worst]:.2e} ({worst}) | {plain['preintegrated']:.2e} / {plain['curve']:.2e} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -324,25 +442,48 @@ def plot_fidelity(result: dict, path) -> Path:
     figure, (left, right) = plt.subplots(1, 2, figsize=(12, 6.2))
     for name, entry in result["errors"].items():
         fit = entry["four-point"]
-        left.scatter(fit["figure 2"]["preintegrated"], fit["measured metals"]["curve"], s=40, label=name,
-                     marker="x" if name in result["bounds"] else "o")
-        left.annotate(f"diel. {fit['dielectrics']['curve']:.4f}\nmetals {fit['metals']['curve']:.4f}",
-                      (fit["figure 2"]["preintegrated"], fit["measured metals"]["curve"]), fontsize=7,
-                      xytext=(4, 4), textcoords="offset points")
+        left.scatter(
+            fit["figure 2"]["preintegrated"],
+            fit["measured metals"]["curve"],
+            s=40,
+            label=name,
+            marker="x" if name in result["bounds"] else "o",
+        )
+        left.annotate(
+            f"diel. {fit['dielectrics']['curve']:.4f}\nmetals {fit['metals']['curve']:.4f}",
+            (fit["figure 2"]["preintegrated"], fit["measured metals"]["curve"]),
+            fontsize=7,
+            xytext=(4, 4),
+            textcoords="offset points",
+        )
     left.axvline(TARGETS["figure 2"][1], color="grey", linestyle=":")
     left.axhline(TARGETS["measured metals"][1], color="grey", linestyle=":")
     left.set_xlabel("Figure 2 material: max |ΔF̄| (four-point)")
     left.set_ylabel("measured metals: max |ΔF| (four-point)")
-    meeting = [name for name, entry in result["errors"].items() if name not in result["bounds"]
-               and all(_meets(entry["four-point"], group) == "yes" for group in TARGETS)]
-    left.set_title(f"four terms: {', '.join(meeting) if meeting else 'no basis'} meets the four targets\n"
-                   "(dotted: two of them; ×: bounds, trained on the validation curves)", fontsize=9)
+    meeting = [
+        name
+        for name, entry in result["errors"].items()
+        if name not in result["bounds"] and all(_meets(entry["four-point"], group) == "yes" for group in TARGETS)
+    ]
+    left.set_title(
+        f"four terms: {', '.join(meeting) if meeting else 'no basis'} meets the four targets\n"
+        "(dotted: two of them; ×: bounds, trained on the validation curves)",
+        fontsize=9,
+    )
     left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     sweep = result["terms"]
     terms = list(sweep["generic"])
     for group in result["groups"]:
-        right.semilogy(terms, [sweep["generic"][k][group]["preintegrated"] for k in terms], marker="o", label=f"generic: {group}")
-    right.semilogy(terms, [max(sweep["scene"][k].values()) for k in terms], marker="s", color="black", label="scene basis (showcase)")
+        right.semilogy(
+            terms, [sweep["generic"][k][group]["preintegrated"] for k in terms], marker="o", label=f"generic: {group}"
+        )
+    right.semilogy(
+        terms,
+        [max(sweep["scene"][k].values()) for k in terms],
+        marker="s",
+        color="black",
+        label="scene basis (showcase)",
+    )
     right.axhline(1.0 / 1023.0, color="grey", linestyle=":", label="1/1023")
     right.set_xlabel("terms K")
     right.set_ylabel("max |ΔF̄| (four-point)")
@@ -364,6 +505,8 @@ def write_fidelity_report(folder, quick: bool = False, progress: Callable[[str],
     except ParameterError as error:  # matplotlib is the optional plot extra
         summary.append(f"no plot: {error}")
     shipped = result["errors"]["shipped"]["four-point"]
-    summary += [f"shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})"
-                for group, (measure, bound) in TARGETS.items()]
+    summary += [
+        f"shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})"
+        for group, (measure, bound) in TARGETS.items()
+    ]
     return {"result": result, "paths": paths, "summary": summary}

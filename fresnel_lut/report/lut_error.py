@@ -37,10 +37,10 @@ from pathlib import Path
 import numpy as np
 
 from basis.validation import ParameterError, check_positive_int, check_range
-
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.lut import build_table
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
+
 from .figures import pyplot, save_figure
 
 __all__ = ["QUICK", "lut_error_table_markdown", "lut_error_vs_time", "plot_lut_error"]
@@ -197,7 +197,9 @@ def lut_error_vs_time(
     rows = []
     for scale in scales:
         table, seconds = timed(build_table, channels, size, order=DEFAULT_ORDER.scaled(scale))
-        rows.append({"method": "quadrature-schedule", "setting": scale, "seconds": seconds, **_row_errors(table, reference)})
+        rows.append(
+            {"method": "quadrature-schedule", "setting": scale, "seconds": seconds, **_row_errors(table, reference)}
+        )
         step()
     for order in orders:
         table, seconds = timed(build_table, channels, size, order=QuadratureOrder.uniform(order))
@@ -265,22 +267,50 @@ def plot_lut_error(result: dict, path) -> Path:
         for key, line, kind in (("max_abs_error", "-", "max"), ("rms_abs_error", "--", "RMS")):
             errors = np.array([row[key] for row in rows])
             shown = errors > 0.0  # log axes: an exact zero cannot be drawn
-            axes.plot(seconds[shown], errors[shown], line, color=colour, marker=marker, markersize=5,
-                      fillstyle="full" if kind == "max" else "none", label=f"{label}, {kind}")
+            axes.plot(
+                seconds[shown],
+                errors[shown],
+                line,
+                color=colour,
+                marker=marker,
+                markersize=5,
+                fillstyle="full" if kind == "max" else "none",
+                label=f"{label}, {kind}",
+            )
         for row in rows:
             if row["max_abs_error"] > 0.0:
                 text = {"quadrature": f"n={row['setting']}", "quadrature-schedule": f"×{row['setting']:g}"}.get(
-                    method, f"{row['setting']} spp")
-                axes.annotate(text, (row["seconds"], row["max_abs_error"]), textcoords="offset points",
-                              xytext=(4, 4), fontsize=7, color=colour)
+                    method, f"{row['setting']} spp"
+                )
+                axes.annotate(
+                    text,
+                    (row["seconds"], row["max_abs_error"]),
+                    textcoords="offset points",
+                    xytext=(4, 4),
+                    fontsize=7,
+                    color=colour,
+                )
     for row in result["rows"]:
         if row["method"] == "quadrature-schedule" and row["setting"] == 1.0:
-            axes.plot([row["seconds"]], [row["max_abs_error"]], "*", color="C1", markersize=14,
-                      label="shipped default (fresnel-lut build)")
+            axes.plot(
+                [row["seconds"]],
+                [row["max_abs_error"]],
+                "*",
+                color="C1",
+                markersize=14,
+                label="shipped default (fresnel-lut build)",
+            )
     for value, text in ((1.0 / 255.0, "8-bit step 1/255"), (2.0**-11, "half-float step near 1 (2⁻¹¹)")):
         axes.axhline(value, color="0.6", linestyle=":", linewidth=1.0)
-        axes.annotate(text, (0.01, value), xycoords=("axes fraction", "data"), xytext=(0, 2),
-                      textcoords="offset points", fontsize=7, color="0.4")
+        axes.annotate(
+            text,
+            (0.01, value),
+            xycoords=("axes fraction", "data"),
+            xytext=(0, 2),
+            textcoords="offset points",
+            fontsize=7,
+            color="0.4",
+        )
     axes.set_xscale("log")
     axes.set_yscale("log")
     low, high = axes.get_xlim()

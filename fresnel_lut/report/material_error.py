@@ -156,12 +156,14 @@ def blending_table(space: str = "ACEScg", basis: Basis | None = None) -> list[di
         )
         basis_curves = 0.5 * ((coefficients[first] @ curves.T).T + (coefficients[second] @ curves.T).T)
         basis_parameters = (0.5 * (coefficients[first] + coefficients[second]) @ curves.T).T
-        rows.append({
-            "pair": f"{first} / {second}",
-            "hoffman_gulbrandsen": published,
-            "gulbrandsen": float(rms_delta_E_2000(curve_blend, parameter_blend, space)),
-            "basis": float(rms_delta_E_2000(basis_curves, basis_parameters, space)),
-        })
+        rows.append(
+            {
+                "pair": f"{first} / {second}",
+                "hoffman_gulbrandsen": published,
+                "gulbrandsen": float(rms_delta_E_2000(curve_blend, parameter_blend, space)),
+                "basis": float(rms_delta_E_2000(basis_curves, basis_parameters, space)),
+            }
+        )
     return rows
 
 
@@ -194,8 +196,12 @@ def gamut_table(basis: Basis | None = None, targets=("sRGB", "AP0")) -> list[dic
 
 #: Training sets of :func:`basis_choice_table`: (label, metal share); share 0 is the previous default
 #: (dielectrics and Gulbrandsen g = 1 only), 0.05 the shipped one.
-BASIS_CHOICES = (("dielectrics + g = 1 conductors", 0.0), ("+ 2 % metals", 0.02), ("+ 5 % metals (shipped)", 0.05),
-                 ("+ 10 % metals", 0.10))
+BASIS_CHOICES = (
+    ("dielectrics + g = 1 conductors", 0.0),
+    ("+ 2 % metals", 0.02),
+    ("+ 5 % metals (shipped)", 0.05),
+    ("+ 10 % metals", 0.10),
+)
 
 
 def _domain_with_metals(share: float) -> TrainingDomain:
@@ -228,18 +234,26 @@ def basis_choice_table(count: int = 200_000, space: str = "ACEScg", progress=Non
                 for name in materials
             }
             worst = max(metals, key=metals.get)
-            rows.append({
-                "training": label, "metal_share": share, "fit": fit,
-                "worst_metal": worst, "worst_metal_error": metals[worst],
-                "metals_over_target": sum(value > TARGET for value in metals.values()),
-                "held_out_dielectrics": held_out["dielectrics"], "held_out_metals": held_out["metals"],
-            })
+            rows.append(
+                {
+                    "training": label,
+                    "metal_share": share,
+                    "fit": fit,
+                    "worst_metal": worst,
+                    "worst_metal_error": metals[worst],
+                    "metals_over_target": sum(value > TARGET for value in metals.values()),
+                    "held_out_dielectrics": held_out["dielectrics"],
+                    "held_out_metals": held_out["metals"],
+                }
+            )
         if progress is not None:
             progress(done, len(BASIS_CHOICES))
     return rows
 
 
-def material_study(basis: Basis | None = None, spaces=("ACEScg", "sRGB"), progress=None, choice_count: int = 200_000) -> dict:
+def material_study(
+    basis: Basis | None = None, spaces=("ACEScg", "sRGB"), progress=None, choice_count: int = 200_000
+) -> dict:
     """All tables of the study, with their run time; ``progress(done, total)`` after each table."""
     start = time.perf_counter()
     total = len(spaces) + 3
@@ -270,9 +284,11 @@ def material_markdown(result: dict) -> str:
         lines += [
             f"### RMS ΔE2000 against the spectral ground truth, {space}",
             "",
-            ("| material | Hoffman Schlick | Schlick | F82 (Hoffman 2019) | basis four-point | basis least-squares "
-             "| basis ΔE fit, F0 exact | **basis ΔE fit** (presets) | its ΔE at 0° | Gulbrandsen fitted (r, g) "
-             "| Hoffman fitted η, κ |"),
+            (
+                "| material | Hoffman Schlick | Schlick | F82 (Hoffman 2019) | basis four-point | basis least-squares "
+                "| basis ΔE fit, F0 exact | **basis ΔE fit** (presets) | its ΔE at 0° | Gulbrandsen fitted (r, g) "
+                "| Hoffman fitted η, κ |"
+            ),
             "|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         for row in rows:
@@ -301,8 +317,10 @@ def material_markdown(result: dict) -> str:
         lines += [
             "### What closes the gap: training set × coefficient fit (ACEScg)",
             "",
-            (f"| training set | fit | worst metal | metals over {TARGET} "
-             "| held-out max abs dF, dielectrics / metals (four-point) |"),
+            (
+                f"| training set | fit | worst metal | metals over {TARGET} "
+                "| held-out max abs dF, dielectrics / metals (four-point) |"
+            ),
             "|---|---|---|---|---|",
         ]
         lines += [
@@ -354,21 +372,27 @@ if __name__ == "__main__":
     raise SystemExit(main())
 
 
-def write_materials_report(folder, basis: Basis | None = None, progress: Callable[[int, int], None] | None = None) -> dict:
+def write_materials_report(
+    folder, basis: Basis | None = None, progress: Callable[[int, int], None] | None = None
+) -> dict:
     """``fresnel-lut report --materials``: :func:`material_study` written to ``folder/materials.md``; returns the
     study, the path and one summary line per working space (its worst metal, how many miss :data:`TARGET`)."""
     started = time.perf_counter()
     basis = resolve_basis(basis)
     result = material_study(basis, progress=progress)
-    header = (f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut report "
-              f"--materials` in {time.perf_counter() - started:.0f} s; basis {basis.content_hash}; spectral data "
-              f"`luts/spectral_ior.json`.\n\n")
+    header = (
+        f"# Measured materials: RMS dE2000 against the spectral ground truth\n\nMade by `fresnel-lut report "
+        f"--materials` in {time.perf_counter() - started:.0f} s; basis {basis.content_hash}; spectral data "
+        f"`luts/spectral_ior.json`.\n\n"
+    )
     path = write_text(Path(folder) / "materials.md", header + material_markdown(result))
     summary = []
     for space, rows in result["errors"].items():
         metals = [row for row in rows if row["kind"] == "metal"]
         worst = max(metals, key=lambda row: row["delta-e"])
         over = sum(row["delta-e"] > TARGET for row in metals)
-        summary.append(f"{space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
-                       f"{over} of {len(metals)} above {TARGET}")
+        summary.append(
+            f"{space}: worst metal {worst['material']} {worst['delta-e']:.3f} dE2000 (basis), "
+            f"{over} of {len(metals)} above {TARGET}"
+        )
     return {"result": result, "path": path, "summary": summary}

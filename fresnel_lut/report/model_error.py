@@ -53,11 +53,11 @@ from basis.models.formulas import schlick_curve
 from basis.storage import write_text
 from basis.training import holdout_materials
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
-
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import build_table, lut_axes, lut_texel_weights
 from preintegrate.quadrature import DEFAULT_ORDER, directional_albedo
+
 from .figures import pyplot, save_figure
 
 __all__ = [
@@ -77,6 +77,7 @@ QUICK = {"materials_per_group": 12, "size": 32, "evaluations": 100_000, "repeats
 
 #: One 8-bit step: the report's target for F̄ of every metal with the basis.
 EIGHT_BIT_STEP = 1.0 / 255.0
+
 
 def _checked_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
     eta = check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1])
@@ -178,16 +179,25 @@ REPRESENTATIONS: dict[str, Representation] = {
         "schlick", "Schlick 1994, F0 from the exact curve", _schlick_parameters, _schlick_curve, 2
     ),
     "basis-4point": Representation(
-        "basis-4point", "eigen-basis, four-point coefficients (Belcour 2020)",
-        _fitted("four-point"), _basis_curve, "basis",
+        "basis-4point",
+        "eigen-basis, four-point coefficients (Belcour 2020)",
+        _fitted("four-point"),
+        _basis_curve,
+        "basis",
     ),
     "basis-lsq": Representation(
-        "basis-lsq", "eigen-basis, L2 least squares over theta, F0 and F90 exact",
-        _fitted("least-squares"), _basis_curve, "basis",
+        "basis-lsq",
+        "eigen-basis, L2 least squares over theta, F0 and F90 exact",
+        _fitted("least-squares"),
+        _basis_curve,
+        "basis",
     ),
     "basis-minimax": Representation(
-        "basis-minimax", "eigen-basis, Lawson-reweighted least squares (max norm), F0 and F90 exact",
-        _fitted("minimax"), _basis_curve, "basis",
+        "basis-minimax",
+        "eigen-basis, Lawson-reweighted least squares (max norm), F0 and F90 exact",
+        _fitted("minimax"),
+        _basis_curve,
+        "basis",
     ),
 }
 
@@ -434,7 +444,11 @@ def preintegrated_error(
                 "max_worst": float(maximum[worst]),
                 "max_mean": float(maximum.mean()),
                 "above_8bit": int(np.count_nonzero(maximum > EIGHT_BIT_STEP)),
-                "worst_material": {**_material(eta, kappa, worst), "mu_o": float(mu_o[column]), "roughness": float(roughness[row])},
+                "worst_material": {
+                    **_material(eta, kappa, worst),
+                    "mu_o": float(mu_o[column]),
+                    "roughness": float(roughness[row]),
+                },
                 "max_per_material": maximum.tolist(),
             }
             worst_indices += order_of_worst[:reference_materials].tolist()
@@ -442,7 +456,9 @@ def preintegrated_error(
             chosen = np.unique(worst_indices)
             direct = directional_albedo(
                 lambda x, chosen=chosen: fresnel_conductor(x[..., None], eta[chosen], kappa[chosen]),
-                mu_o[None, :], alpha[:, None], order=order,
+                mu_o[None, :],
+                alpha[:, None],
+                order=order,
             ).reshape(size * size, -1)
             reference_check[group] = {
                 "materials": int(chosen.size),
@@ -494,8 +510,13 @@ def model_error_markdown(result: dict) -> str:
             f"| {name} | {cells} | {entry['ns_per_evaluation']:.1f} | {entry['ns_per_material_setup']:.0f} | "
             f"{entry['parameters']} | {terms} |"
         )
-    lines += ["", "RMS over θ (trapezoid weights in θ) of |F_model − F_exact|, worst (mean) over materials:", "",
-              f"| model | {heading} |", rule]
+    lines += [
+        "",
+        "RMS over θ (trapezoid weights in θ) of |F_model − F_exact|, worst (mean) over materials:",
+        "",
+        f"| model | {heading} |",
+        rule,
+    ]
     for name, entry in curve["models"].items():
         lines.append(f"| {name} | " + " | ".join(_cell(entry["groups"][group], "rms") for group in groups) + " |")
 
@@ -515,9 +536,13 @@ def model_error_markdown(result: dict) -> str:
             for group in groups
         )
         lines.append(f"| {name} | {cells} |")
-    lines += ["", "Worst material per model and group (preintegrated):", "",
-              "| model | group | η | κ | max \\|ΔF̄\\| | at μo | at r | same material: max \\|ΔF\\| over θ |",
-              "|---|---|---:|---:|---:|---:|---:|---:|"]
+    lines += [
+        "",
+        "Worst material per model and group (preintegrated):",
+        "",
+        "| model | group | η | κ | max \\|ΔF̄\\| | at μo | at r | same material: max \\|ΔF\\| over θ |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
     for name, per_group in preintegrated["models"].items():
         for group in groups:
             entry = per_group[group]
@@ -528,8 +553,10 @@ def model_error_markdown(result: dict) -> str:
                 f"| {name} | {group} | {material['eta']:.4g} | {material['kappa']:.4g} | {entry['max_worst']:.2e} | "
                 f"{material['mu_o']:.3f} | {material['roughness']:.3f} | {curve_text} |"
             )
-    checks = ", ".join(f"{group} {check['max_abs_difference']:.1e} ({check['materials']} materials)"
-                       for group, check in preintegrated["reference_check"].items())
+    checks = ", ".join(
+        f"{group} {check['max_abs_difference']:.1e} ({check['materials']} materials)"
+        for group, check in preintegrated["reference_check"].items()
+    )
     lines += [
         "",
         f"Checks: texel weights vs the LUT channels {preintegrated['lut_check']['channels']} "
@@ -550,15 +577,32 @@ def _strip(axes, per_group: dict, groups: list[str], names: list[str], colours: 
             values = np.asarray(entry["max_per_material"])
             values = values[values > 0.0]  # log axis
             centre = g - 0.4 + (k + 0.5) * width
-            axes.scatter(centre + rng.uniform(-0.3, 0.3, values.size) * width, values, s=5, alpha=0.45,
-                         color=colours[name], linewidths=0)
+            axes.scatter(
+                centre + rng.uniform(-0.3, 0.3, values.size) * width,
+                values,
+                s=5,
+                alpha=0.45,
+                color=colours[name],
+                linewidths=0,
+            )
             if values.size:
-                axes.scatter([centre], [entry["max_worst"]], s=45, marker="D", color=colours[name],
-                             edgecolors="black", linewidths=0.6, zorder=3, label=name if g == 0 else None)
+                axes.scatter(
+                    [centre],
+                    [entry["max_worst"]],
+                    s=45,
+                    marker="D",
+                    color=colours[name],
+                    edgecolors="black",
+                    linewidths=0.6,
+                    zorder=3,
+                    label=name if g == 0 else None,
+                )
     for g in range(1, len(groups)):
         axes.axvline(g - 0.5, color="0.85", linewidth=0.8)
     axes.set_xticks(range(len(groups)))
-    axes.set_xticklabels([f"{group}\n({len(per_group[names[0]][group]['max_per_material'])} materials)" for group in groups])
+    axes.set_xticklabels(
+        [f"{group}\n({len(per_group[names[0]][group]['max_per_material'])} materials)" for group in groups]
+    )
     axes.set_xlim(-0.5, len(groups) - 0.5)
     axes.set_yscale("log")
     axes.grid(True, axis="y", which="major", alpha=0.4)
@@ -575,8 +619,9 @@ def plot_model_error(result: dict, path) -> Path:
     groups = list(curve["groups"])
     names = [name for name in curve["models"] if name != "exact"]
     colours = {name: f"C{k}" for k, name in enumerate(curve["models"])}
-    figure, (left, middle, right) = plt.subplots(1, 3, figsize=(18.0, 6.0), dpi=130,
-                                                 gridspec_kw={"width_ratios": [1.25, 1.25, 0.85]})
+    figure, (left, middle, right) = plt.subplots(
+        1, 3, figsize=(18.0, 6.0), dpi=130, gridspec_kw={"width_ratios": [1.25, 1.25, 0.85]}
+    )
 
     _strip(left, {name: curve["models"][name]["groups"] for name in names}, groups, names, colours)
     left.set_ylabel("max over θ of |F_model − F_exact|  (reflectance, unitless)")
@@ -599,11 +644,20 @@ def plot_model_error(result: dict, path) -> Path:
     for offset, (name, per_group) in enumerate(preintegrated["models"].items()):
         terms = curve["models"][name]["shader_terms"]
         error = max(per_group[group]["max_worst"] for group in ordinary)
-        right.scatter([terms + 0.08 * (offset - 2)], [error], s=60, marker=markers.get(name, "D"), color=colours[name],
-                      edgecolors="black", linewidths=0.6, zorder=3,
-                      label=f"{name}: 1 fetch, {terms} multiply-adds per colour channel")
-    right.set_title("Shader cost vs preintegrated error\n(exact: no shared LUT, the Fresnel equations per light sample)",
-                    fontsize=9)
+        right.scatter(
+            [terms + 0.08 * (offset - 2)],
+            [error],
+            s=60,
+            marker=markers.get(name, "D"),
+            color=colours[name],
+            edgecolors="black",
+            linewidths=0.6,
+            zorder=3,
+            label=f"{name}: 1 fetch, {terms} multiply-adds per colour channel",
+        )
+    right.set_title(
+        "Shader cost vs preintegrated error\n(exact: no shared LUT, the Fresnel equations per light sample)", fontsize=9
+    )
     right.set_xticks([2, 4])
     right.set_xlim(1, 5)
     right.set_yscale("log")
@@ -621,7 +675,9 @@ def plot_model_error(result: dict, path) -> Path:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description="Fresnel models: curve error vs cost, preintegrated error (report studies 2, 3).")
+    parser = argparse.ArgumentParser(
+        description="Fresnel models: curve error vs cost, preintegrated error (report studies 2, 3)."
+    )
     parser.add_argument("--quick", action="store_true", help="a few materials per group, 32 x 32 table")
     parser.add_argument("--size", type=int, default=64, help="table size of study 3 (default 64)")
     parser.add_argument("--png", type=Path, default=None, help="write the figure here")

@@ -58,8 +58,13 @@ def environment() -> dict:
         except importlib.metadata.PackageNotFoundError:
             versions[name] = "not installed"
     try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                                cwd=Path(__file__).resolve().parent, check=True).stdout.strip()
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            cwd=Path(__file__).resolve().parent,
+            check=True,
+        ).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         commit = "unknown"
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
@@ -82,30 +87,56 @@ def _targets(lut: dict, models: dict, cost: list[dict], quick: bool) -> list[tup
     rows = []
     default = next(row for row in lut["rows"] if row["method"] == "quadrature-schedule" and row["setting"] == 1.0)
     if quick:
-        rows.append(("128×128, 6 channels: max error ≤ 1e-6 in ≤ 2 s", f"{lut['size']}×{lut['size']} only (quick)", "not measured"))
+        rows.append(
+            (
+                "128×128, 6 channels: max error ≤ 1e-6 in ≤ 2 s",
+                f"{lut['size']}×{lut['size']} only (quick)",
+                "not measured",
+            )
+        )
     else:
         reached = default["max_abs_error"] <= 1e-6 and default["seconds"] <= 2.0
-        rows.append(("128×128, 6 channels: max error ≤ 1e-6 in ≤ 2 s",
-                     f"{default['max_abs_error']:.1e} in {default['seconds']:.2f} s", "yes" if reached else "no"))
+        rows.append(
+            (
+                "128×128, 6 channels: max error ≤ 1e-6 in ≤ 2 s",
+                f"{default['max_abs_error']:.1e} in {default['seconds']:.2f} s",
+                "yes" if reached else "no",
+            )
+        )
     ratios = [entry["ratio"] for entry in lut["equal_time"] if entry["ratio"] is not None]
     measured = ", ".join(
         f"{entry['method'].replace('hammersley-', '')} {entry['setting']} spp: {entry['ratio']:.3g}×"
-        for entry in lut["equal_time"] if entry["ratio"] is not None
+        for entry in lut["equal_time"]
+        if entry["ratio"] is not None
     )
-    rows.append(("≥ 1000× lower max error than Hammersley MC at equal time", measured or "no overlap in time",
-                 ("yes" if min(ratios) >= 1000 else f"no (lowest {min(ratios):.3g}×)") if ratios else "not measured"))
+    rows.append(
+        (
+            "≥ 1000× lower max error than Hammersley MC at equal time",
+            measured or "no overlap in time",
+            ("yes" if min(ratios) >= 1000 else f"no (lowest {min(ratios):.3g}×)") if ratios else "not measured",
+        )
+    )
     big = [row for row in cost if row["count"] >= 1_000_000]
     if big:
         row = big[0]
         reached = row["build_seconds"] <= 30 and row["peak_rss_mib"] <= 1024
-        rows.append(("basis: 10^6 curves × 512 angles in ≤ 30 s, ≤ 1 GB",
-                     f"{row['build_seconds']:.1f} s, {row['peak_rss_mib']} MiB", "yes" if reached else "no"))
+        rows.append(
+            (
+                "basis: 10^6 curves × 512 angles in ≤ 30 s, ≤ 1 GB",
+                f"{row['build_seconds']:.1f} s, {row['peak_rss_mib']} MiB",
+                "yes" if reached else "no",
+            )
+        )
     else:
         rows.append(("basis: 10^6 curves × 512 angles in ≤ 30 s, ≤ 1 GB", "10^5 only (quick)", "not measured"))
     metals = models["preintegrated"]["models"]["basis-4point"]["metals"]
-    rows.append(("every held-out metal ≤ 1/255 in F̄ with the basis (four-point)",
-                 f"worst {metals['max_worst']:.2e}, {metals['above_8bit']}/{metals['count']} above 1/255",
-                 "yes" if metals["max_worst"] <= EIGHT_BIT_STEP else "no"))
+    rows.append(
+        (
+            "every held-out metal ≤ 1/255 in F̄ with the basis (four-point)",
+            f"worst {metals['max_worst']:.2e}, {metals['above_8bit']}/{metals['count']} above 1/255",
+            "yes" if metals["max_worst"] <= EIGHT_BIT_STEP else "no",
+        )
+    )
     return rows
 
 
@@ -195,7 +226,8 @@ def write_report(out="report", quick: bool = False) -> dict:
         "[materials.md](materials.md), written by `fresnel-lut materials` (about 6 minutes; it also writes "
         "`luts/materials.json`).",
         "",
-        "Run times: " + ", ".join(f"{name} {seconds:.1f} s" for name, seconds in timings.items())
+        "Run times: "
+        + ", ".join(f"{name} {seconds:.1f} s" for name, seconds in timings.items())
         + f"; whole report {time.perf_counter() - started:.1f} s.",
         "",
     ]

@@ -23,9 +23,9 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000
 from basis.models.formulas import schlick_curve  # unchecked: an sRGB F0 may leave [0, 1]
-
 from preintegrate.exr import write_luts
 from preintegrate.multiple_scattering import shipped_tables
+
 from ..render import (
     DEFAULT_SCENES,
     render_reference,
@@ -64,13 +64,27 @@ def render_study(quick: bool = False, scenes=None, progress=None) -> dict:
             # what multiple-scattering compensation changes (the reference is single scattering)
             gain = delta_E_2000(tone_map(split["basis_multiple_scattering"], EXPOSURE), shown["basis"], SPACE)[mask]
             noise = delta_E_2000(tone_map(second, EXPOSURE), truth, SPACE)[mask]
-            row = {"scene": scene, "material": material.name, "roughness": roughness, "size": size,
-                   "samples": samples, "reference_seconds": seconds, "split_sum_512_seconds": timed,
-                   "images": {"schlick": split["schlick"], "basis": split["basis"], "reference": reference,
-                              "basis_multiple_scattering": split["basis_multiple_scattering"]},
-                   "maps": maps, "mask": mask,
-                   "multiple_scattering_mean": float(gain.mean()), "multiple_scattering_p99": float(np.percentile(gain, 99)),
-                   "noise_mean": float(noise.mean()), "noise_p99": float(np.percentile(noise, 99))}
+            row = {
+                "scene": scene,
+                "material": material.name,
+                "roughness": roughness,
+                "size": size,
+                "samples": samples,
+                "reference_seconds": seconds,
+                "split_sum_512_seconds": timed,
+                "images": {
+                    "schlick": split["schlick"],
+                    "basis": split["basis"],
+                    "reference": reference,
+                    "basis_multiple_scattering": split["basis_multiple_scattering"],
+                },
+                "maps": maps,
+                "mask": mask,
+                "multiple_scattering_mean": float(gain.mean()),
+                "multiple_scattering_p99": float(np.percentile(gain, 99)),
+                "noise_mean": float(noise.mean()),
+                "noise_p99": float(np.percentile(noise, 99)),
+            }
             for key, values in maps.items():
                 row[f"{key}_mean"] = float(values[mask].mean())
                 row[f"{key}_p99"] = float(np.percentile(values[mask], 99))
@@ -111,13 +125,23 @@ def _curves_figure(scene: str, path: Path) -> Path:
             for channel, colour, width in zip(range(3), CHANNEL_COLOURS, (2.8, 2.0, 1.2)):
                 plot.plot(degrees, values[:, channel], style, color=colour, lw=width)
         handles = [Line2D([], [], color="0.25", linestyle=style, label=label) for label, style in zip(curves, STYLES)]
-        handles += [Line2D([], [], color=colour, lw=width, label=f"{name} channel")
-                    for name, colour, width in zip("RGB", CHANNEL_COLOURS, (2.8, 2.0, 1.2))]
+        handles += [
+            Line2D([], [], color=colour, lw=width, label=f"{name} channel")
+            for name, colour, width in zip("RGB", CHANNEL_COLOURS, (2.8, 2.0, 1.2))
+        ]
         above = [name for name, channel in zip("RGB", truth.T) if np.max(channel) > 1.0 + 1e-6]
         if above:  # a reflectance above 1: the colour lies outside the working space's gamut
             plot.axhline(1.0, color="0.6", lw=0.8)
-            plot.text(0.99, 0.02, f"{', '.join(above)} above 1: outside the linear {SPACE} gamut (strips clip it)",
-                      transform=plot.transAxes, ha="right", va="bottom", fontsize=7.5, color="0.3")
+            plot.text(
+                0.99,
+                0.02,
+                f"{', '.join(above)} above 1: outside the linear {SPACE} gamut (strips clip it)",
+                transform=plot.transAxes,
+                ha="right",
+                va="bottom",
+                fontsize=7.5,
+                color="0.3",
+            )
         plot.set_xlim(low, high)
         plot.set_xlabel("angle of incidence (degrees)")
         plot.set_ylabel(f"reflectance (linear {SPACE})")
@@ -138,14 +162,20 @@ def _spheres_figure(rows: list[dict], path: Path) -> Path:
     figure, axes = plt.subplots(len(rows), 6, figsize=(18, 3.1 * len(rows)), squeeze=False)
     limit = max(3.0, max(float(np.percentile(row["maps"]["schlick"][row["mask"]], 99)) for row in rows))
     for line, row in zip(axes, rows):
-        panels = [("split sum, Schlick LUT", row["images"]["schlick"]), ("split sum, basis LUT", row["images"]["basis"]),
-                  (f"reference, {row['samples']} spp", row["images"]["reference"])]
+        panels = [
+            ("split sum, Schlick LUT", row["images"]["schlick"]),
+            ("split sum, basis LUT", row["images"]["basis"]),
+            (f"reference, {row['samples']} spp", row["images"]["reference"]),
+        ]
         for axis, (title, image) in zip(line[:3], panels):
             axis.imshow(to_srgb8(tone_map(image, EXPOSURE)))
             axis.set_title(f"{title}\n{row['material']}, r = {row['roughness']:.2f}", fontsize=8)
         line[5].imshow(to_srgb8(tone_map(row["images"]["basis_multiple_scattering"], EXPOSURE)))
-        line[5].set_title(f"basis LUT + multiple scattering (Kulla–Conty)\nΔE2000 to single: mean "
-                          f"{row['multiple_scattering_mean']:.2f}, p99 {row['multiple_scattering_p99']:.2f}", fontsize=8)
+        line[5].set_title(
+            f"basis LUT + multiple scattering (Kulla–Conty)\nΔE2000 to single: mean "
+            f"{row['multiple_scattering_mean']:.2f}, p99 {row['multiple_scattering_p99']:.2f}",
+            fontsize=8,
+        )
         for axis, key in zip(line[3:5], ("schlick", "basis")):
             shown = np.where(row["mask"], row["maps"][key], np.nan)
             heat = axis.imshow(shown, cmap="magma", vmin=0.0, vmax=limit)
@@ -160,8 +190,10 @@ def _spheres_figure(rows: list[dict], path: Path) -> Path:
 
 def render_markdown(result: dict) -> str:
     lines = [
-        ("| scene | roughness | Schlick ΔE2000 mean / p99 | basis ΔE2000 mean / p99 | reference noise mean / p99 "
-         "| multiple scattering ΔE2000 mean / p99 | reference | 512² split sum |"),
+        (
+            "| scene | roughness | Schlick ΔE2000 mean / p99 | basis ΔE2000 mean / p99 | reference noise mean / p99 "
+            "| multiple scattering ΔE2000 mean / p99 | reference | 512² split sum |"
+        ),
         "|---|---|---|---|---|---|---|---|",
     ]
     for row in result["rows"]:
@@ -187,17 +219,33 @@ def write_renders(out, quick: bool = False, progress=None) -> dict:
         pngs.append(_spheres_figure(rows, out / f"{scene}_spheres.png"))
         for row in rows:
             for key, image in row["images"].items():
-                items.append((out / f"{scene}_r{row['roughness']:.2f}_{key}.exr", image, ("R", "G", "B"), {
-                    "content": f"{key} render of {row['material']} at roughness {row['roughness']:.4f}, linear {SPACE}",
-                    "samples": str(row["samples"]) if key == "reference" else "split sum",
-                }))
-    exrs = write_luts(items, texts=[(out / "renders.md", (
-        f"# Renders{' (quick)' if quick else ''}\n\nMade by `fresnel-lut render{' --quick' if quick else ''}`; "
-        "ΔE2000 of each split-sum image against the Monte-Carlo reference over the sphere, on tone-mapped "
-        f"linear {SPACE} (white = 1). Reference noise: ΔE2000 between two references of different seeds. "
-        "Multiple scattering: ΔE2000 that Kulla–Conty compensation (Fdez-Agüera's form, F_avg from the basis) "
-        "adds to the basis split sum; the reference is single scattering, so it is a change, not an error.\n\n"
-        + render_markdown(result)))])
+                items.append(
+                    (
+                        out / f"{scene}_r{row['roughness']:.2f}_{key}.exr",
+                        image,
+                        ("R", "G", "B"),
+                        {
+                            "content": f"{key} render of {row['material']} at roughness {row['roughness']:.4f}, linear {SPACE}",
+                            "samples": str(row["samples"]) if key == "reference" else "split sum",
+                        },
+                    )
+                )
+    exrs = write_luts(
+        items,
+        texts=[
+            (
+                out / "renders.md",
+                (
+                    f"# Renders{' (quick)' if quick else ''}\n\nMade by `fresnel-lut render{' --quick' if quick else ''}`; "
+                    "ΔE2000 of each split-sum image against the Monte-Carlo reference over the sphere, on tone-mapped "
+                    f"linear {SPACE} (white = 1). Reference noise: ΔE2000 between two references of different seeds. "
+                    "Multiple scattering: ΔE2000 that Kulla–Conty compensation (Fdez-Agüera's form, F_avg from the basis) "
+                    "adds to the basis split sum; the reference is single scattering, so it is a change, not an error.\n\n"
+                    + render_markdown(result)
+                ),
+            )
+        ],
+    )
     result["pngs"], result["exrs"], result["markdown"] = pngs, exrs, out / "renders.md"
     result["seconds"] = time.perf_counter() - started
     return result

@@ -60,5 +60,15 @@ from .layout import Layout
 from .plan import ScenePlan, plan_scene
 from .write import build_scene, write_scene
 
-__all__ = ["DEFAULT_TOLERANCE", "Layout", "Scene", "SceneError", "SceneMaterial", "ScenePlan", "plan_scene",
-           "build_scene", "read_scene", "write_scene"]
+__all__ = [
+    "DEFAULT_TOLERANCE",
+    "Layout",
+    "Scene",
+    "SceneError",
+    "SceneMaterial",
+    "ScenePlan",
+    "plan_scene",
+    "build_scene",
+    "read_scene",
+    "write_scene",
+]

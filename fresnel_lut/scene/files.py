@@ -22,7 +22,6 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.materials import material_from_mapping
 from basis.presets import PRESET_SPACES
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
-
 from preintegrate.ggx import VISIBILITIES
 
 __all__ = ["DEFAULT_TOLERANCE", "Scene", "SceneError", "SceneMaterial", "read_scene"]
@@ -85,7 +84,9 @@ def _roughness(name: str, value) -> tuple[float, float]:
     elif isinstance(value, list) and len(value) == 2 and all(_is_number(element) for element in value):
         values = np.array(value, dtype=np.float64)
     else:
-        raise SceneError(f"material {name!r}: roughness must be a number or [low, high] of numbers, got {_describe(value)}")
+        raise SceneError(
+            f"material {name!r}: roughness must be a number or [low, high] of numbers, got {_describe(value)}"
+        )
     values = check_range(f"material {name!r}: roughness", values, 0.0, 1.0)
     if values.size == 2 and values[0] > values[1]:
         raise SceneError(f"material {name!r}: roughness range must be [low, high], got {value!r}")
@@ -129,15 +130,22 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
     try:
         document = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
-        raise SceneError(f"scene file {path} is not valid {'JSON' if path.suffix.lower() == '.json' else 'TOML'}: {error}") from None
+        raise SceneError(
+            f"scene file {path} is not valid {'JSON' if path.suffix.lower() == '.json' else 'TOML'}: {error}"
+        ) from None
     if not isinstance(document, dict):
         raise SceneError(f"scene file {path}: the top level must be a table")
     unknown = set(document) - {"tolerance", "space", "size", "visibility", "material"}
     if unknown:
-        raise SceneError(f"scene file {path}: unknown keys {sorted(unknown)} (expected tolerance, space, size, "
-                         "visibility, material)")
-    visibility = check_choice(f"scene file {path}: visibility", document.get("visibility", "height-correlated"),
-                              list(VISIBILITIES), error=SceneError)
+        raise SceneError(
+            f"scene file {path}: unknown keys {sorted(unknown)} (expected tolerance, space, size, visibility, material)"
+        )
+    visibility = check_choice(
+        f"scene file {path}: visibility",
+        document.get("visibility", "height-correlated"),
+        list(VISIBILITIES),
+        error=SceneError,
+    )
     tolerance = document.get("tolerance", DEFAULT_TOLERANCE)
     if not _is_number(tolerance):
         raise SceneError(f"tolerance must be a number, got {_describe(tolerance)}")
@@ -146,8 +154,10 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
     check_choice(f"scene file {path}: space", space, PRESET_SPACES, error=SceneError)
     size = check_positive_int("size", document.get("size", 128), low=2)
     if size > MAX_SIZE:
-        raise SceneError(f"size {size}: a scene table has at most {MAX_SIZE} columns (planning holds about "
-                         f"size² × 512 texel weights, 0.4 GB at {MAX_SIZE}); build larger tables with fresnel-lut build")
+        raise SceneError(
+            f"size {size}: a scene table has at most {MAX_SIZE} columns (planning holds about "
+            f"size² × 512 texel weights, 0.4 GB at {MAX_SIZE}); build larger tables with fresnel-lut build"
+        )
     entries = document.get("material")
     if not isinstance(entries, list) or not entries:
         raise SceneError(f"scene file {path}: needs at least one [[material]]")
@@ -167,6 +177,9 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
             raise
         except (ParameterError, TypeError, ValueError) as error:  # a model's own check names the parameter
             raise SceneError(f"material {name!r}: {error}") from None
-        materials.append(SceneMaterial(name, description, np.asarray(curve, dtype=np.float64),
-                                       _roughness(name, item["roughness"])))
-    return Scene(tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document, visibility=visibility)
+        materials.append(
+            SceneMaterial(name, description, np.asarray(curve, dtype=np.float64), _roughness(name, item["roughness"]))
+        )
+    return Scene(
+        tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document, visibility=visibility
+    )

@@ -20,15 +20,23 @@ from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_table, coefficients_least_squares_from_table
 from basis.eigenbasis import Basis
 from basis.models import fresnel_model
-from basis.training import refine_basis
-
+from basis.training import MIN_SPAN, refine_basis
 from preintegrate.channels import ChannelSet, basis_channels, model_channels, schlick_channels
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import model_lut_name
 from preintegrate.quadrature import texel_weights
+
 from .files import Scene, SceneMaterial
 
-__all__ = ["SCHLICK", "Layout", "basis_layout", "own_layout", "scene_basis_layouts", "train_scene_basis", "training_operators"]
+__all__ = [
+    "SCHLICK",
+    "Layout",
+    "basis_layout",
+    "own_layout",
+    "scene_basis_layouts",
+    "train_scene_basis",
+    "training_operators",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -118,8 +126,11 @@ def own_layout(material: SceneMaterial) -> Layout | None:
     if name is None or not fresnel_model(name).linear:
         return None
     model = fresnel_model(name)
-    shape = tuple((parameter.name, float(material.description.get(parameter.name, parameter.default)))
-                  for parameter in model.parameters if parameter.name in model.shape)
+    shape = tuple(
+        (parameter.name, float(material.description.get(parameter.name, parameter.default)))
+        for parameter in model.parameters
+        if parameter.name in model.shape
+    )
     if model.channel_functions(**dict(shape)) == fresnel_model("schlick").channel_functions():
         return None
     return Layout("model", model=name, shape=shape)
@@ -134,9 +145,15 @@ TRAINING_ROUGHNESSES = 5
 def training_operators(scene: Scene, basis: Basis, mu_o: np.ndarray) -> dict[str, np.ndarray]:
     """name → texel weights (P, M) of each material at the view cosines ``mu_o`` and
     :data:`TRAINING_ROUGHNESSES` roughnesses of its range: what a scene basis is refined on (F̄, not F)."""
-    return {m.name: texel_weights(basis.theta, mu_o[None, :],
-                                  roughness_to_alpha(np.linspace(*m.roughness, TRAINING_ROUGHNESSES))[:, None],
-                                  visibility=scene.visibility).reshape(-1, basis.theta.size) for m in scene.materials}
+    return {
+        m.name: texel_weights(
+            basis.theta,
+            mu_o[None, :],
+            roughness_to_alpha(np.linspace(*m.roughness, TRAINING_ROUGHNESSES))[:, None],
+            visibility=scene.visibility,
+        ).reshape(-1, basis.theta.size)
+        for m in scene.materials
+    }
 
 
 def train_scene_basis(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], terms: int) -> Basis:
@@ -144,14 +161,24 @@ def train_scene_basis(scene: Scene, basis: Basis, operators: dict[str, np.ndarra
     refined (:func:`basis.training.refine_basis`) to minimise the worst error of F̄ through ``operators``
     (:func:`training_operators`). One stage at p = 64, six dictionary curves, 150 iterations: on the
     example scenes within 2 % of the (16, 64) continuation with ten curves and 500 iterations, in half the time."""
-    groups = {material.name: (material.curve.T, scene.tolerance, operators[material.name]) for material in scene.materials}
+    groups = {
+        material.name: (material.curve.T, scene.tolerance, operators[material.name]) for material in scene.materials
+    }
     return refine_basis(basis.theta, groups, n_terms=terms, dictionary_terms=6, powers=(64.0,), iterations=150)
 
 
-def scene_basis_layouts(scene: Scene, basis: Basis, operators: dict[str, np.ndarray], goal: float,
-                        progress: Callable[[str], None] | None = None) -> list[Layout]:
+def scene_basis_layouts(
+    scene: Scene,
+    basis: Basis,
+    operators: dict[str, np.ndarray],
+    goal: float,
+    progress: Callable[[str], None] | None = None,
+) -> list[Layout]:
     """Scene bases (:func:`train_scene_basis`) of four terms, then one more at a time while the worst trained
-    error stays above half of ``goal`` (the other half is left to the table lookup)."""
+    error stays above half of ``goal`` (the other half is left to the table lookup). None when every curve is
+    constant (η = 1; κ → ∞; r = 0 and g = 1): b0 alone holds those exactly, and an SVD has no shape to learn."""
+    if all(np.max(np.abs(m.curve[-1] - m.curve[0])) <= MIN_SPAN for m in scene.materials):
+        return []
     layouts = []
     for terms in SCENE_BASIS_TERMS:
         trained = train_scene_basis(scene, basis, operators, terms)

@@ -14,10 +14,10 @@ import numpy as np
 
 from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import check_positive_int
-
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import LutGrid, interpolation_weights, texel_centres
 from preintegrate.quadrature import texel_weights
+
 from .files import MAX_SIZE, Scene, SceneError
 from .layout import SCHLICK, Layout, basis_layout, own_layout, scene_basis_layouts, training_operators
 
@@ -57,8 +57,13 @@ class ScenePlan:
     @property
     def grid(self) -> LutGrid:
         """The tables' grid: ``columns`` texel centres in μo, ``rows`` at the end points of the roughness range."""
-        return LutGrid(self.columns, self.rows, rows="endpoints", roughness_range=self.roughness_range,
-                       visibility=self.scene.visibility)
+        return LutGrid(
+            self.columns,
+            self.rows,
+            rows="endpoints",
+            roughness_range=self.roughness_range,
+            visibility=self.scene.visibility,
+        )
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str], None] | None = None) -> ScenePlan:
@@ -72,8 +77,11 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     near-mirror's F̄ bends too fast for 128 columns (1.5e-3 at r 0.15–0.2), and accuracy comes before bytes."""
     basis = resolve_basis(basis)
     width = scene.size
-    while not scene.size_fixed and 2 * width <= MAX_SIZE and \
-            max(lookup_floor(scene, basis, width).values()) > LOOKUP_SHARE * ACCURACY_GOAL:
+    while (
+        not scene.size_fixed
+        and 2 * width <= MAX_SIZE
+        and max(lookup_floor(scene, basis, width).values()) > LOOKUP_SHARE * ACCURACY_GOAL
+    ):
         width *= 2
     if _schlick_holds_every_curve(scene, basis):
         scene_bases = []  # two exact channels: no layout does better, so none is trained
@@ -84,12 +92,21 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
         scene_bases = scene_basis_layouts(scene, basis, operators, ACCURACY_GOAL, progress)
         del operators
     own_layouts = {layout.name: layout for layout in map(own_layout, scene.materials) if layout is not None}
-    layouts = {SCHLICK.name: SCHLICK, **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
-               **{layout.name: layout for layout in scene_bases}, **{name: own_layouts[name] for name in sorted(own_layouts)}}
+    layouts = {
+        SCHLICK.name: SCHLICK,
+        **{basis_layout(k).name: basis_layout(k) for k in (2, 3, 4)},
+        **{layout.name: layout for layout in scene_bases},
+        **{name: own_layouts[name] for name in sorted(own_layouts)},
+    }
     candidates = _Candidates(
-        layouts=layouts, functions={name: layout.values(basis) for name, layout in layouts.items()},  # (M, n) on θ
-        weights={(m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in layouts.items()},
-        scene_bases=tuple(layout.name for layout in scene_bases), own=tuple(sorted(own_layouts)))
+        layouts=layouts,
+        functions={name: layout.values(basis) for name, layout in layouts.items()},  # (M, n) on θ
+        weights={
+            (m.name, name): layout.coefficients(m, basis) for m in scene.materials for name, layout in layouts.items()
+        },
+        scene_bases=tuple(layout.name for layout in scene_bases),
+        own=tuple(sorted(own_layouts)),
+    )
     return _plan_for_width(scene, basis, candidates, width)
 
 
@@ -108,8 +125,15 @@ def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
     interpolate = interpolation_weights(mu_eval, mu_eval[::2])
     floor = {}
     for material in scene.materials:
-        exact = texel_weights(basis.theta, mu_eval[None, :], roughness_to_alpha(material.roughness)[:, None],
-                              visibility=scene.visibility) @ material.curve
+        exact = (
+            texel_weights(
+                basis.theta,
+                mu_eval[None, :],
+                roughness_to_alpha(material.roughness)[:, None],
+                visibility=scene.visibility,
+            )
+            @ material.curve
+        )
         floor[material.name] = float(np.max(np.abs(interpolate @ exact[:, ::2] - exact)))
     return floor
 
@@ -140,8 +164,10 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     mu_eval = _view_cosines(width)
     mu_columns = texel_centres(width)
     grid = np.linspace(low, high, 2 * _EVAL_ROUGHNESS - 1)
-    r_eval = {m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
-              for m in scene.materials}
+    r_eval = {
+        m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
+        for m in scene.materials
+    }
     all_r = np.unique(np.concatenate(list(r_eval.values())))
     # rows of the densest candidate, nested: H = 2^k + 1 endpoint-inclusive rows over [low, high], at most the
     # default build's density (scene.size rows over 0–1) whatever the width: wider tables are for μo
@@ -151,17 +177,23 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
     # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
-    w_eval = texel_weights(theta, mu_eval[None, :], roughness_to_alpha(all_r)[:, None], visibility=visibility)  # (R, P, M)
+    w_eval = texel_weights(
+        theta, mu_eval[None, :], roughness_to_alpha(all_r)[:, None], visibility=visibility
+    )  # (R, P, M)
     exact_of = {m.name: w_eval[np.searchsorted(all_r, r_eval[m.name])] @ m.curve for m in scene.materials}  # (r, P, 3)
     del w_eval
     functions, weights_of, own = candidates.functions, candidates.weights, candidates.own
 
-    w_rows = texel_weights(theta, mu_columns[None, :], roughness_to_alpha(r_rows)[:, None], visibility=visibility)  # (H, W, M)
+    w_rows = texel_weights(
+        theta, mu_columns[None, :], roughness_to_alpha(r_rows)[:, None], visibility=visibility
+    )  # (H, W, M)
     table_rows = {name: w_rows @ values for name, values in functions.items()}  # the candidate tables (H, W, n)
     del w_rows
     rows_mu = {name: interp_mu @ table for name, table in table_rows.items()}  # (H, P, n): texels read along μo
 
-    def errors_for(layout: str, rows: np.ndarray, projected=None, positions=None, views=slice(None)) -> dict[str, float]:
+    def errors_for(
+        layout: str, rows: np.ndarray, projected=None, positions=None, views=slice(None)
+    ) -> dict[str, float]:
         result = {}
         table_mu = rows_mu[layout][rows] if projected is None else projected  # (H', P, n): texels read along μo
         positions = r_rows[rows] if positions is None else positions
@@ -181,11 +213,15 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     # only the rows a lookup at the error grid's roughnesses reads: the two around each (one at an edge)
     above = np.searchsorted(default_r, all_r)
     near = np.unique(np.clip(np.concatenate([above - 1, above]), 0, scene.size - 1))
-    w_default = texel_weights(theta, default_r[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility)
+    w_default = texel_weights(
+        theta, default_r[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility
+    )
     views = mu_eval >= default_r[0] - 1e-12
     interp_default = interpolation_weights(mu_eval[views], default_r)
-    default_errors = {layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]),
-                                         default_r[near], views) for layout in ("schlick", "basis-4")}
+    default_errors = {
+        layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]), default_r[near], views)
+        for layout in ("schlick", "basis-4")
+    }
     del w_default
     default_best = {m.name: min(default_errors[layout][m.name] for layout in default_errors) for m in scene.materials}
 
@@ -202,13 +238,18 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
             + (f"; also failing: {sorted(set(failing) - {worst})}" if len(failing) > 1 else "")
         )
     # accuracy first: a material that some layout holds to ACCURACY_GOAL is held to it, the rest to the tolerance
-    aims = {name: min(tolerance, ACCURACY_GOAL) if value <= ACCURACY_GOAL else tolerance for name, value in best.items()}
+    aims = {
+        name: min(tolerance, ACCURACY_GOAL) if value <= ACCURACY_GOAL else tolerance for name, value in best.items()
+    }
     channels = {name: functions[name].shape[-1] for name in functions}
     # every combination of at most one basis table (generic or the scene's), the Schlick table and the models' own
-    options = [tuple(x for x in (schlick, basis_table, *extra) if x)
-               for schlick in ("", "schlick")
-               for basis_table in ("", "basis-2", "basis-3", "basis-4", *candidates.scene_bases)
-               for count in range(len(own) + 1) for extra in itertools.combinations(own, count)]
+    options = [
+        tuple(x for x in (schlick, basis_table, *extra) if x)
+        for schlick in ("", "schlick")
+        for basis_table in ("", "basis-2", "basis-3", "basis-4", *candidates.scene_bases)
+        for count in range(len(own) + 1)
+        for extra in itertools.combinations(own, count)
+    ]
     options = [option for option in options if option]
 
     def assign(tables, errors) -> dict[str, str] | None:
@@ -240,7 +281,12 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
             break
     layouts = assign(tables, chosen_errors)
     return ScenePlan(
-        scene=scene, tables=tables, roughness_range=(low, high), rows=len(chosen_rows), columns=width, layouts=layouts,
+        scene=scene,
+        tables=tables,
+        roughness_range=(low, high),
+        rows=len(chosen_rows),
+        columns=width,
+        layouts=layouts,
         coefficients={m.name: weights_of[m.name, layouts[m.name]] for m in scene.materials},
         errors={m.name: chosen_errors[layouts[m.name]][m.name] for m in scene.materials},
         full_errors=full_errors,

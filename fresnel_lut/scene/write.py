@@ -14,12 +14,12 @@ from pathlib import Path
 
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
-
 from basis.validation import check_choice
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
 from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
+
 from .files import SceneError, read_scene, tomllib
 from .plan import ACCURACY_GOAL, ScenePlan, plan_scene
 
@@ -39,12 +39,18 @@ def _previous_files(coefficients_path: Path) -> set[str]:
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return set()
     suffixes = {fmt.suffix for fmt in FORMATS.values()}
-    return {name for name in names if isinstance(name, str) and Path(name).name == name
-            and ((name.startswith("ggx_") and Path(name).suffix in suffixes) or name == SCENE_BASIS_FILE)}
+    return {
+        name
+        for name in names
+        if isinstance(name, str)
+        and Path(name).name == name
+        and ((name.startswith("ggx_") and Path(name).suffix in suffixes) or name == SCENE_BASIS_FILE)
+    }
 
 
-def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None, formats=("exr",),
-                half: bool = False) -> dict:
+def write_scene(
+    plan: ScenePlan, out, basis: Basis | None = None, reference_folder=None, formats=("exr",), half: bool = False
+) -> dict:
     """Write the plan's tables (in every format of ``formats``, half floats with ``half``),
     ``scene_coefficients.json`` and ``scene_report.md`` into ``out``.
 
@@ -57,17 +63,29 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
     grid = plan.grid
     convention = grid.convention
     tables, names, texts = [], {}, []
-    trained = {table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None}
+    trained = {
+        table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None
+    }
     hashes = {table: trained[table].content_hash if table in trained else basis.content_hash for table in plan.tables}
     for table in plan.tables:
         layout = plan.candidates[table]
         channels = layout.channel_set(basis)
-        header = lut_attributes(channels, plan.columns, plan.rows, f"fresnel-lut scene {Path(plan.scene.source).name}",
-                                convention, channel_set=table, roughness_range=f"{low:.9g},{high:.9g}",
-                                basis_hash=hashes[table])
+        header = lut_attributes(
+            channels,
+            plan.columns,
+            plan.rows,
+            f"fresnel-lut scene {Path(plan.scene.source).name}",
+            convention,
+            channel_set=table,
+            roughness_range=f"{low:.9g},{high:.9g}",
+            basis_hash=hashes[table],
+        )
         stem, values = Path(layout.file_name()).stem, plan.table_values[table]
-        parts = (rgba_tables(stem, values, header) if layout.kind in ("basis", "scene")
-                 else [Table(stem, values, channels.channel_names, header)])
+        parts = (
+            rgba_tables(stem, values, header)
+            if layout.kind in ("basis", "scene")
+            else [Table(stem, values, channels.channel_names, header)]
+        )
         names[table] = [table_file_name(part.name, formats[0]) for part in parts]
         tables += parts
     scene_basis = next(iter(trained.values()), None)
@@ -79,7 +97,11 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
             "roughness": list(material.roughness),
             "layout": plan.layouts[material.name],
             "lut": names[plan.layouts[material.name]][0],
-            **({"second_lut": names[plan.layouts[material.name]][1]} if len(names[plan.layouts[material.name]]) > 1 else {}),
+            **(
+                {"second_lut": names[plan.layouts[material.name]][1]}
+                if len(names[plan.layouts[material.name]]) > 1
+                else {}
+            ),
             "basis_hash": hashes[plan.layouts[material.name]],
             "coefficients": plan.coefficients[material.name].tolist(),
             "max_abs_error_fbar": plan.errors[material.name],
@@ -88,16 +110,27 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         for material in plan.scene.materials
     }
     document = {
-        "scene": Path(plan.scene.source).name, "basis_hash": basis.content_hash, "tolerance": plan.scene.tolerance,
-        "space": plan.scene.space, "visibility": plan.scene.visibility, "roughness_range": [low, high], "rows": plan.rows,
-        "columns": plan.columns, "formats": formats,
-        "layout": ("coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
-                   "4-7 of a basis of more than four terms are R, G, B, A of second_lut"),
+        "scene": Path(plan.scene.source).name,
+        "basis_hash": basis.content_hash,
+        "tolerance": plan.scene.tolerance,
+        "space": plan.scene.space,
+        "visibility": plan.scene.visibility,
+        "roughness_range": [low, high],
+        "rows": plan.rows,
+        "columns": plan.columns,
+        "formats": formats,
+        "layout": (
+            "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
+            "4-7 of a basis of more than four terms are R, G, B, A of second_lut"
+        ),
         "materials": materials,
     }
     if scene_basis is not None:
-        document["scene_basis"] = {"file": SCENE_BASIS_FILE, "content_hash": scene_basis.content_hash,
-                                   "fit_angles": scene_basis.fit_angles.tolist()}
+        document["scene_basis"] = {
+            "file": SCENE_BASIS_FILE,
+            "content_hash": scene_basis.content_hash,
+            "fit_angles": scene_basis.fit_angles.tolist(),
+        }
     # the tables, the coefficients and the report are renamed into place together (or not at all); the
     # report quotes the tables' sizes, so the tables are first encoded in a scratch folder of the system's
     # (nothing appears in ``out`` before the transaction, nothing is left there by a kill)
@@ -106,51 +139,98 @@ def write_scene(plan: ScenePlan, out, basis: Basis | None = None, reference_fold
         written = {path.name: path.stat().st_size for path in measured}
     exr_bytes = {name: size for name, size in written.items() if name.endswith(FORMATS["exr"].suffix)}
     reference_folder = shipped_path("") if reference_folder is None else Path(reference_folder)
-    full = {name: (reference_folder / name).stat().st_size for name in (BASIS_LUT, SCHLICK_LUT)
-            if (reference_folder / name).exists()}
+    full = {
+        name: (reference_folder / name).stat().st_size
+        for name in (BASIS_LUT, SCHLICK_LUT)
+        if (reference_folder / name).exists()
+    }
     left_out = [name for name in ("schlick", "basis-4") if name not in plan.tables]
     scene_layouts = [name for name in plan.full_errors if name.startswith("scene-basis")]
     table_list = ", ".join(f"{' + '.join(names[table])} ({table})" for table in plan.tables)
     report = [
-        f"# Scene build: {Path(plan.scene.source).name}", "",
-        (f"Tolerance {plan.scene.tolerance:.4g} on Fbar (max over each material's roughness range and all view "
-         f"angles, bilinear lookup), held to {ACCURACY_GOAL:.4g} (10 bits) where a layout can; space "
-         f"{plan.scene.space}, basis {basis.content_hash}"
-         + (f", scene basis {scene_basis.content_hash} ({SCENE_BASIS_FILE})" if scene_basis is not None else "") + "."), "",
-        ("| material | roughness | layout | max abs error of Fbar | full default build | "
-         "error with Schlick, basis 2, 3, 4 terms, scene basis of 4… terms (all rows) |"),
-        "|---|---|---|---|---|---|",
-        *[f"| {m.name} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
-          f"{plan.default_build_errors[m.name]:.2e} | "
-          + ", ".join(f"{plan.full_errors[layout][m.name]:.1e}"
-                      for layout in ("schlick", "basis-2", "basis-3", "basis-4", *scene_layouts))
-          + " |" for m in plan.scene.materials],
+        f"# Scene build: {Path(plan.scene.source).name}",
         "",
-        (f"Tables: {table_list}; {plan.rows} rows over roughness "
-         f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.columns} columns."),
+        (
+            f"Tolerance {plan.scene.tolerance:.4g} on Fbar (max over each material's roughness range and all view "
+            f"angles, bilinear lookup), held to {ACCURACY_GOAL:.4g} (10 bits) where a layout can; space "
+            f"{plan.scene.space}, basis {basis.content_hash}"
+            + (f", scene basis {scene_basis.content_hash} ({SCENE_BASIS_FILE})" if scene_basis is not None else "")
+            + "."
+        ),
+        "",
+        (
+            "| material | roughness | layout | max abs error of Fbar | full default build | "
+            "error with Schlick, basis 2, 3, 4 terms, scene basis of 4… terms (all rows) |"
+        ),
+        "|---|---|---|---|---|---|",
+        *[
+            f"| {m.name} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
+            f"{plan.default_build_errors[m.name]:.2e} | "
+            + ", ".join(
+                f"{plan.full_errors[layout][m.name]:.1e}"
+                for layout in ("schlick", "basis-2", "basis-3", "basis-4", *scene_layouts)
+            )
+            + " |"
+            for m in plan.scene.materials
+        ],
+        "",
+        (
+            f"Tables: {table_list}; {plan.rows} rows over roughness "
+            f"{low:g}–{high:g} (the default build: {plan.scene.size} rows over 0–1), {plan.columns} columns."
+        ),
         f"Left out: {', '.join(left_out) if left_out else 'no table'}"
-        + ("" if "basis-4" in plan.tables or any(t.startswith("scene") for t in plan.tables) or not any(t.startswith("basis") for t in plan.tables)
-           else f" (basis terms beyond {plan.tables[-1].split('-')[1]})") + ".",
-        (f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "
-         f"build ({100.0 * (1.0 - sum(exr_bytes.values()) / max(1, sum(full.values()))):.1f} % saved)"
-         + (f"; {sum(written.values()):,} in all of {', '.join(formats)}." if formats != ["exr"] else ".")
-         if exr_bytes else f"Bytes: {sum(written.values()):,} written in {', '.join(formats)}."),
+        + (
+            ""
+            if "basis-4" in plan.tables
+            or any(t.startswith("scene") for t in plan.tables)
+            or not any(t.startswith("basis") for t in plan.tables)
+            else f" (basis terms beyond {plan.tables[-1].split('-')[1]})"
+        )
+        + ".",
+        (
+            f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "
+            f"build ({100.0 * (1.0 - sum(exr_bytes.values()) / max(1, sum(full.values()))):.1f} % saved)"
+            + (f"; {sum(written.values()):,} in all of {', '.join(formats)}." if formats != ["exr"] else ".")
+            if exr_bytes
+            else f"Bytes: {sum(written.values()):,} written in {', '.join(formats)}."
+        ),
     ]
     coefficients_path, report_path = out / "scene_coefficients.json", out / "scene_report.md"
     # the tables (in every format) and scene basis of a scene built here before are this build's set: those not
     # written again go, in the same transaction
     previous = _previous_files(coefficients_path)
-    paths = write_tables(tables, out, formats, half, owned=sorted({Path(name).stem for name in previous} - {"scene_basis"}),
-                         owned_files=sorted(previous & {SCENE_BASIS_FILE}),
-                         texts=[*texts, (coefficients_path.name, json.dumps(document, indent=1) + "\n"),
-                                (report_path.name, "\n".join(report) + "\n")])[: len(tables) * len(formats)]
-    return {"tables": paths, "coefficients": coefficients_path, "report": report_path, "bytes": written,
-            "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
-            "full_bytes": full, "text": "\n".join(report)}
+    paths = write_tables(
+        tables,
+        out,
+        formats,
+        half,
+        owned=sorted({Path(name).stem for name in previous} - {"scene_basis"}),
+        owned_files=sorted(previous & {SCENE_BASIS_FILE}),
+        texts=[
+            *texts,
+            (coefficients_path.name, json.dumps(document, indent=1) + "\n"),
+            (report_path.name, "\n".join(report) + "\n"),
+        ],
+    )[: len(tables) * len(formats)]
+    return {
+        "tables": paths,
+        "coefficients": coefficients_path,
+        "report": report_path,
+        "bytes": written,
+        "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
+        "full_bytes": full,
+        "text": "\n".join(report),
+    }
 
 
-def build_scene(file, out, formats=("exr",), half: bool = False, visibility: str | None = None,
-                progress: Callable[[str], None] | None = None) -> dict:
+def build_scene(
+    file,
+    out,
+    formats=("exr",),
+    half: bool = False,
+    visibility: str | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
     """``fresnel-lut scene``: read the scene file, plan it and write it (:func:`write_scene`); ``visibility``
     (given on the command line) must agree with the scene file's where both say one. ``progress`` gets a line
     before the plan and an indented one per trained scene basis."""
@@ -160,12 +240,16 @@ def build_scene(file, out, formats=("exr",), half: bool = False, visibility: str
         check_choice("--visibility", visibility, list(VISIBILITIES))
         stated = _stated_visibility(Path(file))
         if stated is not None and stated != visibility:
-            raise SceneError(f"scene file {file} says visibility = {stated!r}, the command line {visibility!r}; give one")
+            raise SceneError(
+                f"scene file {file} says visibility = {stated!r}, the command line {visibility!r}; give one"
+            )
         scene = dataclasses.replace(scene, visibility=visibility)
     if progress is not None:
         columns = f"{scene.size}" if scene.size_fixed else f"{scene.size} or more"
-        progress(f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {columns} columns, "
-                 f"{scene.visibility} G2) ...")
+        progress(
+            f"planning {len(scene.materials)} materials (tolerance {scene.tolerance:.4g}, {columns} columns, "
+            f"{scene.visibility} G2) ..."
+        )
     plan = plan_scene(scene, progress=None if progress is None else lambda text: progress(f"  {text}"))
     # the plan refuses before anything is written
     return write_scene(plan, out, formats=formats, half=half)

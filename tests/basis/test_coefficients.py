@@ -191,7 +191,9 @@ def test_table_with_material_axes():
     """A (3, M) table gives (3, 4) coefficients equal to coefficients_from_nk per channel (atol 1e-8)."""
     eta, kappa = GOLD
     values = fresnel_conductor(cosines(THETA)[None, :], eta[:, None], kappa[:, None])
-    np.testing.assert_allclose(coefficients_from_table(THETA, values), coefficients_from_nk(eta, kappa), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(
+        coefficients_from_table(THETA, values), coefficients_from_nk(eta, kappa), rtol=0, atol=1e-8
+    )
 
 
 def test_samples_agree_with_nk():
@@ -301,7 +303,9 @@ def test_bad_basis_argument():
         coefficients_from_nk(1.5, 0.0, basis="luts/basis.json")
 
 
-@pytest.mark.parametrize("eta, kappa, name", [(0.0, 1.0, "eta"), (1.5, -1.0, "kappa"), (np.nan, 0.0, "eta"), ("1.5", 0.0, "eta")])
+@pytest.mark.parametrize(
+    "eta, kappa, name", [(0.0, 1.0, "eta"), (1.5, -1.0, "kappa"), (np.nan, 0.0, "eta"), ("1.5", 0.0, "eta")]
+)
 def test_bad_nk(eta, kappa, name):
     """coefficients_from_nk validates eta and kappa like fresnel_conductor: ParameterError naming the parameter."""
     with pytest.raises(ParameterError, match=rf"^{name}\b"):

@@ -110,7 +110,8 @@ def test_least_squares_from_a_finer_table_matches_the_nk_entry_point():
         np.testing.assert_allclose(
             coefficients_least_squares_from_table(theta, table, fit=weight),
             coefficients_least_squares(eta, kappa, fit=weight),
-            rtol=0, atol=1e-6,
+            rtol=0,
+            atol=1e-6,
         )
 
 
@@ -152,7 +153,9 @@ def test_registry_names_and_shader_terms():
     assert list(REPRESENTATIONS) == ["exact", "schlick", "basis-4point", "basis-lsq", "basis-minimax"]
     assert representation("exact").shader_terms() is None
     assert representation("schlick").shader_terms() == 2
-    assert all(representation(name).shader_terms() == BASIS.n_terms for name in REPRESENTATIONS if name.startswith("basis"))
+    assert all(
+        representation(name).shader_terms() == BASIS.n_terms for name in REPRESENTATIONS if name.startswith("basis")
+    )
 
 
 def test_raise_exception_unknown_model_lists_the_names():

@@ -40,8 +40,9 @@ def test_weights_match_colour_science_path(space):
         distribution = colour.SpectralDistribution(dict(zip(WAVELENGTHS, values)))
         xyz = colour.sd_to_XYZ(distribution, cmfs, illuminant, method="Integration") / 100.0
         source_white = colour.XYZ_to_xy(colour.sd_to_XYZ(colour.sd_ones(shape), cmfs, illuminant, method="Integration"))
-        return colour.XYZ_to_RGB(xyz, definition.colourspace, illuminant=source_white,
-                                 chromatic_adaptation_transform="Bradford")
+        return colour.XYZ_to_RGB(
+            xyz, definition.colourspace, illuminant=source_white, chromatic_adaptation_transform="Bradford"
+        )
 
     expected = rgb(reflectance) / rgb(np.ones_like(reflectance))
     np.testing.assert_allclose(spectral_to_rgb_weights(space) @ reflectance, expected, rtol=1e-6)
@@ -66,15 +67,21 @@ def test_delta_e_2000_published_pair():
     space = WORKING_SPACES["ACEScg"].rgb_colourspace
 
     def to_rgb(lab):
-        return colour.XYZ_to_RGB(colour.Lab_to_XYZ(lab, space.whitepoint), space, illuminant=space.whitepoint,
-                                 chromatic_adaptation_transform=None)
+        return colour.XYZ_to_RGB(
+            colour.Lab_to_XYZ(lab, space.whitepoint),
+            space,
+            illuminant=space.whitepoint,
+            chromatic_adaptation_transform=None,
+        )
 
     assert delta_E_2000(to_rgb(lab_a), to_rgb(lab_b), "ACEScg") == pytest.approx(2.0425, abs=1e-4)
 
 
 def test_rgb_to_rgb_round_trip_and_identity():
     # the published 4-decimal matrices of the spaces round-trip to 5e-5, not to machine precision
-    np.testing.assert_allclose(rgb_to_rgb_matrix("ACEScg", "sRGB") @ rgb_to_rgb_matrix("sRGB", "ACEScg"), np.eye(3), atol=5e-5)
+    np.testing.assert_allclose(
+        rgb_to_rgb_matrix("ACEScg", "sRGB") @ rgb_to_rgb_matrix("sRGB", "ACEScg"), np.eye(3), atol=5e-5
+    )
     np.testing.assert_allclose(rgb_to_rgb_matrix("ACEScg", "AP0") @ [1.0, 1.0, 1.0], 1.0, atol=1e-6)
 
 
@@ -106,9 +113,11 @@ def test_delta_E_2000_components_square_sum_is_ciede2000():
     near = rng.uniform([0.0, -100.0, -100.0], [100.0, 100.0, 100.0], (5000, 3))
     far = rng.uniform([0.0, -100.0, -100.0], [100.0, 100.0, 100.0], (5000, 3))
     first = np.concatenate([near, near, [[50.0, 0.0, 0.0], [50.0, 2.49, -0.001], [60.0, 10.0, -0.1]]])
-    second = np.concatenate([near + rng.normal(0.0, 2.0, near.shape), far,
-                             [[50.0, 0.0, 0.0], [50.0, -2.49, 0.001], [61.0, 10.0, 0.1]]])
+    second = np.concatenate(
+        [near + rng.normal(0.0, 2.0, near.shape), far, [[50.0, 0.0, 0.0], [50.0, -2.49, 0.001], [61.0, 10.0, 0.1]]]
+    )
     components = delta_E_2000_components(first, second)
     assert components.shape == first.shape
-    np.testing.assert_allclose(np.sqrt(np.sum(components**2, axis=-1)),
-                               colour.delta_E(first, second, method="CIE 2000"), rtol=0, atol=1e-10)
+    np.testing.assert_allclose(
+        np.sqrt(np.sum(components**2, axis=-1)), colour.delta_E(first, second, method="CIE 2000"), rtol=0, atol=1e-10
+    )

@@ -86,7 +86,11 @@ def test_failed_write_keeps_old_file_and_cleans_up(small_basis, tmp_path, monkey
     """If the final rename fails, the previous file is untouched and the temporary file is removed."""
     path = small_basis.write(tmp_path / "basis.json")
     before = path.read_bytes()
-    other = Basis(small_basis.theta, small_basis.curves, small_basis.fit_angles - np.r_[0.0, 0.0, [0.05] * (small_basis.n_terms - 2)])
+    other = Basis(
+        small_basis.theta,
+        small_basis.curves,
+        small_basis.fit_angles - np.r_[0.0, 0.0, [0.05] * (small_basis.n_terms - 2)],
+    )
 
     def failing_replace(source, destination):
         raise OSError("simulated failure")

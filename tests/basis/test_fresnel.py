@@ -6,7 +6,6 @@ r_p = (n mu - cos_t)/(n mu + cos_t), F = (|r_s|^2 + |r_p|^2)/2. The library uses
 real a^2/b^2 form of Hoffman 2020, so agreement is a genuine cross-check.
 """
 
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -141,10 +140,13 @@ def test_eta_below_domain_is_refused(eta):
 
 
 # ----------------------------------------------------------------------------- broadcasting
-@pytest.mark.parametrize("function, arguments", [
-    (fresnel_conductor, (0.37, 0.27, 3.61)),
-    (fresnel_dielectric, (0.37, 1.5)),
-])
+@pytest.mark.parametrize(
+    "function, arguments",
+    [
+        (fresnel_conductor, (0.37, 0.27, 3.61)),
+        (fresnel_dielectric, (0.37, 1.5)),
+    ],
+)
 def test_n_dimensional_inputs(function, arguments):
     """Scalar, 1-D, (2,3) and (2,3,1) inputs give the scalar value tiled/reshaped (atol 0; colour-science style)."""
     expected = function(*arguments)

@@ -37,8 +37,9 @@ def colour_science_curve(name: str, space: str) -> np.ndarray:
     illuminant = colour.SDS_ILLUMINANTS[definition.illuminant].copy().align(shape)
     signals = colour.MultiSpectralDistributions(np.column_stack([spectra, np.ones(WAVELENGTHS.size)]), WAVELENGTHS)
     xyz = colour.msds_to_XYZ(signals, cmfs, illuminant, method="Integration") / 100.0
-    rgb = colour.XYZ_to_RGB(xyz, definition.colourspace, illuminant=colour.XYZ_to_xy(xyz[-1]),
-                            chromatic_adaptation_transform="Bradford")
+    rgb = colour.XYZ_to_RGB(
+        xyz, definition.colourspace, illuminant=colour.XYZ_to_xy(xyz[-1]), chromatic_adaptation_transform="Bradford"
+    )
     return rgb[:-1] / rgb[-1]
 
 
@@ -51,8 +52,9 @@ def test_presets_cover_every_material_and_space_for_the_shipped_basis():
             preset = material_preset(name, space)
             assert preset["coefficients"].shape == (3, 4) and np.isfinite(preset["coefficients"]).all()
             # grazing is white exactly: c0 + c1 = F90 = 1
-            np.testing.assert_allclose(preset["coefficients"].sum(axis=1) - preset["coefficients"][:, 2:].sum(axis=1),
-                                       1.0, atol=1e-9)
+            np.testing.assert_allclose(
+                preset["coefficients"].sum(axis=1) - preset["coefficients"][:, 2:].sum(axis=1), 1.0, atol=1e-9
+            )
             np.testing.assert_allclose(preset["f0"], material_curve(name, space)(1.0), atol=1e-8)
             assert preset["delta_e2000_at_0"] < 0.1  # the F0 the fit moved, far below a just-noticeable 1
 
@@ -84,14 +86,17 @@ def test_fits_do_what_they_say():
     basis = default_basis()
     curve = material_curve("Gold")
     four_point = fit_material("Gold", fit="four-point")
-    np.testing.assert_allclose(four_point @ basis.evaluate(basis.fit_angles).T, curve(cos_theta(basis.fit_angles)).T,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        four_point @ basis.evaluate(basis.fit_angles).T, curve(cos_theta(basis.fit_angles)).T, atol=1e-12
+    )
     least_squares = fit_material("Gold", fit="least-squares")
     np.testing.assert_allclose(least_squares[:, 0], curve(1.0), atol=1e-12)
     exact_f0 = fit_material("Gold", fit="delta-e-exact-f0")
     np.testing.assert_allclose(exact_f0[:, 0], curve(1.0), atol=1e-12)
-    errors = {fit: rms_delta_E_2000(curve(MU), (fit_material("Gold", fit=fit) @ basis.evaluate(THETA).T).T, "ACEScg")
-              for fit in ("four-point", "least-squares", "delta-e-exact-f0", "delta-e")}
+    errors = {
+        fit: rms_delta_E_2000(curve(MU), (fit_material("Gold", fit=fit) @ basis.evaluate(THETA).T).T, "ACEScg")
+        for fit in ("four-point", "least-squares", "delta-e-exact-f0", "delta-e")
+    }
     assert errors["delta-e"] <= errors["delta-e-exact-f0"] <= errors["least-squares"] + 1e-9
     assert errors["least-squares"] < errors["four-point"]
 

@@ -27,8 +27,16 @@ MU = np.concatenate([np.linspace(0.0, 1.0, 257), [MU_82]])
 
 #: The channel column of the module docstring's table (the split-sum LUT channel count of each linear model).
 CHANNELS = {
-    "schlick": 2, "generalized-schlick": 2, "lazanyi": 3, "f82": 3, "adobe": 3, "generalized-adobe": 3,
-    "cook-torrance": 2, "schlick-external": 2, "schlick-external-metal": 2, "fresnel-blend": 2,
+    "schlick": 2,
+    "generalized-schlick": 2,
+    "lazanyi": 3,
+    "f82": 3,
+    "adobe": 3,
+    "generalized-adobe": 3,
+    "cook-torrance": 2,
+    "schlick-external": 2,
+    "schlick-external-metal": 2,
+    "fresnel-blend": 2,
 }
 NON_LINEAR = {"exact-external", "gulbrandsen"}
 CLAMPED = {"lazanyi", "f82", "adobe", "generalized-adobe"}
@@ -156,24 +164,33 @@ def test_f82_passes_through_f82_at_arccos_one_seventh():
     """Hoffman 2020 "2019: Reparameterized Lazanyi": F(μ = 1/7) = F82 on every sweep point (atol 1e-13)."""
     model = fresnel_model("f82")
     for point in model.sweep:
-        np.testing.assert_allclose(model.evaluate(MU_82, **point), point["f82"], rtol=0, atol=1e-13,
-                                   err_msg=str(point))
+        np.testing.assert_allclose(model.evaluate(MU_82, **point), point["f82"], rtol=0, atol=1e-13, err_msg=str(point))
 
 
 def test_f82_matches_the_closed_form_where_unclamped():
     """The F82 model equals Hoffman 2020's formula (a from F0 and F82), clipped to [0, 1], on the μ grid (1e-14)."""
     model = fresnel_model("f82")
     for point in model.sweep:
-        np.testing.assert_allclose(model.evaluate(MU, **point), np.clip(f82_curve(MU, **point), 0.0, 1.0),
-                                   rtol=0, atol=1e-14, err_msg=str(point))
+        np.testing.assert_allclose(
+            model.evaluate(MU, **point),
+            np.clip(f82_curve(MU, **point), 0.0, 1.0),
+            rtol=0,
+            atol=1e-14,
+            err_msg=str(point),
+        )
 
 
 def test_adobe_at_theta_max_is_tint_times_schlick():
     """Hoffman 2023 eq. 3 chooses a so that F(θ_max) = t · Schlick(θ_max), μ = 1/7 (atol 1e-14)."""
     model = fresnel_model("adobe")
     for point in model.sweep:
-        np.testing.assert_allclose(model.evaluate(MU_82, **point), point["tint"] * schlick(MU_82, point["f0"]),
-                                   rtol=0, atol=1e-14, err_msg=str(point))
+        np.testing.assert_allclose(
+            model.evaluate(MU_82, **point),
+            point["tint"] * schlick(MU_82, point["f0"]),
+            rtol=0,
+            atol=1e-14,
+            err_msg=str(point),
+        )
 
 
 def test_adobe_with_white_tint_is_schlick_exactly():
@@ -191,8 +208,7 @@ def test_adobe_matches_eq_2_and_3():
     f0, tint = np.meshgrid([0.0, 0.04, 0.3, 0.6, 0.9, 1.0], [0.0, 0.1, 0.5, 0.9, 1.0], indexing="ij")
     mu = MU[:, None, None]
     expected = np.clip(generalized_adobe_curve(mu, f0, 1.0, 5.0, tint), 0.0, 1.0)
-    np.testing.assert_allclose(fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), expected,
-                               rtol=0, atol=1e-14)
+    np.testing.assert_allclose(fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), expected, rtol=0, atol=1e-14)
 
 
 def test_adobe_and_f82_are_the_same_family():
@@ -203,8 +219,12 @@ def test_adobe_and_f82_are_the_same_family():
     f0, tint = np.meshgrid([0.04, 0.3, 0.6, 0.9], [0.0, 0.3, 0.7, 1.0], indexing="ij")
     mu = MU[:, None, None]
     f82 = tint * schlick(MU_82, f0)
-    np.testing.assert_allclose(fresnel_model("f82").evaluate(mu, f0=f0, f82=f82),
-                               fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(
+        fresnel_model("f82").evaluate(mu, f0=f0, f82=f82),
+        fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint),
+        rtol=0,
+        atol=1e-13,
+    )
 
 
 def test_generalized_adobe_at_theta_max_is_tint_times_generalized_schlick():
@@ -219,8 +239,13 @@ def test_generalized_adobe_matches_eq_5_and_6():
     """The generalized Adobe model equals eq. 5 with a from eq. 6, clipped, on every sweep point (1e-14)."""
     model = fresnel_model("generalized-adobe")
     for point in model.sweep:
-        np.testing.assert_allclose(model.evaluate(MU, **point), np.clip(generalized_adobe_curve(MU, **point), 0, 1),
-                                   rtol=0, atol=1e-14, err_msg=str(point))
+        np.testing.assert_allclose(
+            model.evaluate(MU, **point),
+            np.clip(generalized_adobe_curve(MU, **point), 0, 1),
+            rtol=0,
+            atol=1e-14,
+            err_msg=str(point),
+        )
 
 
 @pytest.mark.parametrize("exponent", [0.5, 1.0, 2.0, 5.0, 8.0, 50.0])
@@ -231,7 +256,8 @@ def test_generalized_adobe_with_white_tint_is_generalized_schlick(exponent):
     mu = MU[:, None]
     adobe = fresnel_model("generalized-adobe").evaluate(mu, r0=r0, r90=r90, exponent=exponent, tint=1.0)
     np.testing.assert_array_equal(
-        adobe, fresnel_model("generalized-schlick").evaluate(mu, r0=r0, r90=r90, exponent=exponent))
+        adobe, fresnel_model("generalized-schlick").evaluate(mu, r0=r0, r90=r90, exponent=exponent)
+    )
     np.testing.assert_allclose(adobe, generalized_schlick(mu, r0, r90, exponent), rtol=0, atol=1e-15)
 
 
@@ -241,21 +267,30 @@ def test_generalized_adobe_with_r90_one_and_exponent_five_is_adobe():
     mu = MU[:, None, None]
     np.testing.assert_allclose(
         fresnel_model("generalized-adobe").evaluate(mu, r0=f0, r90=1.0, exponent=5.0, tint=tint),
-        fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint), rtol=0, atol=1e-15)
+        fresnel_model("adobe").evaluate(mu, f0=f0, tint=tint),
+        rtol=0,
+        atol=1e-15,
+    )
 
 
 def test_generalized_schlick_with_white_r90_and_exponent_five_is_schlick():
     """Eq. 4 with r90 = 1, α = 5 is eq. 1 (atol 1e-15: a float exponent 5.0 against an integer 5)."""
     f0 = np.array([0.0, 0.02, 0.04, 0.5, 0.98, 1.0])
     mu = MU[:, None]
-    np.testing.assert_allclose(fresnel_model("generalized-schlick").evaluate(mu, r0=f0, r90=1.0, exponent=5.0),
-                               schlick(mu, f0), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        fresnel_model("generalized-schlick").evaluate(mu, r0=f0, r90=1.0, exponent=5.0),
+        schlick(mu, f0),
+        rtol=0,
+        atol=1e-15,
+    )
 
 
 def test_generalized_schlick_default_exponent_is_five():
     """The exponent defaults to Schlick's 5 (its Parameter.default); omitted and explicit agree exactly."""
     model = fresnel_model("generalized-schlick")
-    np.testing.assert_array_equal(model.evaluate(MU, r0=0.3, r90=0.8), model.evaluate(MU, r0=0.3, r90=0.8, exponent=5.0))
+    np.testing.assert_array_equal(
+        model.evaluate(MU, r0=0.3, r90=0.8), model.evaluate(MU, r0=0.3, r90=0.8, exponent=5.0)
+    )
 
 
 @pytest.mark.parametrize("name", ["schlick", "fresnel-blend"])
@@ -276,8 +311,9 @@ def test_lazanyi_matches_eq_2():
         if point["a"] == 0.0:
             np.testing.assert_allclose(model.evaluate(MU, **point), schlick(MU, point["f0"]), rtol=0, atol=1e-15)
     np.testing.assert_allclose(model.evaluate(1.0, f0=0.3, a=2.0), 0.3, rtol=0, atol=1e-15)  # alpha defaults to 6
-    np.testing.assert_allclose(model.evaluate(MU, f0=0.3, a=2.0), model.evaluate(MU, f0=0.3, a=2.0, alpha=6.0),
-                               rtol=0, atol=0)
+    np.testing.assert_allclose(
+        model.evaluate(MU, f0=0.3, a=2.0), model.evaluate(MU, f0=0.3, a=2.0, alpha=6.0), rtol=0, atol=0
+    )
 
 
 # --- Cook-Torrance colour interpolation --------------------------------------------------------------------
@@ -321,10 +357,16 @@ def test_cook_torrance_matches_the_interpolation_formula():
         f_prime = fresnel_conductor(MU, eta, kappa)
         f_normal = normal_reflectance(eta, kappa)
         g = np.maximum(0.0, f_prime - f_normal) / (1.0 - f_normal)
-        np.testing.assert_allclose(model.evaluate(MU, **point), point["f0"] + (1.0 - point["f0"]) * g,
-                                   rtol=0, atol=1e-12, err_msg=str(point))
-        np.testing.assert_allclose(model.evaluate(MU[:, None], f0=f0, eta_prime=eta, kappa_prime=kappa),
-                                   f0 + (1.0 - f0) * g[:, None], rtol=0, atol=1e-12, err_msg=str(point))
+        np.testing.assert_allclose(
+            model.evaluate(MU, **point), point["f0"] + (1.0 - point["f0"]) * g, rtol=0, atol=1e-12, err_msg=str(point)
+        )
+        np.testing.assert_allclose(
+            model.evaluate(MU[:, None], f0=f0, eta_prime=eta, kappa_prime=kappa),
+            f0 + (1.0 - f0) * g[:, None],
+            rtol=0,
+            atol=1e-12,
+            err_msg=str(point),
+        )
 
 
 # --- external media ----------------------------------------------------------------------------------------
@@ -336,8 +378,7 @@ def test_schlick_external_f0_is_exact_for_dielectrics(eta_e):
     the adjusted F0 is ((η - η_E)/(η + η_E))², the normal reflectance of η/η_E (atol 1e-14)."""
     eta = np.linspace(1.0, 10.0, 451)
     f0 = ((eta - 1.0) / (eta + 1.0)) ** 2
-    np.testing.assert_allclose(schlick_external_f0(f0, eta_e), ((eta - eta_e) / (eta + eta_e)) ** 2,
-                               rtol=0, atol=1e-14)
+    np.testing.assert_allclose(schlick_external_f0(f0, eta_e), ((eta - eta_e) / (eta + eta_e)) ** 2, rtol=0, atol=1e-14)
 
 
 def test_external_adjustments_hand_values():
@@ -347,8 +388,9 @@ def test_external_adjustments_hand_values():
     Metal: 0.64 -> (0.6/0.8)² = 0.5625, 0.01 -> (0.1 - 0.2)² = 0.01, 0.04 -> 0, 0 -> 0.04, 1 -> 1.
     """
     f0 = np.array([0.64, 0.01, 0.04, 0.0, 1.0])
-    np.testing.assert_allclose(schlick_external_f0(f0, 1.5), [(0.6 / 0.84) ** 2, (0.1 / 0.98) ** 2, 0.0, 0.04, 1.0],
-                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        schlick_external_f0(f0, 1.5), [(0.6 / 0.84) ** 2, (0.1 / 0.98) ** 2, 0.0, 0.04, 1.0], rtol=0, atol=1e-15
+    )
     np.testing.assert_allclose(metal_external_f0(f0, 1.5), [0.5625, 0.01, 0.0, 0.04, 1.0], rtol=0, atol=1e-15)
 
 
@@ -371,22 +413,30 @@ def test_metal_external_f0_branches(eta_e):
     assert adjusted.shape == (3,)
     np.testing.assert_allclose(adjusted[0], (np.sqrt(rgb[0]) - np.sqrt(f0e)) ** 2, rtol=0, atol=1e-15)
     np.testing.assert_allclose(adjusted[1], 0.0, rtol=0, atol=1e-15)
-    np.testing.assert_allclose(adjusted[2], ((np.sqrt(rgb[2]) - np.sqrt(f0e)) / (1.0 - np.sqrt(f0e))) ** 2,
-                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        adjusted[2], ((np.sqrt(rgb[2]) - np.sqrt(f0e)) / (1.0 - np.sqrt(f0e))) ** 2, rtol=0, atol=1e-15
+    )
     np.testing.assert_allclose(metal_external_f0(1.0, eta_e), 1.0, rtol=0, atol=1e-15)  # white stays white
 
 
-@pytest.mark.parametrize(("name", "adjust"), [("schlick-external", dielectric_external),
-                                              ("schlick-external-metal", metal_external)])
+@pytest.mark.parametrize(
+    ("name", "adjust"), [("schlick-external", dielectric_external), ("schlick-external-metal", metal_external)]
+)
 def test_external_models_are_schlick_with_the_adjusted_f0(name, adjust):
     """schlick-external(-metal) = eq. 1 with F0' from Hoffman 2020's formula, every sweep point and RGB (1e-15)."""
     model = fresnel_model(name)
     for point in model.sweep:
-        np.testing.assert_allclose(model.evaluate(MU, **point), schlick(MU, adjust(point["f0"], point["eta_e"])),
-                                   rtol=0, atol=1e-15, err_msg=str(point))
+        np.testing.assert_allclose(
+            model.evaluate(MU, **point),
+            schlick(MU, adjust(point["f0"], point["eta_e"])),
+            rtol=0,
+            atol=1e-15,
+            err_msg=str(point),
+        )
     f0 = np.array([0.95, 0.64, 0.54])
-    np.testing.assert_allclose(model.evaluate(MU[:, None], f0=f0, eta_e=1.33), schlick(MU[:, None], adjust(f0, 1.33)),
-                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        model.evaluate(MU[:, None], f0=f0, eta_e=1.33), schlick(MU[:, None], adjust(f0, 1.33)), rtol=0, atol=1e-15
+    )
 
 
 def test_exact_external_divides_eta_and_kappa_by_the_external_index():
@@ -427,8 +477,12 @@ def test_gulbrandsen_model_is_fresnel_of_gulbrandsen_to_nk():
 def test_gulbrandsen_zero_edge_tint_is_the_dielectric_with_that_f0(r):
     """g = 0 gives n_max = (1 + √r)/(1 - √r), κ = 0 (Gulbrandsen 2014 eq. 8): the textbook dielectric (1e-12)."""
     eta = (1.0 + np.sqrt(r)) / (1.0 - np.sqrt(r))
-    np.testing.assert_allclose(fresnel_model("gulbrandsen").evaluate(MU, reflectivity=r, edge_tint=0.0),
-                               dielectric(MU, eta), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        fresnel_model("gulbrandsen").evaluate(MU, reflectivity=r, edge_tint=0.0),
+        dielectric(MU, eta),
+        rtol=0,
+        atol=1e-12,
+    )
 
 
 # --- linear structure and the clamp ---------------------------------------------------------------------------
@@ -441,8 +495,9 @@ def test_channels_times_weights_reproduce_the_curve(name):
     model = fresnel_model(name)
     for point in model.sweep:
         linear = model.channel_functions(**point)(MU) @ model.channel_weights(**point)
-        np.testing.assert_allclose(linear, model.curve(MU, model.check(**point)), rtol=0, atol=1e-14,
-                                   err_msg=str(point))
+        np.testing.assert_allclose(
+            linear, model.curve(MU, model.check(**point)), rtol=0, atol=1e-14, err_msg=str(point)
+        )
 
 
 @pytest.mark.parametrize("name", sorted(CHANNELS))
@@ -489,8 +544,7 @@ def test_f82_clamp_is_active_for_a_dark_f82():
     np.testing.assert_allclose(values, np.clip(closed, 0.0, 1.0), rtol=0, atol=1e-14)
     np.testing.assert_allclose(model.evaluate(MU_82, f0=0.2, f82=0.0), 0.0, rtol=0, atol=1e-14)
     # per channel for RGB: only the dark channel is clamped
-    np.testing.assert_array_equal(model.clamp_is_inactive(f0=[0.2, 0.9, 0.5], f82=[0.0, 0.9, 0.6]),
-                                  [False, True, True])
+    np.testing.assert_array_equal(model.clamp_is_inactive(f0=[0.2, 0.9, 0.5], f82=[0.0, 0.9, 0.6]), [False, True, True])
 
 
 # --- broadcasting ------------------------------------------------------------------------------------------
@@ -500,9 +554,14 @@ def rgb_parameters(model, shape=(3,)):
     """Colour parameters as arrays of ``shape`` taken from spread sweep points; scalar ones from the first point."""
     size = int(np.prod(shape))
     points = [model.sweep[i] for i in np.linspace(0, len(model.sweep) - 1, size).round().astype(int)]
-    return {parameter.name: (np.reshape([p[parameter.name] for p in points], shape) if parameter.colour
-                             else model.sweep[0][parameter.name])
-            for parameter in model.parameters}
+    return {
+        parameter.name: (
+            np.reshape([p[parameter.name] for p in points], shape)
+            if parameter.colour
+            else model.sweep[0][parameter.name]
+        )
+        for parameter in model.parameters
+    }
 
 
 def scalar_at(params, index):
@@ -535,8 +594,9 @@ def test_matrix_parameters_broadcast_against_scalar_and_array_mu(name):
     assert values.shape == (4, 2, 3)
     np.testing.assert_array_equal(values[1], at_scalar)
     for index in np.ndindex(2, 3):
-        np.testing.assert_allclose(values[(slice(None),) + index], model.evaluate(mu, **scalar_at(params, index)),
-                                   rtol=0, atol=1e-15)
+        np.testing.assert_allclose(
+            values[(slice(None),) + index], model.evaluate(mu, **scalar_at(params, index)), rtol=0, atol=1e-15
+        )
 
 
 # --- errors --------------------------------------------------------------------------------------------------
@@ -551,22 +611,25 @@ def test_unknown_model_name_lists_the_valid_names(name):
         assert repr(valid) in str(error.value)
 
 
-@pytest.mark.parametrize(("name", "values", "message"), [
-    ("schlick", {"f0": 1.5}, "f0 must be in [0, 1], got 1.5"),
-    ("schlick", {"f0": -0.01}, "f0 must be in [0, 1], got -0.01"),
-    ("schlick", {"f0": float("nan")}, "f0 must be in [0, 1], got nan"),
-    ("schlick", {"f0": [0.1, float("inf"), 0.3]}, "f0 must be in [0, 1], got inf"),
-    ("generalized-schlick", {"r0": 0.04, "r90": 1.0, "exponent": 0.0}, "exponent must be in [0.1, 50], got 0.0"),
-    ("generalized-schlick", {"r0": 0.04, "r90": 1.2}, "r90 must be in [0, 1], got 1.2"),
-    ("lazanyi", {"f0": 0.5, "a": 25.0}, "a must be in [-20, 20], got 25.0"),
-    ("f82", {"f0": 0.5, "f82": -0.5}, "f82 must be in [0, 1], got -0.5"),
-    ("adobe", {"f0": 0.5, "tint": [0.5, 1.1, 0.5]}, "tint must be in [0, 1], got 1.1"),
-    ("cook-torrance", {"f0": 0.5, "eta_prime": 0.0}, "eta_prime must be in [1e-08, 1e+06], got 0.0"),
-    ("schlick-external", {"f0": 0.5, "eta_e": 0.5}, "eta_e must be in [1, 10], got 0.5"),
-    ("schlick-external-metal", {"f0": 0.5, "eta_e": 11.0}, "eta_e must be in [1, 10], got 11.0"),
-    ("exact-external", {"eta": 1.5, "kappa": -1.0, "eta_e": 1.0}, "kappa must be in [0, 1e+06], got -1.0"),
-    ("gulbrandsen", {"reflectivity": 0.5, "edge_tint": 2.0}, "edge_tint must be in [0, 1], got 2.0"),
-])
+@pytest.mark.parametrize(
+    ("name", "values", "message"),
+    [
+        ("schlick", {"f0": 1.5}, "f0 must be in [0, 1], got 1.5"),
+        ("schlick", {"f0": -0.01}, "f0 must be in [0, 1], got -0.01"),
+        ("schlick", {"f0": float("nan")}, "f0 must be in [0, 1], got nan"),
+        ("schlick", {"f0": [0.1, float("inf"), 0.3]}, "f0 must be in [0, 1], got inf"),
+        ("generalized-schlick", {"r0": 0.04, "r90": 1.0, "exponent": 0.0}, "exponent must be in [0.1, 50], got 0.0"),
+        ("generalized-schlick", {"r0": 0.04, "r90": 1.2}, "r90 must be in [0, 1], got 1.2"),
+        ("lazanyi", {"f0": 0.5, "a": 25.0}, "a must be in [-20, 20], got 25.0"),
+        ("f82", {"f0": 0.5, "f82": -0.5}, "f82 must be in [0, 1], got -0.5"),
+        ("adobe", {"f0": 0.5, "tint": [0.5, 1.1, 0.5]}, "tint must be in [0, 1], got 1.1"),
+        ("cook-torrance", {"f0": 0.5, "eta_prime": 0.0}, "eta_prime must be in [1e-08, 1e+06], got 0.0"),
+        ("schlick-external", {"f0": 0.5, "eta_e": 0.5}, "eta_e must be in [1, 10], got 0.5"),
+        ("schlick-external-metal", {"f0": 0.5, "eta_e": 11.0}, "eta_e must be in [1, 10], got 11.0"),
+        ("exact-external", {"eta": 1.5, "kappa": -1.0, "eta_e": 1.0}, "kappa must be in [0, 1e+06], got -1.0"),
+        ("gulbrandsen", {"reflectivity": 0.5, "edge_tint": 2.0}, "edge_tint must be in [0, 1], got 2.0"),
+    ],
+)
 def test_out_of_range_parameter_names_it_and_its_range(name, values, message):
     """evaluate, check and (for linear models) channel_weights raise ParameterError '<name> must be in [lo, hi]'."""
     model = fresnel_model(name)
@@ -600,14 +663,17 @@ def test_malformed_parameter(value):
         fresnel_model("schlick").evaluate(0.5, f0=value)
 
 
-@pytest.mark.parametrize(("name", "values", "missing"), [
-    ("schlick", {}, "f0"),
-    ("generalized-schlick", {"r0": 0.04}, "r90"),
-    ("adobe", {"f0": 0.04}, "tint"),
-    ("cook-torrance", {"f0": 0.04}, "eta_prime"),
-    ("exact-external", {"eta": 1.5, "kappa": 0.0}, "eta_e"),
-    ("gulbrandsen", {"edge_tint": 0.5}, "reflectivity"),
-])
+@pytest.mark.parametrize(
+    ("name", "values", "missing"),
+    [
+        ("schlick", {}, "f0"),
+        ("generalized-schlick", {"r0": 0.04}, "r90"),
+        ("adobe", {"f0": 0.04}, "tint"),
+        ("cook-torrance", {"f0": 0.04}, "eta_prime"),
+        ("exact-external", {"eta": 1.5, "kappa": 0.0}, "eta_e"),
+        ("gulbrandsen", {"edge_tint": 0.5}, "reflectivity"),
+    ],
+)
 def test_missing_parameter_is_named(name, values, missing):
     """A parameter without default raises ParameterError 'model NAME needs PARAM'."""
     with pytest.raises(ParameterError, match=re.escape(f"model {name!r} needs {missing}")):
@@ -619,8 +685,9 @@ def test_missing_shape_parameter_in_channel_functions():
     with pytest.raises(ParameterError, match="needs eta_prime"):
         fresnel_model("cook-torrance").channel_functions()
     model = fresnel_model("cook-torrance")
-    np.testing.assert_array_equal(model.channel_functions(eta_prime=1.5)(MU),
-                                  model.channel_functions(eta_prime=1.5, kappa_prime=0.0)(MU))
+    np.testing.assert_array_equal(
+        model.channel_functions(eta_prime=1.5)(MU), model.channel_functions(eta_prime=1.5, kappa_prime=0.0)(MU)
+    )
 
 
 def test_unknown_keyword_is_refused():
@@ -631,12 +698,15 @@ def test_unknown_keyword_is_refused():
         fresnel_model("adobe").check(f0=0.1, tint=1.0, exponent=5.0)
 
 
-@pytest.mark.parametrize(("name", "values"), [
-    ("generalized-schlick", {"r0": 0.04, "r90": 1.0, "exponent": [1.0, 2.0, 3.0]}),
-    ("generalized-adobe", {"r0": 0.04, "r90": 1.0, "exponent": [5.0], "tint": 0.5}),
-    ("lazanyi", {"f0": 0.04, "a": 1.0, "alpha": [6.0, 6.0, 6.0]}),
-    ("cook-torrance", {"f0": 0.04, "eta_prime": [1.5, 1.5, 1.5]}),
-])
+@pytest.mark.parametrize(
+    ("name", "values"),
+    [
+        ("generalized-schlick", {"r0": 0.04, "r90": 1.0, "exponent": [1.0, 2.0, 3.0]}),
+        ("generalized-adobe", {"r0": 0.04, "r90": 1.0, "exponent": [5.0], "tint": 0.5}),
+        ("lazanyi", {"f0": 0.04, "a": 1.0, "alpha": [6.0, 6.0, 6.0]}),
+        ("cook-torrance", {"f0": 0.04, "eta_prime": [1.5, 1.5, 1.5]}),
+    ],
+)
 def test_array_shape_parameter_is_refused_by_check(name, values):
     """A shape parameter fixes the LUT channels and must be one number: check/evaluate raise ParameterError."""
     model = fresnel_model(name)

@@ -45,8 +45,14 @@ def test_gradient_matches_finite_differences(groups):
     curves = np.concatenate([curves_of(*pair) for pair in groups.values()])
     tolerances = np.linspace(0.003, 0.01, curves.shape[0])
     dictionary, _ = build_curves(THETA, [curves], 10)
-    objective = _Objective(THETA, curves, tolerances, default_basis().evaluate(THETA).T, dictionary[2:8],
-                           [(slice(0, 100), None), (slice(100, None), np.random.default_rng(1).uniform(0, 0.01, (30, THETA.size)))])
+    objective = _Objective(
+        THETA,
+        curves,
+        tolerances,
+        default_basis().evaluate(THETA).T,
+        dictionary[2:8],
+        [(slice(0, 100), None), (slice(100, None), np.random.default_rng(1).uniform(0, 0.01, (30, THETA.size)))],
+    )
     objective.power = 8.0
     x = np.concatenate([np.random.default_rng(0).normal(0.0, 0.01, 18), [1.45, 1.2]])
     _, gradient = objective(x)
@@ -62,8 +68,13 @@ def test_gradient_matches_finite_differences(groups):
 def test_refinement_lowers_the_worst_scaled_error_of_its_start(groups):
     tolerances = {"dielectrics": 0.0035, "metals": 0.009, "showcase": 0.006}
     start = default_basis()
-    refined = refine_basis(THETA, {name: (curves_of(*pair), tolerances[name]) for name, pair in groups.items()},
-                           start=start, powers=(16.0, 64.0), iterations=300)
+    refined = refine_basis(
+        THETA,
+        {name: (curves_of(*pair), tolerances[name]) for name, pair in groups.items()},
+        start=start,
+        powers=(16.0, 64.0),
+        iterations=300,
+    )
 
     def worst(basis):
         return max(four_point_error(basis, *groups[name]) / tolerances[name] for name in groups)
@@ -88,12 +99,15 @@ def test_refinement_is_reproducible(groups):
     assert first.content_hash == second.content_hash
 
 
-@pytest.mark.parametrize("bad, message", [
-    ({}, "at least one group"),
-    ({"a": (np.ones((2, 5)), 0.01)}, "of shape"),
-    ({"a": (np.full((2, 129), np.nan), 0.01)}, "finite"),
-    ({"a": (np.ones((2, 129)), 0.0)}, "tolerance must be positive"),
-])
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ({}, "at least one group"),
+        ({"a": (np.ones((2, 5)), 0.01)}, "of shape"),
+        ({"a": (np.full((2, 129), np.nan), 0.01)}, "finite"),
+        ({"a": (np.ones((2, 129)), 0.0)}, "tolerance must be positive"),
+    ],
+)
 def test_bad_groups_are_refused(bad, message):
     with pytest.raises(ParameterError, match=message):
         refine_basis(THETA, bad)

@@ -41,10 +41,28 @@ def test_every_material_of_hoffmans_tables_and_beryllium_is_shipped():
 # than Hoffman's: see MEASURED_SOURCES' notes); dielectrics agree to 0.02 (Tourmaline's constant η to 0.01).
 @pytest.mark.parametrize(
     "name, tolerance",
-    [("Copper", 0.15), ("Gold", 0.15), ("Bronze", 0.15), ("Brass", 0.15), ("Aluminum", 0.15), ("Palladium", 0.15),
-     ("Nickel", 0.15), ("Titanium", 0.15), ("Mercury", 0.15), ("Platinum", 0.15), ("Iron", 0.15), ("Chromium", 0.15),
-     ("Diamond", 0.02), ("Water", 0.02), ("Glass BK7", 0.02), ("Glass SF11", 0.02), ("Quartz", 0.02),
-     ("Ruby", 0.02), ("Polycarbonate", 0.02), ("Tourmaline", 0.01)],
+    [
+        ("Copper", 0.15),
+        ("Gold", 0.15),
+        ("Bronze", 0.15),
+        ("Brass", 0.15),
+        ("Aluminum", 0.15),
+        ("Palladium", 0.15),
+        ("Nickel", 0.15),
+        ("Titanium", 0.15),
+        ("Mercury", 0.15),
+        ("Platinum", 0.15),
+        ("Iron", 0.15),
+        ("Chromium", 0.15),
+        ("Diamond", 0.02),
+        ("Water", 0.02),
+        ("Glass BK7", 0.02),
+        ("Glass SF11", 0.02),
+        ("Quartz", 0.02),
+        ("Ruby", 0.02),
+        ("Polycarbonate", 0.02),
+        ("Tourmaline", 0.01),
+    ],
 )
 def test_schlick_error_reproduces_hoffmans_column(name, tolerance):
     assert _schlick_error(name) == pytest.approx(HOFFMAN_SCHLICK[name], abs=tolerance)

@@ -155,7 +155,7 @@ def test_chunking_does_not_change_the_gram(dense, theta, chunk):
     curves = np.concatenate(list(DEFAULT_DOMAIN.curves(theta, COUNT, SEED)))
     accumulator = GramAccumulator(theta)
     for start in range(0, COUNT, chunk):
-        accumulator.add(curves[start:start + chunk])
+        accumulator.add(curves[start : start + chunk])
     weighted = dense * root_w
     np.testing.assert_allclose(accumulator.gram, weighted.T @ weighted, rtol=1e-10, atol=1e-14)
     np.testing.assert_allclose(accumulator.total, weighted.sum(axis=0), rtol=1e-10, atol=1e-14)

@@ -141,7 +141,9 @@ def test_check_choice_returns_a_valid_name_and_lists_every_choice_otherwise():
     assert check_choice("visibility", "separable", ("height-correlated", "separable")) == "separable"
     assert choose("fit", "b", {"a": 1, "b": 2}) == 2
     for bad in ("Separable", "", None, 1, True, ["separable"], np.array(["separable"]), {"separable": 1}, b"separable"):
-        with pytest.raises(ParameterError, match=r"^visibility must be one of \['height-correlated', 'separable'\], got "):
+        with pytest.raises(
+            ParameterError, match=r"^visibility must be one of \['height-correlated', 'separable'\], got "
+        ):
             check_choice("visibility", bad, ("height-correlated", "separable"))
     with pytest.raises(ParameterError, match="got 'x{59}…$"):  # a long value is cut, on one line
         check_choice("name", "x" * 200, ("a",))

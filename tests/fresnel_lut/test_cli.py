@@ -21,12 +21,12 @@ import pytest
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficients_from_samples, default_basis
 from basis.eigenbasis import shipped_basis_path
 from fresnel_lut import cli
-from preintegrate import exr
+from fresnel_lut.progress import Progress
+from preintegrate import exr, tables
 from preintegrate.channels import basis_channels, schlick_table_channels
-from preintegrate import tables
 from preintegrate.exr import read_lut
 from preintegrate.lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, SHIPPED_LUTS
-from fresnel_lut.progress import Progress
+from preintegrate.tables import DEFAULT_BUILD_FILES
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
 
@@ -66,7 +66,7 @@ def test_build_writes_both_luts_with_convention(built):
     """build --size 32 writes RGBA basis and RGB Schlick EXRs (R = scale, G = bias, B = E = R + G), 32×32, finite,
     header = PIXEL_CONVENTION and default basis hash (exact)."""
     out, stdout = built
-    assert sorted(p.name for p in out.iterdir()) == sorted(SHIPPED_LUTS)
+    assert sorted(p.name for p in out.iterdir()) == sorted(DEFAULT_BUILD_FILES)
     basis_table, basis_attributes = read_lut(out / BASIS_LUT)
     schlick_table, schlick_attributes = read_lut(out / SCHLICK_LUT)
     assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 3)
@@ -182,10 +182,18 @@ def test_shipped_luts_match_shipped_basis_and_reference():
     assert basis_attributes["convention"] == schlick_attributes["convention"] == PIXEL_CONVENTION
     size = basis_table.shape[1]
     assert basis_table.shape[:2] == schlick_table.shape[:2] == (size, size)
-    for i, j in [(0, size - 1), (size - 1, size - 1), (size // 2, size // 3), (size // 5, size // 2), (size - 1, size // 4)]:
+    for i, j in [
+        (0, size - 1),
+        (size - 1, size - 1),
+        (size // 2, size // 3),
+        (size // 5, size // 2),
+        (size - 1, size // 4),
+    ]:
         mu_o, alpha = _texel(i, j, size)
         lut = np.concatenate([basis_table[j, i], schlick_table[j, i]])
-        np.testing.assert_allclose(lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}")
+        np.testing.assert_allclose(
+            lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}"
+        )
 
 
 # ----------------------------------------------------------------------------- coeffs
@@ -208,7 +216,9 @@ def test_coeffs_gulbrandsen(capsys):
     r, g = [0.9, 0.6, 0.3], [0.2, 0.5, 0.9]
     assert run(["coeffs", "--reflectivity", *r, "--edge-tint", *g, "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    np.testing.assert_array_equal(np.array(data["coefficients"]), coefficients_from_gulbrandsen(np.array(r), np.array(g)))
+    np.testing.assert_array_equal(
+        np.array(data["coefficients"]), coefficients_from_gulbrandsen(np.array(r), np.array(g))
+    )
     assert run(["coeffs", "--reflectivity", *r, "--edge-tint", *g]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert [line.split(":")[0].strip() for line in lines[1:4]] == ["R", "G", "B"]
@@ -298,8 +308,28 @@ def test_coeffs_model(capsys):
     a = 823543 / 46656 * (np.array(f0) - f82) + 49 / 6 * (1 - np.array(f0))
     np.testing.assert_allclose(np.array(data["own_split_sum"]["weights"])[:, 2], -a, atol=1e-12)
     assert data["own_split_sum"]["exact"] is True
-    assert run(["coeffs", "--model", "generalized-schlick", "--r0", 0.04, 0.04, 0.04, "--r90", 1, 1, 1,
-                "--exponent", 5, "--fit", "least-squares"]) == 0
+    assert (
+        run(
+            [
+                "coeffs",
+                "--model",
+                "generalized-schlick",
+                "--r0",
+                0.04,
+                0.04,
+                0.04,
+                "--r90",
+                1,
+                1,
+                1,
+                "--exponent",
+                5,
+                "--fit",
+                "least-squares",
+            ]
+        )
+        == 0
+    )
     assert "least-squares projection" in capsys.readouterr().out
 
 
@@ -367,7 +397,18 @@ def test_errors_in_process(tmp_path, capsys, case):
     assert not out.exists() or list(out.iterdir()) == []
 
 
-@pytest.mark.parametrize("case", ["size_1", "negative_eta", "coeffs_nothing", "unknown_option", "kappa_without_eta", "missing_basis_build", "corrupt_basis"])
+@pytest.mark.parametrize(
+    "case",
+    [
+        "size_1",
+        "negative_eta",
+        "coeffs_nothing",
+        "unknown_option",
+        "kappa_without_eta",
+        "missing_basis_build",
+        "corrupt_basis",
+    ],
+)
 def test_errors_via_subprocess(tmp_path, case):
     """Same errors through `python -m fresnel_lut.cli`: exit status 2, one stderr line 'fresnel-lut…', no Traceback, --out untouched."""
     argv = ERROR_CASES[case](tmp_path)
@@ -395,7 +436,7 @@ def previous(tmp_path):
     """A folder holding a previous size-8 build: (folder, {name: bytes})."""
     out = tmp_path / "luts"
     assert run(["build", "--size", 8, "--out", out]) == 0
-    return out, {name: (out / name).read_bytes() for name in SHIPPED_LUTS}
+    return out, {name: (out / name).read_bytes() for name in DEFAULT_BUILD_FILES}
 
 
 def _assert_untouched(out, before):
@@ -407,6 +448,7 @@ def _assert_untouched(out, before):
 def test_interrupt_during_exr_write(previous, monkeypatch, capsys):
     """KeyboardInterrupt inside the 2nd OpenEXR write of a new build: main returns 130, old LUTs byte-identical, no .tmp left."""
     out, before = previous
+
     def partial_then_interrupt(image, filename):
         Path(filename).write_bytes(b"partial")
         raise KeyboardInterrupt
@@ -419,6 +461,7 @@ def test_interrupt_during_exr_write(previous, monkeypatch, capsys):
 
 def test_interrupt_during_integration(tmp_path, monkeypatch, capsys):
     """KeyboardInterrupt while integrating: main returns 130, no Traceback, the --out folder is not created."""
+
     def build_table(*args, **kwargs):
         raise KeyboardInterrupt
 
@@ -484,7 +527,10 @@ def test_basis_refuses_a_device_or_folder_before_training(target, tmp_path, monk
     "argv, words",
     [
         (["coeffs", "--material", "Gold", "--fit", "least-squares"], "--fit goes with --model"),
-        (["coeffs", "--eta", 1, 1, 1, "--kappa", 1, 1, 1, "--f82", 1, 1, 1, "--exponent", 3], "--exponent, --f82 go with"),
+        (
+            ["coeffs", "--eta", 1, 1, 1, "--kappa", 1, 1, 1, "--f82", 1, 1, 1, "--exponent", 3],
+            "--exponent, --f82 go with",
+        ),
         (["coeffs", "--reflectivity", 0.5, 0.5, 0.5, "--edge-tint", 0, 0, 0, "--tint", 1, 1, 1], "--tint goes with"),
         (["build", "--size", "-1e-9"], "invalid int value: '-1e-9'"),
         (["coeffs", "--eta", "-inf", 1, 1, "--kappa", 0, 0, 0], "eta must be in"),

@@ -12,12 +12,12 @@ import pytest
 
 from basis.models import fresnel_model
 from fresnel_lut import cli
+from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
 from preintegrate.channels import basis_channels
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
 from preintegrate.lut import build_table
 from preintegrate.quadrature import directional_albedo
-from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
 
 SIZE = 16
 
@@ -52,17 +52,20 @@ roughness = [0.25, 0.5]
 """
 
 
-@pytest.mark.parametrize("material", [
-    'model = "schlick-external"\nf0 = [0.9, 0.6, 0.3]\neta_e = 1.33',
-    'model = "schlick-external-metal"\nf0 = 0.5\neta_e = 2.0',
-    'model = "fresnel-blend"\nrs = 0.04',
-    'model = "generalized-schlick"\nr0 = 0.04\nr90 = 1.0\nexponent = 5.0',
-])
+@pytest.mark.parametrize(
+    "material",
+    [
+        'model = "schlick-external"\nf0 = [0.9, 0.6, 0.3]\neta_e = 1.33',
+        'model = "schlick-external-metal"\nf0 = 0.5\neta_e = 2.0',
+        'model = "fresnel-blend"\nrs = 0.04',
+        'model = "generalized-schlick"\nr0 = 0.04\nr90 = 1.0\nexponent = 5.0',
+    ],
+)
 def test_models_with_schlicks_functions_get_the_schlick_table(tmp_path, material):
     """A model whose fixed functions are Schlick's (1 - (1-x)^5, (1-x)^5) reads the Schlick table, not a
     second copy of it under its own name."""
     path = tmp_path / "scene.toml"
-    path.write_text(f"[[material]]\nname = \"m\"\n{material}\nroughness = 0.4\n", encoding="utf-8")
+    path.write_text(f'[[material]]\nname = "m"\n{material}\nroughness = 0.4\n', encoding="utf-8")
     plan = plan_scene(read_scene(path))
     assert plan.tables == ("schlick",) and plan.layouts == {"m": "schlick"}
     assert plan.errors["m"] <= plan.scene.tolerance
@@ -73,7 +76,10 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     assert plan.tables == ("schlick",) and set(plan.layouts.values()) == {"schlick"}
     result = write_scene(plan, tmp_path / "out")
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
-        "ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
+        "ggx_schlick_rg.exr",
+        "scene_coefficients.json",
+        "scene_report.md",
+    ]
     table, header = read_lut(tmp_path / "out" / "ggx_schlick_rg.exr")
     assert table.shape == (plan.rows, SIZE, 2) and header["roughness_range"] == "0.3,0.8"
     # a texel of the written table, combined with the paint's weights, against Monte Carlo of Schlick
@@ -81,8 +87,9 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     j, i = 1, 11
     mu_o = (i + 0.5) / SIZE
     fbar = table[j, i] @ np.array([0.04, 1.0])
-    mean, error = monte_carlo_albedo(lambda x: fresnel_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2,
-                                     samples=400_000, seed=3)
+    mean, error = monte_carlo_albedo(
+        lambda x: fresnel_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2, samples=400_000, seed=3
+    )
     assert abs(fbar - mean) < 4.0 * error + 1e-6
     assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
     assert "Left out: basis-4" in result["text"]
@@ -117,7 +124,9 @@ def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
     # the full table of the same channels, interpolated linearly in r, agrees within its interpolation error
     full = build_table(channels, SIZE)
     centres = (np.arange(SIZE) + 0.5) / SIZE
-    interpolated = np.stack([[np.interp(rows, centres, full[:, i, k]) for k in range(4)] for i in range(SIZE)]).transpose(2, 0, 1)
+    interpolated = np.stack(
+        [[np.interp(rows, centres, full[:, i, k]) for k in range(4)] for i in range(SIZE)]
+    ).transpose(2, 0, 1)
     curvature = np.max(np.abs(np.diff(full, 2, axis=0)), axis=0) / (1.0 / SIZE) ** 2  # max |∂²F̄/∂r²| per texel column
     # linear interpolation error ≤ h²/8 · max |∂²F̄/∂r²|; the second difference of a 16-row table
     # underestimates the derivative's maximum, hence the factor 2
@@ -126,14 +135,17 @@ def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
 
 
 def test_unmeetable_tolerance_is_refused_by_name_and_nothing_is_written(tmp_path, capsys):
-    path = scene_file(tmp_path, """
+    path = scene_file(
+        tmp_path,
+        """
 tolerance = 0.0001
 [[material]]
 name = "old copper"
 f0 = [0.95, 0.64, 0.54]
 f82 = [0.93, 0.60, 0.50]
 roughness = [0.3, 0.6]
-""")
+""",
+    )
     with pytest.raises(SceneError, match=r"material 'old copper' cannot meet tolerance 0.0001.*use tolerance >= "):
         plan_scene(read_scene(path))
     assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 2
@@ -151,8 +163,10 @@ roughness = [0.3, 0.6]
         ("[[material]]\npreset = 'Unobtainium'\nroughness = 0.5", "material must be one of"),
         ("[[material]]\nf0 = 1.5\nroughness = 0.5", "f0 must be in [0, 1]"),
         ("[[material]]\nf0 = 0.04\nroughness = [0.6, 0.2]", "[low, high]"),
-        ("[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5\n[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5",
-         "appears twice"),
+        (
+            "[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5\n[[material]]\nname='a'\nf0 = 0.04\nroughness = 0.5",
+            "appears twice",
+        ),
         ("[[material]]\nf0 = 0.04\nkappa = 1\nroughness = 0.5", "give one of"),
         ("space = 'P3'\n[[material]]\nf0 = 0.04\nroughness = 0.5", "space must be one of"),
     ],
@@ -169,10 +183,19 @@ def test_bad_scene_files(tmp_path, body, message, capsys):
 
 def test_json_scene_and_coefficients_file(tmp_path):
     path = tmp_path / "scene.json"
-    path.write_text(json.dumps({"size": SIZE, "tolerance": 0.01, "material": [
-        {"name": "gold", "preset": "Gold", "roughness": [0.4, 0.6]},
-        {"name": "steel", "eta": [2.9, 2.9, 2.8], "kappa": [3.1, 3.0, 2.9], "roughness": 0.5},
-    ]}), encoding="utf-8")
+    path.write_text(
+        json.dumps(
+            {
+                "size": SIZE,
+                "tolerance": 0.01,
+                "material": [
+                    {"name": "gold", "preset": "Gold", "roughness": [0.4, 0.6]},
+                    {"name": "steel", "eta": [2.9, 2.9, 2.8], "kappa": [3.1, 3.0, 2.9], "roughness": 0.5},
+                ],
+            }
+        ),
+        encoding="utf-8",
+    )
     plan = plan_scene(read_scene(path))
     write_scene(plan, tmp_path / "out")
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
@@ -208,13 +231,16 @@ def test_f82_material_gets_its_own_exact_table_when_the_basis_cannot_hold_it(tmp
     """A strong-dip F0/F82 copper: the basis reaches only ~1e-2, Hoffman 2019's own three channels
     (exact split sum: the dip stays in [0, 1]) meet 1/255; the written table combines to Monte Carlo."""
     path = tmp_path / "f82.toml"  # 64 columns: at 16 the lookup alone costs 1.2e-2 near grazing
-    path.write_text("""size = 64
+    path.write_text(
+        """size = 64
 [[material]]
 name = "old copper"
 f0 = [0.95, 0.64, 0.54]
 f82 = [0.93, 0.60, 0.50]
 roughness = [0.3, 0.6]
-""", encoding="utf-8")
+""",
+        encoding="utf-8",
+    )
     plan = plan_scene(read_scene(path))
     assert plan.full_errors["basis-4"]["old copper"] > DEFAULT_TOLERANCE
     assert plan.tables == ("model:f82",) and plan.errors["old copper"] <= DEFAULT_TOLERANCE
@@ -226,8 +252,9 @@ roughness = [0.3, 0.6]
     j, i = 0, 9
     model = fresnel_model("f82")
     f0, f82 = np.array([0.95, 0.64, 0.54]), np.array([0.93, 0.60, 0.50])
-    mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64,
-                                     rows[j] ** 2, samples=400_000, seed=8)
+    mean, error = monte_carlo_albedo(
+        lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64, rows[j] ** 2, samples=400_000, seed=8
+    )
     np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
 
 
@@ -237,17 +264,23 @@ BAD_SCENES = {
     "date f0": ('[[material]]\nname="m"\nf0=1979-05-27\nroughness=0.3\n', "f0 must be a number"),
     "table roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness={a=1}\n', "roughness must be a number"),
     "list preset": ('[[material]]\nname="m"\npreset=["Gold"]\nroughness=0.3\n', "preset must be a material's name"),
-    "list tolerance": ('tolerance=[0.1]\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "tolerance must be a number"),
+    "list tolerance": (
+        'tolerance=[0.1]\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n',
+        "tolerance must be a number",
+    ),
     "list space": ('space=["sRGB"]\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "space must be one of"),
     "boolean roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness=true\n', "roughness must be a number"),
     "boolean f0": ('[[material]]\nname="m"\nf0=true\nroughness=0.3\n', "f0 must be a number"),
-    "table name": ('[[material]]\nname={a=1}\nf0=0.04\nroughness=0.3\n', "name must be printable text"),
+    "table name": ("[[material]]\nname={a=1}\nf0=0.04\nroughness=0.3\n", "name must be printable text"),
     "text roughness": ('[[material]]\nname="m"\nf0=0.04\nroughness="0.3"\n', "got '0.3' (text)"),
     "text f0": ('[[material]]\nname="m"\nf0=["a","b","c"]\nroughness=0.3\n', "material 'm': f0 must be"),
     "NUL in a name": ('[[material]]\nname="a\\u0000b"\nf0=0.04\nroughness=0.3\n', "name must be printable"),
     "size 1024": ('size=1024\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "at most 256 columns"),
     "float size": ('size=64.5\n[[material]]\nname="m"\nf0=0.04\nroughness=0.3\n', "size must be an integer"),
-    "model parameter a table": ('[[material]]\nname="m"\nmodel="f82"\nf0={x=1}\nf82=0.5\nroughness=0.3\n', "f0 must be"),
+    "model parameter a table": (
+        '[[material]]\nname="m"\nmodel="f82"\nf0={x=1}\nf82=0.5\nroughness=0.3\n',
+        "f0 must be",
+    ),
     "model a list": ('[[material]]\nname="m"\nmodel=["f82"]\nroughness=0.3\n', "model must be a model's name"),
 }
 
@@ -293,13 +326,20 @@ def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):
     import sys
 
     path = tmp_path / "scene.toml"
-    path.write_text('size = 16\ntolerance = 0.05\n[[material]]\nname = "lacquer"\nmodel = "adobe"\nf0 = [0.9, 0.7, 0.4]\n'
-                    'tint = [0.6, 0.8, 1.0]\nroughness = [0.3, 0.6]\n', encoding="utf-8")
+    path.write_text(
+        'size = 16\ntolerance = 0.05\n[[material]]\nname = "lacquer"\nmodel = "adobe"\nf0 = [0.9, 0.7, 0.4]\n'
+        "tint = [0.6, 0.8, 1.0]\nroughness = [0.3, 0.6]\n",
+        encoding="utf-8",
+    )
     written = []
     for seed in ("0", "1"):  # these two wrote different orders before the fix
         out = tmp_path / f"out{seed}"
-        subprocess.run([sys.executable, "-m", "fresnel_lut.cli", "scene", str(path), "--out", str(out)], check=True,
-                       capture_output=True, env={**os.environ, "PYTHONHASHSEED": seed})
+        subprocess.run(
+            [sys.executable, "-m", "fresnel_lut.cli", "scene", str(path), "--out", str(out)],
+            check=True,
+            capture_output=True,
+            env={**os.environ, "PYTHONHASHSEED": seed},
+        )
         written.append((out / "scene_coefficients.json").read_bytes())
     assert all(text == written[0] for text in written)
 
@@ -351,11 +391,17 @@ def test_a_scene_build_writes_every_format_with_the_same_values(tmp_path, capsys
     assert cli.main(["scene", str(path), "--out", str(out), "--format", "exr,ktx2,png16,header"]) == 0
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
     assert document["formats"] == ["exr", "ktx2", "png16", "header"]
-    stems = {name[: -len(".exr")] for entry in document["materials"].values() for key in ("lut", "second_lut")
-             if (name := entry.get(key))}
+    stems = {
+        name[: -len(".exr")]
+        for entry in document["materials"].values()
+        for key in ("lut", "second_lut")
+        if (name := entry.get(key))
+    }
     assert sorted(p.name for p in out.iterdir()) == sorted(
         [f"{stem}{suffix}" for stem in stems for suffix in (".exr", ".ktx2", ".png", ".h")]
-        + ["scene_basis.json"] * ("scene_basis" in document) + ["scene_coefficients.json", "scene_report.md"])
+        + ["scene_basis.json"] * ("scene_basis" in document)
+        + ["scene_coefficients.json", "scene_report.md"]
+    )
     for stem in stems:
         table, _ = read_lut(out / f"{stem}.exr")
         ktx = read_ktx2((out / f"{stem}.ktx2").read_bytes())
@@ -363,3 +409,24 @@ def test_a_scene_build_writes_every_format_with_the_same_values(tmp_path, capsys
     # a rebuild with EXR alone removes the other formats of the scene's set
     assert cli.main(["scene", str(path), "--out", str(out)]) == 0
     assert {p.suffix for p in out.iterdir()} == {".exr", ".json", ".md"}
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        'space = "sRGB"\n[[material]]\nname = "gold"\npreset = "Gold"\nroughness = [0.2, 0.6]\n',
+        '[[material]]\nname = "matched"\neta = 1.0\nkappa = 0.0\nroughness = 0.5\n'
+        '[[material]]\nname = "mirror"\neta = 1.5\nkappa = 1e6\nroughness = 0.3\n'
+        '[[material]]\nname = "none"\nreflectivity = 0.0\nedge_tint = 1.0\nroughness = 0.4\n',
+    ],
+    ids=["sRGB gold (F0 red 1.038)", "constant curves"],
+)
+def test_scenes_that_used_to_fail_build(tmp_path, capsys, body):
+    """Issue 26 item 7: a scene of sRGB Gold alone failed with numpy's 'Singular matrix' (a trial step of the scene
+    basis' refinement), one of constant curves with 'no training curve has F(pi/2) - F(0) > 0'. Both build, and every
+    material meets the tolerance."""
+    path = tmp_path / "scene.toml"
+    path.write_text(body, encoding="utf-8")
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 0
+    document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
+    assert all(entry["max_abs_error_fbar"] <= DEFAULT_TOLERANCE for entry in document["materials"].values())

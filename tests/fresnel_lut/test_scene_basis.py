@@ -15,12 +15,12 @@ import pytest
 from basis.angles import theta_spline
 from basis.coefficients import coefficients_from_table, fit_condition_number
 from basis.eigenbasis import Basis, default_basis
+from fresnel_lut.scene import plan_scene, read_scene, write_scene
+from fresnel_lut.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
 from preintegrate.lut import lut_lookup
 from preintegrate.quadrature import directional_albedo
-from fresnel_lut.scene import DEFAULT_TOLERANCE, plan_scene, read_scene, write_scene
-from fresnel_lut.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -49,7 +49,9 @@ def test_the_scene_basis_is_chosen_and_holds_every_material_to_ten_bits(built):
     assert (plan.tables, plan.columns) == ((layout,), columns)
     for material, error in plan.errors.items():
         assert error <= ACCURACY_GOAL, material
-    assert sum(plan.full_errors["basis-4"][material] > ACCURACY_GOAL for material in plan.errors) >= len(plan.errors) - 1
+    assert (
+        sum(plan.full_errors["basis-4"][material] > ACCURACY_GOAL for material in plan.errors) >= len(plan.errors) - 1
+    )
 
 
 def test_a_scene_file_that_sets_its_size_keeps_it(tmp_path):
@@ -65,13 +67,17 @@ def test_the_lookup_floor_is_the_bilinear_error_of_the_exact_split_sum(tmp_path)
     with np.interp between the column centres: the clear coat at r = 0.15 needs more than 128 columns, the
     same at r = 0.5 does not."""
     path = tmp_path / "coat.toml"
-    path.write_text('[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.15\n'
-                    '[[material]]\nname = "rough coat"\nf0 = 0.05\nroughness = 0.5\n')
+    path.write_text(
+        '[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.15\n'
+        '[[material]]\nname = "rough coat"\nf0 = 0.05\nroughness = 0.5\n'
+    )
     scene = read_scene(path)
     floor = lookup_floor(scene, default_basis(), 128)
     mu_eval = (np.arange(255) + 1.0) / 256
     for name, roughness in (("coat", 0.15), ("rough coat", 0.5)):
-        exact = directional_albedo(lambda x: (0.05 + 0.95 * (1 - np.clip(x, 0, 1)) ** 5)[..., None], mu_eval, roughness**2)[:, 0]
+        exact = directional_albedo(
+            lambda x: (0.05 + 0.95 * (1 - np.clip(x, 0, 1)) ** 5)[..., None], mu_eval, roughness**2
+        )[:, 0]
         direct = float(np.max(np.abs(np.interp(mu_eval, mu_eval[::2], exact[::2]) - exact)))
         assert floor[name] == pytest.approx(direct, rel=1e-3, abs=1e-6)
     assert floor["coat"] > LOOKUP_SHARE * ACCURACY_GOAL > floor["rough coat"]
@@ -122,11 +128,17 @@ def test_written_tables_against_monte_carlo(built):
         for column in (plan.columns // 2, plan.columns - 3):
             mu_o = (column + 0.5) / plan.columns
             fbar = coefficients @ lut_lookup(table, mu_o, (row + 0.5) / plan.rows)
-            mean, sigma = monte_carlo_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2,
-                                             samples=400_000, seed=index)
+            mean, sigma = monte_carlo_albedo(
+                lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2, samples=400_000, seed=index
+            )
             assert np.all(np.abs(fbar - mean) <= plan.errors[material.name] + 4.0 * sigma)
-            fitted, sigma = monte_carlo_albedo(lambda x: trained.evaluate_mu(np.clip(x, 0, 1)) @ coefficients.T, mu_o,
-                                               roughness**2, samples=400_000, seed=index)
+            fitted, sigma = monte_carlo_albedo(
+                lambda x: trained.evaluate_mu(np.clip(x, 0, 1)) @ coefficients.T,
+                mu_o,
+                roughness**2,
+                samples=400_000,
+                seed=index,
+            )
             assert np.all(np.abs(fbar - fitted) <= 4.0 * sigma + 2e-6)
 
 
@@ -135,8 +147,11 @@ def test_one_material_alone_is_reproduced_to_1e_4_at_the_texels(tmp_path):
     at every texel of the written table to 1e-4 (measured 3e-8); what remains in the plan's error is the
     bilinear lookup between texels."""
     path = tmp_path / "figure2.toml"
-    path.write_text('[[material]]\nname = "figure 2"\nreflectivity = [0.44, 0.44, 0.44]\n'
-                    'edge_tint = [0.0, 1.0, 0.0]\nroughness = [0.2, 0.4]\n', encoding="utf-8")
+    path.write_text(
+        '[[material]]\nname = "figure 2"\nreflectivity = [0.44, 0.44, 0.44]\n'
+        "edge_tint = [0.0, 1.0, 0.0]\nroughness = [0.2, 0.4]\n",
+        encoding="utf-8",
+    )
     plan = plan_scene(read_scene(path))
     assert plan.tables == ("scene-basis-4",)
     material = plan.scene.materials[0]
@@ -153,9 +168,11 @@ def test_a_scene_build_is_reproducible_whatever_the_blas_threads(tmp_path):
     from threadpoolctl import threadpool_limits
 
     scene = tmp_path / "scene.toml"  # two materials, 32 columns: the training is the same code at any size
-    scene.write_text('size = 32\n[[material]]\nname = "glass"\npreset = "Glass BK7"\nroughness = [0.3, 0.5]\n'
-                     '[[material]]\nname = "steel"\nreflectivity = 0.56\nedge_tint = 0.5\nroughness = [0.3, 0.6]\n',
-                     encoding="utf-8")
+    scene.write_text(
+        'size = 32\n[[material]]\nname = "glass"\npreset = "Glass BK7"\nroughness = [0.3, 0.5]\n'
+        '[[material]]\nname = "steel"\nreflectivity = 0.56\nedge_tint = 0.5\nroughness = [0.3, 0.6]\n',
+        encoding="utf-8",
+    )
     outputs = []
     for threads in (1, 2):
         with threadpool_limits(limits=threads, user_api="blas"):

@@ -103,4 +103,6 @@ def test_schlick_texel_centre_equals_quadrature():
     f0 = np.array([0.04, 0.5, 0.95])
     mu_o, roughness = 40.5 / 128, 100.5 / 128
     scale_bias = directional_albedo(schlick_channels().functions, mu_o, roughness**2)
-    np.testing.assert_allclose(fresnel_schlick_split_sum(mu_o, roughness, f0), f0 * scale_bias[0] + scale_bias[1], atol=1e-6)
+    np.testing.assert_allclose(
+        fresnel_schlick_split_sum(mu_o, roughness, f0), f0 * scale_bias[0] + scale_bias[1], atol=1e-6
+    )

@@ -13,7 +13,6 @@ the plain texture must give the same answer. The set-up (make's .installed-stamp
 glslang-tools and Mesa (OpenGL and Vulkan); under CI=true a missing tool is a failure, not a skip.
 """
 
-import os
 import shutil
 import struct
 import subprocess
@@ -27,16 +26,11 @@ from preintegrate.exr import read_lut
 from preintegrate.formats import ktx2_bytes
 from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_lookup, shipped_lut
 from preintegrate.multiple_scattering import basis_albedo, shipped_tables
+from tests.conftest import gl_draw, gpu_missing, wgpu_compute, wgpu_device
 
 INCLUDE = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
 GOLD = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77])  # (3, 4)
 F0 = np.array([0.9, 0.6, 0.3])
-
-
-def _missing(what: str):
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"{what} is missing: the project's set-up installs it (make .venv/.installed-stamp as root)")
-    pytest.skip(f"{what} is not installed here (the set-up installs it as root)")
 
 
 def _grid() -> tuple[np.ndarray, np.ndarray]:
@@ -64,58 +58,25 @@ void main() {{
     multipleOut = vec4(fresnelBasisMultipleScattering(basisLut, schlickLut, q.x, q.y, cR, cG, cB, averages), 1.0);
 }}
 """
-VERTEX = """#version 330
-in vec2 position;
-void main() { gl_Position = vec4(position, 0.0, 1.0); }
-"""
 
 
 def _draw(fragment: str, tables, uniforms: dict, outputs: int, mipmaps: bool = False) -> list[np.ndarray]:
-    """Run ``fragment`` on Mesa's llvmpipe (headless EGL) over a 32 × 32 framebuffer whose fragments read
-    their (NdotV, r) of :func:`_grid` from texture unit len(tables); ``tables`` are bound to units 0, 1, …
-    with bilinear filtering and clamp to edge (and mipmaps if asked). The first three channels of each of
-    the ``outputs`` colour attachments, as (1024, 3) arrays."""
-    try:
-        import moderngl
-    except ImportError:
-        _missing("moderngl (the 'gpu' extra)")
-    try:
-        context = moderngl.create_standalone_context(backend="egl")
-    except Exception as error:  # noqa: BLE001 - no EGL/Mesa: a missing system library
-        _missing(f"a headless OpenGL context (Mesa's EGL: {error})")
-    try:
-        for unit, table in enumerate(tables):
-            table = np.asarray(table, dtype="f4")
-            texture = context.texture(table.shape[1::-1], table.shape[2], table.tobytes(), dtype="f4")
-            texture.repeat_x = texture.repeat_y = False  # clamp to edge
-            if mipmaps:
-                texture.build_mipmaps()
-                texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-            else:
-                texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            texture.use(unit)
-        n_dot_v, roughness = _grid()
-        inputs = context.texture((32, 32), 2, np.stack([n_dot_v, roughness], -1).astype("f4").tobytes(), dtype="f4")
-        inputs.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        inputs.use(len(tables))
-        program = context.program(vertex_shader=VERTEX, fragment_shader=fragment)
-        program["inputs"] = len(tables)
-        for name, value in uniforms.items():
-            program[name] = value
-        targets = [context.texture((32, 32), 4, dtype="f4") for _ in range(outputs)]
-        framebuffer = context.framebuffer(color_attachments=targets)
-        framebuffer.use()
-        quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
-        context.vertex_array(program, [(quad, "2f", "position")]).render(moderngl.TRIANGLE_STRIP)
-        return [np.frombuffer(framebuffer.read(attachment=k, components=4, dtype="f4"), "f4").reshape(1024, 4)[:, :3]
-                for k in range(outputs)]
-    finally:
-        context.release()
+    """:func:`tests.conftest.gl_draw` with the fragments' (NdotV, r) of :func:`_grid` on the unit after the tables;
+    the first three channels of each output, (1024, 3)."""
+    n_dot_v, roughness = _grid()
+    inputs = np.stack([n_dot_v, roughness], -1).reshape(32, 32, 2)
+    drawn = gl_draw(fragment, [*tables, inputs], {"inputs": len(tables), **uniforms}, outputs, mipmaps=mipmaps)
+    return [values[:, :3] for values in drawn]
 
 
 def _render(mipmaps: bool) -> list[np.ndarray]:
-    uniforms = {"basisLut": 0, "schlickLut": 1, **{name: tuple(GOLD[k]) for k, name in enumerate(("cR", "cG", "cB"))},
-                "F0": tuple(F0), "averages": tuple(default_basis().hemispherical_averages)}
+    uniforms = {
+        "basisLut": 0,
+        "schlickLut": 1,
+        **{name: tuple(GOLD[k]) for k, name in enumerate(("cR", "cG", "cB"))},
+        "F0": tuple(F0),
+        "averages": tuple(default_basis().hemispherical_averages),
+    }
     return _draw(FRAGMENT.format(include=INCLUDE), shipped_tables(), uniforms, outputs=3, mipmaps=mipmaps)
 
 
@@ -158,8 +119,12 @@ def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path)
     coefficients = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77], basis)  # (3, 6)
     extra = np.zeros((3, 4))
     extra[:, :2] = coefficients[:, 4:]
-    uniforms = {"basisLut": 0, "basisLut2": 1, **{f"c{colour}": tuple(coefficients[k, :4]) for k, colour in enumerate("RGB")},
-                **{f"e{colour}": tuple(extra[k]) for k, colour in enumerate("RGB")}}
+    uniforms = {
+        "basisLut": 0,
+        "basisLut2": 1,
+        **{f"c{colour}": tuple(coefficients[k, :4]) for k, colour in enumerate("RGB")},
+        **{f"e{colour}": tuple(extra[k]) for k, colour in enumerate("RGB")},
+    }
     (gpu,) = _draw(SIX_TERMS_FRAGMENT.format(include=INCLUDE), (first, second), uniforms, outputs=1)
     clipped = [np.clip(values, 0.0, 1.0) for values in _grid()]
     expected = lut_lookup(np.concatenate([first, second], axis=-1), *clipped) @ coefficients.T
@@ -181,15 +146,17 @@ def test_glsl_on_mesa_llvmpipe_matches_the_python_api(mipmaps):
 def _validator():
     path = shutil.which("glslangValidator")
     if path is None:
-        _missing("glslangValidator (Debian glslang-tools)")
+        gpu_missing("glslangValidator (Debian glslang-tools)")
     return path
 
 
 WRAPPERS = {
     "330": ("#version 330\n", "uniform sampler2D lut;\nout vec4 colour;\n"),
     "450": ("#version 450\n", "layout(binding = 0) uniform sampler2D lut;\nlayout(location = 0) out vec4 colour;\n"),
-    "es300": ("#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n",
-              "uniform sampler2D lut;\nout vec4 colour;\n"),
+    "es300": (
+        "#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n",
+        "uniform sampler2D lut;\nout vec4 colour;\n",
+    ),
 }
 
 
@@ -199,18 +166,26 @@ def test_glsl_include_compiles(version, tmp_path):
     validator = _validator()
     head, declarations = WRAPPERS[version]
     source = tmp_path / f"lut_{version}.frag"
-    source.write_text(head + INCLUDE + declarations + """
+    source.write_text(
+        head
+        + INCLUDE
+        + declarations
+        + """
 void main() {
     colour = vec4(fresnelBasisSplitSum(lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25))
                   + fresnelBasisSplitSum8(lut, lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25), vec4(0.1), vec4(0.2),
                                           vec4(0.3))
                   + fresnelSchlickSplitSum(lut, 0.5, 0.3, vec3(0.04)), 1.0);
 }
-""", encoding="utf-8")
+""",
+        encoding="utf-8",
+    )
     checked = subprocess.run([validator, str(source)], capture_output=True, text=True)
     assert checked.returncode == 0, checked.stdout + checked.stderr
     if version == "450":
-        spirv = subprocess.run([validator, "-V", str(source), "-o", str(tmp_path / "lut.spv")], capture_output=True, text=True)
+        spirv = subprocess.run(
+            [validator, "-V", str(source), "-o", str(tmp_path / "lut.spv")], capture_output=True, text=True
+        )
         assert spirv.returncode == 0 and (tmp_path / "lut.spv").stat().st_size > 0, spirv.stdout + spirv.stderr
 
 
@@ -218,7 +193,9 @@ def test_hlsl_include_compiles_to_spirv(tmp_path):
     """The HLSL include (Shader Model 4+, SampleLevel at 0) through glslang's HLSL front end to SPIR-V."""
     validator = _validator()
     source = tmp_path / "lut.hlsl"
-    source.write_text(shipped_path("shaders/fresnel_basis.hlsl").read_text(encoding="utf-8") + """
+    source.write_text(
+        shipped_path("shaders/fresnel_basis.hlsl").read_text(encoding="utf-8")
+        + """
 Texture2D<float4> basisLut : register(t0);
 Texture2D<float2> schlickLut : register(t1);
 SamplerState linearClamp : register(s0);
@@ -231,9 +208,14 @@ float4 PixelMain(float4 position : SV_Position) : SV_Target
                                           float4(0, 0, 1, 0))
                   + FresnelSchlickSplitSum(schlickLut, linearClamp, 0.5, 0.3, float3(0.04, 0.04, 0.04)), 1.0);
 }
-""", encoding="utf-8")
-    compiled = subprocess.run([validator, "-D", "-V", "-e", "PixelMain", "-S", "frag", str(source), "-o",
-                               str(tmp_path / "lut.spv")], capture_output=True, text=True)
+""",
+        encoding="utf-8",
+    )
+    compiled = subprocess.run(
+        [validator, "-D", "-V", "-e", "PixelMain", "-S", "frag", str(source), "-o", str(tmp_path / "lut.spv")],
+        capture_output=True,
+        text=True,
+    )
     assert compiled.returncode == 0 and (tmp_path / "lut.spv").stat().st_size > 0, compiled.stdout + compiled.stderr
 
 
@@ -259,15 +241,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
     """The tables reach the GPU as KTX2 (``build --format ktx2``) level data. Measured: max |GPU − Python|
     1.4e-7 (basis) and 1.0e-7 (Schlick), float32 tables with the float32-filterable feature."""
-    try:
-        import wgpu
-    except ImportError:
-        _missing("wgpu (the 'gpu' extra)")
-    monkeypatch.setenv("XDG_RUNTIME_DIR", os.environ.get("XDG_RUNTIME_DIR") or "/tmp")
-    adapter = wgpu.gpu.request_adapter_sync(power_preference="high-performance")
-    if adapter is None or "float32-filterable" not in adapter.features:
-        _missing("a WebGPU adapter with float32-filterable (Mesa's lavapipe: Debian mesa-vulkan-drivers)")
-    device = adapter.request_device_sync(required_features=["float32-filterable"])
+    device = wgpu_device(monkeypatch, ["float32-filterable"])
+    import wgpu
 
     def view(name):
         """Upload as a KTX2 loader does: the file's level 0 bytes, as they stand, to the format its vkFormat
@@ -277,10 +252,17 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
         vk_format, width, height = struct.unpack_from("<I4xII", ktx, 12)
         level_offset, level_length = struct.unpack_from("<2Q", ktx, 80)
         assert vk_format == 109
-        texture = device.create_texture(size=(width, height, 1), format=wgpu.TextureFormat.rgba32float,
-                                        usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST)
-        device.queue.write_texture({"texture": texture}, ktx[level_offset : level_offset + level_length],
-                                   {"bytes_per_row": width * 16, "rows_per_image": height}, (width, height, 1))
+        texture = device.create_texture(
+            size=(width, height, 1),
+            format=wgpu.TextureFormat.rgba32float,
+            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+        )
+        device.queue.write_texture(
+            {"texture": texture},
+            ktx[level_offset : level_offset + level_length],
+            {"bytes_per_row": width * 16, "rows_per_image": height},
+            (width, height, 1),
+        )
         return texture.create_view()
 
     n_dot_v, roughness = _grid()
@@ -290,23 +272,24 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
     output_buffer = device.create_buffer(size=len(inputs) * 2 * 16, usage=usage.STORAGE | usage.COPY_SRC)
     uniform_buffer = device.create_buffer_with_data(data=uniform.tobytes(), usage=usage.UNIFORM)
-    sampler = device.create_sampler(mag_filter="linear", min_filter="linear", address_mode_u="clamp-to-edge",
-                                    address_mode_v="clamp-to-edge")
-    module = device.create_shader_module(code=shipped_path("shaders/fresnel_basis.wgsl").read_text(encoding="utf-8")
-                                         + WGSL_MAIN)
-    pipeline = device.create_compute_pipeline(layout="auto", compute={"module": module, "entry_point": "main"})
-    group = device.create_bind_group(layout=pipeline.get_bind_group_layout(0), entries=[
-        {"binding": 0, "resource": view(BASIS_LUT)}, {"binding": 1, "resource": view(SCHLICK_LUT)},
-        {"binding": 2, "resource": sampler}, {"binding": 3, "resource": {"buffer": input_buffer}},
-        {"binding": 4, "resource": {"buffer": output_buffer}}, {"binding": 5, "resource": {"buffer": uniform_buffer}}])
-    encoder = device.create_command_encoder()
-    compute = encoder.begin_compute_pass()
-    compute.set_pipeline(pipeline)
-    compute.set_bind_group(0, group)
-    compute.dispatch_workgroups((len(inputs) + 63) // 64)
-    compute.end()
-    device.queue.submit([encoder.finish()])
-    output = np.frombuffer(device.queue.read_buffer(output_buffer), np.float32).reshape(len(inputs), 2, 4)
+    sampler = device.create_sampler(
+        mag_filter="linear", min_filter="linear", address_mode_u="clamp-to-edge", address_mode_v="clamp-to-edge"
+    )
+    data = wgpu_compute(
+        device,
+        shipped_path("shaders/fresnel_basis.wgsl").read_text(encoding="utf-8") + WGSL_MAIN,
+        [
+            view(BASIS_LUT),
+            view(SCHLICK_LUT),
+            sampler,
+            {"buffer": input_buffer},
+            {"buffer": output_buffer},
+            {"buffer": uniform_buffer},
+        ],
+        output_buffer,
+        len(inputs),
+    )
+    output = np.frombuffer(data, np.float32).reshape(len(inputs), 2, 4)
     expected_basis, expected_schlick, _ = _expected()
     np.testing.assert_allclose(output[:, 0, :3], expected_basis, rtol=0, atol=1e-6)
     np.testing.assert_allclose(output[:, 1, :3], expected_schlick, rtol=0, atol=1e-6)

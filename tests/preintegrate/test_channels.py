@@ -45,8 +45,9 @@ def test_weighted_channels_equal_monte_carlo_of_the_curve(name):
     weights = model.channel_weights(**parameters)  # (3, n)
     for index, (mu_o, alpha) in enumerate(TEXELS):
         table = directional_albedo(channels.functions, mu_o, alpha)  # (n,)
-        mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha,
-                                         samples=400_000, seed=index)
+        mean, error = monte_carlo_albedo(
+            lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha, samples=400_000, seed=index
+        )
         np.testing.assert_array_less(np.abs(weights @ table - mean), 4.0 * error + 1e-6)
 
 
@@ -61,7 +62,10 @@ def test_the_schlick_channel_set_is_schlicks():
     x = np.linspace(0.0, 1.0, 11)
     registered, shipped = channel_set("schlick"), schlick_channels()
     assert (registered.name, registered.channel_names, registered.combination) == (
-        shipped.name, shipped.channel_names, shipped.combination)
+        shipped.name,
+        shipped.channel_names,
+        shipped.combination,
+    )
     assert shipped.combination == "Fbar = F0 * R + G (Karis 2013; R = scale, G = bias)"
     np.testing.assert_array_equal(registered.functions(x), np.stack([1.0 - (1.0 - x) ** 5, (1.0 - x) ** 5], axis=-1))
 
@@ -102,6 +106,7 @@ def test_basis_projection_of_every_model_against_monte_carlo(name):
     projection_error = np.max(np.abs(exact - (coefficients @ basis.evaluate(theta).T).T), axis=0)
     for index, (mu_o, alpha) in enumerate(TEXELS[:2]):
         rendered = coefficients @ directional_albedo(basis_channels().functions, mu_o, alpha)
-        mean, error = monte_carlo_albedo(lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha,
-                                         samples=200_000, seed=10 + index)
+        mean, error = monte_carlo_albedo(
+            lambda x: model.evaluate(x[..., None], **parameters), mu_o, alpha, samples=200_000, seed=10 + index
+        )
         np.testing.assert_array_less(np.abs(rendered - mean), projection_error + 4.0 * error + 1e-6)

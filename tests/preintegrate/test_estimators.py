@@ -16,12 +16,12 @@ import numpy as np
 import pytest
 
 from basis.validation import ParameterError
+from fresnel_lut.report.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.estimators import hammersley_points, radical_inverse_base2
 from preintegrate.ggx import g1, sample_vndf
 from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import QuadratureOrder
-from fresnel_lut.report.lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
 from tests.references.integration import g2_reference
 
 SIX = combine(basis_channels(), schlick_channels())
@@ -130,7 +130,9 @@ def test_ndf_converges_to_quadrature(quadrature_16):
 def test_vndf_converges_to_quadrature(quadrature_16):
     """VNDF sampling, 16 × 16, six channels: max at 4096 spp < 1e-3 (measured 3.1e-4; 1.6e-2 at 64)."""
     max_64, rms_64 = _errors(build_table(SIX, 16, method="hammersley", samples=64, sampling="vndf"), quadrature_16)
-    max_4096, rms_4096 = _errors(build_table(SIX, 16, method="hammersley", samples=4096, sampling="vndf"), quadrature_16)
+    max_4096, rms_4096 = _errors(
+        build_table(SIX, 16, method="hammersley", samples=4096, sampling="vndf"), quadrature_16
+    )
     assert max_4096 < max_64 and rms_4096 < rms_64
     assert max_4096 < 1e-3, max_4096
 
@@ -172,7 +174,14 @@ def test_invalid_channels_and_indices():
 
 def test_progress_reports_every_texel():
     calls = []
-    build_table(SIX, 4, method="hammersley", samples=16, max_samples=64, progress=lambda done, total: calls.append((done, total)))
+    build_table(
+        SIX,
+        4,
+        method="hammersley",
+        samples=16,
+        max_samples=64,
+        progress=lambda done, total: calls.append((done, total)),
+    )
     assert calls == [(4, 16), (8, 16), (12, 16), (16, 16)]
 
 
@@ -198,7 +207,9 @@ def test_quick_study_rows(quick_study):
     for entry in quick_study["equal_time"]:
         if entry["ratio"] is None:
             continue
-        family = sorted((q for q in quadrature if q["method"] == entry["quadrature_method"]), key=lambda q: q["seconds"])
+        family = sorted(
+            (q for q in quadrature if q["method"] == entry["quadrature_method"]), key=lambda q: q["seconds"]
+        )
         slower = [q for q in family if q["seconds"] >= entry["seconds"]]
         faster = [q for q in family if q["seconds"] <= entry["seconds"]]
         assert faster

@@ -161,7 +161,12 @@ def test_interrupted_write_leaves_existing_files(tmp_path, monkeypatch):
 
     monkeypatch.setattr(exr.OpenEXR.File, "write", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        write_luts([(paths[0], _table(seed=5), RGBA, _attributes(RGBA)), (paths[1], _table(channels=2, seed=6), RG, _attributes(RG))])
+        write_luts(
+            [
+                (paths[0], _table(seed=5), RGBA, _attributes(RGBA)),
+                (paths[1], _table(channels=2, seed=6), RG, _attributes(RG)),
+            ]
+        )
     assert [p.read_bytes() for p in paths] == before
     assert _leftovers(tmp_path) == []
 
@@ -184,7 +189,9 @@ def test_truncated_file_raises(tmp_path, fraction):
         read_lut(truncated)
 
 
-@pytest.mark.parametrize("content", [b"", b"hello, world\n", b"\x76\x2f\x31\x01" + b"\x00" * 40, b"\x89PNG\r\n\x1a\n" + bytes(200)])
+@pytest.mark.parametrize(
+    "content", [b"", b"hello, world\n", b"\x76\x2f\x31\x01" + b"\x00" * 40, b"\x89PNG\r\n\x1a\n" + bytes(200)]
+)
 def test_non_exr_file_raises(tmp_path, content):
     """A text file, an empty file, a bare EXR magic number and a PNG header raise LutFileError."""
     path = tmp_path / "fake.exr"
@@ -207,7 +214,12 @@ def test_no_temporary_files_remain(tmp_path):
     write_lut(tmp_path / "a.exr", _table(), RGBA, _attributes(RGBA))
     write_lut(tmp_path / "a.exr", _table(seed=1), RGBA, _attributes(RGBA))
     write_lut(tmp_path / "h.exr", _table(), RGBA, _attributes(RGBA), half=True)
-    write_luts([(tmp_path / "s" / "b.exr", _table(), RGBA, _attributes(RGBA)), (tmp_path / "s" / "c.exr", _table(channels=2), RG, _attributes(RG))])
+    write_luts(
+        [
+            (tmp_path / "s" / "b.exr", _table(), RGBA, _attributes(RGBA)),
+            (tmp_path / "s" / "c.exr", _table(channels=2), RG, _attributes(RG)),
+        ]
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.exr", "h.exr", "s"]
     assert sorted(p.name for p in (tmp_path / "s").iterdir()) == ["b.exr", "c.exr"]
 
@@ -243,7 +255,9 @@ def test_written_file_mode_follows_umask(tmp_path):
 def test_content_hash_catches_edited_header_and_pixels(tmp_path):
     """An EXR whose fresnel: attributes or pixels change after writing (re-saved by OpenEXR, so the file itself is
     valid) is refused by read_lut: the stored content hash no longer matches (EXR has no checksum of its own)."""
-    path = write_lut(tmp_path / "lut.exr", np.full((4, 5, 2), 0.25), ("R", "G"), {"convention": "test", "channels": "R,G"})
+    path = write_lut(
+        tmp_path / "lut.exr", np.full((4, 5, 2), 0.25), ("R", "G"), {"convention": "test", "channels": "R,G"}
+    )
     read_lut(path)  # the untouched file reads
     for edit in ("header", "pixels"):
         image = OpenEXR.File(str(path), separate_channels=True)

@@ -62,19 +62,27 @@ def test_c_header_compiles_and_holds_the_exr_values(built, tmp_path):
     if compiler is None:
         pytest.skip("no C compiler")
     program = tmp_path / "read.c"
-    program.write_text('#include <stdio.h>\n#include "ggx_basis_rgba.h"\n#include "ggx_schlick_rgb.h"\n'
-                       "int main(void) {\n"
-                       "  for (int k = 0; k < GGX_BASIS_RGBA_WIDTH * GGX_BASIS_RGBA_HEIGHT * GGX_BASIS_RGBA_CHANNELS; ++k)"
-                       ' printf("%.9g\\n", ggx_basis_rgba[k]);\n'
-                       '  for (int k = 0; k < 16 * 16 * GGX_SCHLICK_RGB_CHANNELS; ++k) printf("%.9g\\n", ggx_schlick_rgb[k]);\n'
-                       "  return 0;\n}\n", encoding="utf-8")
+    program.write_text(
+        '#include <stdio.h>\n#include "ggx_basis_rgba.h"\n#include "ggx_schlick_rgb.h"\n'
+        "int main(void) {\n"
+        "  for (int k = 0; k < GGX_BASIS_RGBA_WIDTH * GGX_BASIS_RGBA_HEIGHT * GGX_BASIS_RGBA_CHANNELS; ++k)"
+        ' printf("%.9g\\n", ggx_basis_rgba[k]);\n'
+        '  for (int k = 0; k < 16 * 16 * GGX_SCHLICK_RGB_CHANNELS; ++k) printf("%.9g\\n", ggx_schlick_rgb[k]);\n'
+        "  return 0;\n}\n",
+        encoding="utf-8",
+    )
     executable = tmp_path / "read"
-    subprocess.run([compiler, "-std=c99", "-Wall", "-Werror", f"-I{built}", str(program), "-o", str(executable)],
-                   check=True, capture_output=True)
-    printed = np.array(subprocess.run([str(executable)], check=True, capture_output=True, text=True).stdout.split(),
-                       dtype=np.float64)
-    expected = np.concatenate([read_lut(built / "ggx_basis_rgba.exr")[0].ravel(),
-                               read_lut(built / "ggx_schlick_rgb.exr")[0].ravel()])
+    subprocess.run(
+        [compiler, "-std=c99", "-Wall", "-Werror", f"-I{built}", str(program), "-o", str(executable)],
+        check=True,
+        capture_output=True,
+    )
+    printed = np.array(
+        subprocess.run([str(executable)], check=True, capture_output=True, text=True).stdout.split(), dtype=np.float64
+    )
+    expected = np.concatenate(
+        [read_lut(built / "ggx_basis_rgba.exr")[0].ravel(), read_lut(built / "ggx_schlick_rgb.exr")[0].ravel()]
+    )
     np.testing.assert_array_equal(printed.astype(np.float32), expected.astype(np.float32))
 
 
@@ -83,8 +91,14 @@ def test_formats_are_checked_before_the_work_and_png_alone_works(tmp_path, capsy
     assert_one_line_error(capsys.readouterr().err)
     assert not (tmp_path / "x").exists()
     assert run(["build", "--size", 8, "--format", "png16", "--out", tmp_path / "png"]) == 0
-    assert sorted(path.name for path in (tmp_path / "png").iterdir()) == ["ggx_albedo_average.png", "ggx_basis_rgba.png",
-                                                                         "ggx_schlick_rgb.png"]
+    assert sorted(path.name for path in (tmp_path / "png").iterdir()) == [
+        "fresnel_basis_material.glsl",  # the shader includes of the basis go with every default build
+        "fresnel_basis_material.hlsl",
+        "fresnel_basis_material.wgsl",
+        "ggx_albedo_average.png",
+        "ggx_basis_rgba.png",
+        "ggx_schlick_rgb.png",
+    ]
 
 
 @pytest.mark.parametrize("half", [False, True])
@@ -123,8 +137,11 @@ def test_ktx2_refuses_tables_it_cannot_hold():
         ktx2_bytes(np.full((2, 2, 4), np.nan), {})
     with pytest.raises(ParameterError, match="1 to 4 channels"):
         ktx2_bytes(np.zeros((2, 2, 5)), {})
-    for writer in (lambda table: ktx2_bytes(table, {}), lambda table: png16_bytes(table, {}),
-                   lambda table: c_header(table, "name", ["R"], {})):
+    for writer in (
+        lambda table: ktx2_bytes(table, {}),
+        lambda table: png16_bytes(table, {}),
+        lambda table: c_header(table, "name", ["R"], {}),
+    ):
         with pytest.raises(ParameterError, match="non-empty table"):
             writer(np.zeros((0, 2, 4)))
         with pytest.raises(ParameterError, match="table must be a real number"):

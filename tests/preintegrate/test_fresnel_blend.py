@@ -28,8 +28,9 @@ def test_diffuse_integral_is_23_over_56():
 @pytest.mark.parametrize("mu_o", [0.95, 0.5, 0.1])
 def test_mirror_limit(mu_o):
     rs = 0.04
-    np.testing.assert_allclose(fresnel_blend_specular_albedo(mu_o, 1e-5, rs), rs + (1.0 - rs) * (1.0 - mu_o) ** 5,
-                               atol=2e-4)
+    np.testing.assert_allclose(
+        fresnel_blend_specular_albedo(mu_o, 1e-5, rs), rs + (1.0 - rs) * (1.0 - mu_o) ** 5, atol=2e-4
+    )
 
 
 @pytest.mark.parametrize("mu_o, alpha", [(0.8, 0.5), (0.3, 0.3), (0.1, 0.8)])

@@ -68,6 +68,7 @@ def _visible_integral(g, mu_o, alpha, theta_low=0.0):
 @pytest.mark.parametrize("alpha", ALPHAS)
 def test_ndf_is_normalised(alpha):
     """∫ D(h) μh dω_h = 1 (Walter 2007 eq. 4) by scipy.integrate.quad over θ_h with break points at the peak; tol 1e-8."""
+
     def integrand(theta):
         return 2.0 * np.pi * float(ggx.ndf(np.cos(theta), alpha)) * np.cos(theta) * np.sin(theta)
 
@@ -190,7 +191,10 @@ def test_sample_vndf_outputs_visible_unit_vectors(mu_o, alpha, azimuth):
 
 def _test_functions(omega_o_local):
     def g(h):
-        return np.stack([h[:, 2], h[:, 2] ** 2, h @ omega_o_local, h[:, 0], h[:, 0] ** 2, h[:, 1], h[:, 1] ** 2], axis=-1)
+        return np.stack(
+            [h[:, 2], h[:, 2] ** 2, h @ omega_o_local, h[:, 0], h[:, 0] ** 2, h[:, 1], h[:, 1] ** 2], axis=-1
+        )
+
     return g
 
 

@@ -15,8 +15,8 @@ from basis.eigenbasis import default_basis
 from basis.fresnel import fresnel_conductor, fresnel_dielectric
 from basis.presets import material_coefficients
 from basis.validation import ParameterError
-from preintegrate.exr import read_lut
 from preintegrate.estimators import monte_carlo_albedo
+from preintegrate.exr import read_lut
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import shipped_lut, texel_centres
 from preintegrate.multiple_scattering import average_albedo, basis_albedo, compensated_albedo, shipped_tables
@@ -101,9 +101,12 @@ def test_compensated_albedo_refuses_bad_input(arguments, message):
 
 def test_basis_albedo_refuses_wrong_shapes(tables):
     gold = material_coefficients("Gold")
-    for wrong, message in [("x", "tables must be"), ((np.zeros((2, 2)), tables[1]), "basis table"),
-                           ((tables[0], tables[0][..., :1]), "Schlick table"),
-                           ((np.full_like(tables[0], np.nan), tables[1]), "finite")]:
+    for wrong, message in [
+        ("x", "tables must be"),
+        ((np.zeros((2, 2)), tables[1]), "basis table"),
+        ((tables[0], tables[0][..., :1]), "Schlick table"),
+        ((np.full_like(tables[0], np.nan), tables[1]), "finite"),
+    ]:
         with pytest.raises(ParameterError, match=message):
             basis_albedo(gold, 0.5, 0.5, tables=wrong)
     with pytest.raises(ParameterError, match="coefficients"):
@@ -141,8 +144,10 @@ def test_average_albedo_against_monte_carlo(roughness):
     nodes, weights = np.polynomial.legendre.leggauss(16)
     mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
     alpha = float(roughness_to_alpha(roughness))
-    estimates = [monte_carlo_albedo(lambda x: np.ones_like(x), float(m), alpha, samples=100_000, seed=i)
-                 for i, m in enumerate(mu)]
+    estimates = [
+        monte_carlo_albedo(lambda x: np.ones_like(x), float(m), alpha, samples=100_000, seed=i)
+        for i, m in enumerate(mu)
+    ]
     values = np.array([np.ravel(mean)[0] for mean, _ in estimates])
     errors = np.array([np.ravel(error)[0] for _, error in estimates])
     reference, sigma = 2.0 * np.sum(weights * mu * values), 2.0 * np.sqrt(np.sum((weights * mu * errors) ** 2))
@@ -153,8 +158,9 @@ def test_average_albedo_against_monte_carlo(roughness):
 _GOLD_ETA, _GOLD_KAPPA = np.array([0.18, 0.42, 1.37]), np.array([3.42, 2.35, 1.77])
 
 
-@pytest.mark.parametrize("mu_o, roughness, gap", [(0.5, 1.0, 0.04), (0.2, 0.8, 0.012), (0.9, 0.6, 0.006),
-                                                  (0.5, 0.3, 0.003)])
+@pytest.mark.parametrize(
+    "mu_o, roughness, gap", [(0.5, 1.0, 0.04), (0.2, 0.8, 0.012), (0.9, 0.6, 0.006), (0.5, 0.3, 0.003)]
+)
 def test_against_a_random_walk_on_the_microsurface(mu_o, roughness, gap):
     """Heitz et al. 2016's random walk (tests/references/random_walk.py, 200 000 paths):
 
@@ -193,3 +199,18 @@ def test_shipped_average_table_is_the_api_and_reads_with_its_header():
     roughness = texel_centres(128)
     np.testing.assert_array_equal(table[:, 0, 0], average_albedo(roughness).astype(np.float32))
     assert 0.38 < table[-1, 0, 0] < 0.45
+
+
+def test_compensation_reads_e_as_the_shaders_do():
+    """Issue 26 item 10: the shaders take E from the Schlick table's B channel; so does compensate_lookup (on a half
+    table B and R + G differ by up to 4.9e-4). A texel whose B is changed changes the result as the shader's would."""
+    from basis import default_basis
+    from preintegrate.multiple_scattering import compensate_lookup
+
+    texels = np.array([[0.30, 0.20, 0.5], [0.30, 0.20, 0.5004883]])  # B = R + G, and B one half-float step above
+    single = np.full((2, 3), 0.4)
+    coefficients = np.tile([0.9, 0.1, 0.0, 0.0], (3, 1))
+    first, second = compensate_lookup(single, texels, coefficients, default_basis())
+    assert not np.allclose(first, second, rtol=0, atol=1e-9)
+    two_channel = compensate_lookup(single, texels[:1, :2], coefficients, default_basis())
+    np.testing.assert_allclose(two_channel[0], first, rtol=0, atol=1e-15)

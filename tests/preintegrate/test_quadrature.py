@@ -58,6 +58,7 @@ def test_quadrature_matches_monte_carlo(mu_o, alpha):
 def test_normal_incidence_matches_one_dimensional_quad():
     """At μo = 1 (axially symmetric) F̄ = 2π∫ f(cosθ) D G2(1, cos2θ) cosθ sinθ dθ by scipy quad: default order atol 1e-6, order 128 atol 1e-9."""
     for alpha in (1e-3, 0.01, 0.05, 0.3):
+
         def integrand(theta, k):
             c = np.cos(theta)
             value = all_functions(np.array([c]))[0, k] * ggx_d(c, alpha) * g2_reference(1.0, np.cos(2 * theta), alpha)
@@ -66,7 +67,10 @@ def test_normal_incidence_matches_one_dimensional_quad():
         cuts = sorted({0.0, 0.25 * np.pi, *(float(np.arctan(m * alpha)) for m in (0.25, 1, 4, 16, 64, 256))})
         cuts = [c for c in cuts if c <= 0.25 * np.pi]
         reference = [
-            sum(quad(integrand, a, b, args=(k,), epsabs=1e-13, epsrel=1e-12, limit=400)[0] for a, b in zip(cuts[:-1], cuts[1:]))
+            sum(
+                quad(integrand, a, b, args=(k,), epsabs=1e-13, epsrel=1e-12, limit=400)[0]
+                for a, b in zip(cuts[:-1], cuts[1:])
+            )
             for k in range(7)
         ]
         np.testing.assert_allclose(directional_albedo(all_functions, 1.0, alpha), reference, rtol=0, atol=1e-6)
@@ -255,7 +259,9 @@ def test_broadcasting_and_progress():
     assert table.shape == (3, 3, 7)
     for j in range(3):
         for i in range(3):
-            np.testing.assert_allclose(table[j, i], directional_albedo(all_functions, mu[i], alpha[j, 0]), rtol=1e-14, atol=1e-15)
+            np.testing.assert_allclose(
+                table[j, i], directional_albedo(all_functions, mu[i], alpha[j, 0]), rtol=1e-14, atol=1e-15
+            )
     assert calls and calls[-1] == (6, 6)
     small_batches = directional_albedo(all_functions, mu, alpha, max_nodes=1)
     np.testing.assert_allclose(small_batches, table, rtol=1e-14, atol=1e-15)
@@ -266,7 +272,10 @@ def test_default_order_is_a_schedule_of_quadrature_orders():
     assert isinstance(DEFAULT_ORDER, QuadratureSchedule)
     assert DEFAULT_ORDER.regular.nodes_per_texel > 0 and DEFAULT_ORDER.stiff.nodes_per_texel > 0
     tiers = DEFAULT_ORDER.tiers(np.array([0.01, 0.5, 0.5, 1e-4]), np.array([0.5, 0.5, 1e-6, 0.5]))
-    np.testing.assert_array_equal([mask for mask, _ in tiers], [[False, True, False, False], [True, False, True, False], [False, False, False, True]])
+    np.testing.assert_array_equal(
+        [mask for mask, _ in tiers],
+        [[False, True, False, False], [True, False, True, False], [False, False, False, True]],
+    )
     assert [order for _, order in tiers] == [DEFAULT_ORDER.regular, DEFAULT_ORDER.stiff, DEFAULT_ORDER.extreme]
     order = QuadratureOrder.uniform(7)
     assert (order.theta_a, order.phi_a, order.theta_b, order.phi_b) == (7, 7, 7, 7)
@@ -275,8 +284,16 @@ def test_default_order_is_a_schedule_of_quadrature_orders():
 
 @pytest.mark.parametrize(
     "mu_o, alpha, name",
-    [(-0.1, 0.5, "mu_o"), (1.0001, 0.5, "mu_o"), (np.nan, 0.5, "mu_o"), ([0.5, np.inf], 0.5, "mu_o"),
-     (0.5, -1e-9, "alpha"), (0.5, 1.5, "alpha"), (0.5, np.nan, "alpha"), (0.5, "rough", "alpha")],
+    [
+        (-0.1, 0.5, "mu_o"),
+        (1.0001, 0.5, "mu_o"),
+        (np.nan, 0.5, "mu_o"),
+        ([0.5, np.inf], 0.5, "mu_o"),
+        (0.5, -1e-9, "alpha"),
+        (0.5, 1.5, "alpha"),
+        (0.5, np.nan, "alpha"),
+        (0.5, "rough", "alpha"),
+    ],
 )
 def test_bad_input_raises_parameter_error(mu_o, alpha, name):
     """Out-of-domain μo/α raise basis.validation.ParameterError naming the parameter (spec: domain [0, 1])."""
@@ -294,7 +311,9 @@ def test_bad_functions_and_order():
         QuadratureOrder.uniform(0)
 
 
-@pytest.mark.parametrize("mu_o, alpha, name", [(0.0, 0.5, "mu_o"), (1.5, 0.5, "mu_o"), (0.5, 0.0, "alpha"), (0.5, 2.0, "alpha")])
+@pytest.mark.parametrize(
+    "mu_o, alpha, name", [(0.0, 0.5, "mu_o"), (1.5, 0.5, "mu_o"), (0.5, 0.0, "alpha"), (0.5, 2.0, "alpha")]
+)
 def test_monte_carlo_bad_input(mu_o, alpha, name):
     """monte_carlo_albedo refuses μo ∉ (0, 1] and α ∉ (0, 1] with a ParameterError naming the parameter."""
     with pytest.raises(ParameterError, match=name):

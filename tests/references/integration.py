@@ -80,8 +80,14 @@ def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, acc
     total = 0.0
     for low, high in zip(cuts[:-1], cuts[1:]):
         result = cubature(
-            integrand, [low, 0.0], [high, np.pi], rule="gk21", rtol=rtol, atol=atol,
-            args=(functions, mu_o, alpha, g2), max_subdivisions=20000,
+            integrand,
+            [low, 0.0],
+            [high, np.pi],
+            rule="gk21",
+            rtol=rtol,
+            atol=atol,
+            args=(functions, mu_o, alpha, g2),
+            max_subdivisions=20000,
         )
         assert result.status == "converged" or np.max(result.error) < accepted_error, (mu_o, alpha, result.error)
         total = total + result.estimate
@@ -98,8 +104,9 @@ def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12, visibility=
     assert 0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0
     theta_o = float(np.arccos(mu_o))
     cuts = [0.0] + ([theta_o] if 1e-9 < theta_o < 0.5 * np.pi - 1e-9 else []) + [0.5 * np.pi]
-    return _cubature_over_cuts(_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10,
-                               g2=G2_FORMS[visibility])
+    return _cubature_over_cuts(
+        _integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10, g2=G2_FORMS[visibility]
+    )
 
 
 def _half_vector_integrand(points, functions, mu_o, alpha, g2=g2_reference):

@@ -74,6 +74,13 @@ def read_ktx2(data: bytes) -> dict:
     _require(level_length == level_uncompressed == width * height * texel, "level size")
     _require(level_offset + level_length == len(data), "trailing bytes")
     texels = np.frombuffer(data, dtype=dtype, count=width * height * channels, offset=level_offset)
-    return {"format": vk_format, "width": width, "height": height, "key_values": key_values,
-            "primaries": primaries, "flags": flags, "samples": samples,
-            "texels": texels.astype(np.float64).reshape(height, width, channels)}
+    return {
+        "format": vk_format,
+        "width": width,
+        "height": height,
+        "key_values": key_values,
+        "primaries": primaries,
+        "flags": flags,
+        "samples": samples,
+        "texels": texels.astype(np.float64).reshape(height, width, channels),
+    }

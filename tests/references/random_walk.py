@@ -41,7 +41,7 @@ def _next_height(direction, height, u, alpha):
     lam = _lambda(direction, alpha)
     c1 = _c1(height)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        escape_probability = np.where(z > 0.0, c1 ** lam, 0.0)
+        escape_probability = np.where(z > 0.0, c1**lam, 0.0)
         travelled = _inverse_c1(c1 / (1.0 - u) ** (1.0 / lam))
     result = np.where(u > 1.0 - escape_probability, np.inf, travelled)
     result = np.where(z < -0.9999, _inverse_c1(u * c1), result)

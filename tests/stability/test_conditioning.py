@@ -98,8 +98,9 @@ def test_condition_number_detects_merging_fit_angles():
     for gap, ok in zip(gaps[[0, -1]], accepted[[0, -1]]):
         angles = np.array([0.0, 0.5 * np.pi, 1.5, 1.5 - gap])
         if ok:
-            np.testing.assert_allclose(fit_condition_number(Basis(shipped.theta, shipped.curves, angles)),
-                                       conditions[0], rtol=1e-9)
+            np.testing.assert_allclose(
+                fit_condition_number(Basis(shipped.theta, shipped.curves, angles)), conditions[0], rtol=1e-9
+            )
         else:
             with pytest.raises(BasisFileError, match="ill-conditioned"):
                 Basis(shipped.theta, shipped.curves, angles)

@@ -16,6 +16,7 @@ from basis.storage import JOURNAL, read_journal
 from preintegrate.exr import LutFileError, read_lut
 from preintegrate.formats import payload_hash
 from preintegrate.lut import SHIPPED_LUTS
+from preintegrate.tables import DEFAULT_BUILD_FILES
 from tests.conftest import assert_one_line_error, run
 from tests.references.ktx2 import read_ktx2
 
@@ -31,14 +32,25 @@ def built(tmp_path):
     return out
 
 
-@pytest.mark.parametrize("journal", [
-    [["../precious/keep.txt", "ggx_basis_rgba.exr"]],  # the old layout, a path outside
-    {"format": "fresnel-basis/journal", "version": 2, "renames": [["../precious/keep.txt", "ggx_basis_rgba.exr"]]},
-    {"format": "fresnel-basis/journal", "version": 2, "renames": [[".ggx_basis_rgba.exr.abcdefgh.tmp", "../precious/keep.txt"]]},
-    {"format": "fresnel-basis/journal", "version": 2, "renames": [["notes.txt", "ggx_basis_rgba.exr"]]},  # not a temporary
-    {"format": "fresnel-basis/journal", "version": 2, "renames": [], "removals": ["../precious/keep.txt"]},
-    {"format": "fresnel-basis/journal", "version": 2, "renames": [], "removals": ["/tmp"]},
-])
+@pytest.mark.parametrize(
+    "journal",
+    [
+        [["../precious/keep.txt", "ggx_basis_rgba.exr"]],  # the old layout, a path outside
+        {"format": "fresnel-basis/journal", "version": 2, "renames": [["../precious/keep.txt", "ggx_basis_rgba.exr"]]},
+        {
+            "format": "fresnel-basis/journal",
+            "version": 2,
+            "renames": [[".ggx_basis_rgba.exr.abcdefgh.tmp", "../precious/keep.txt"]],
+        },
+        {
+            "format": "fresnel-basis/journal",
+            "version": 2,
+            "renames": [["notes.txt", "ggx_basis_rgba.exr"]],
+        },  # not a temporary
+        {"format": "fresnel-basis/journal", "version": 2, "renames": [], "removals": ["../precious/keep.txt"]},
+        {"format": "fresnel-basis/journal", "version": 2, "renames": [], "removals": ["/tmp"]},
+    ],
+)
 def test_a_crafted_journal_moves_nothing(built, tmp_path, capsys, journal):
     """Item 1: a reader of a folder with a crafted journal changes nothing anywhere; a writer into it finishes only
     its own temporaries (names it makes, inside the folder), so the file the journal names outside stays."""
@@ -68,16 +80,22 @@ def test_a_smaller_basis_build_removes_the_second_table_of_a_larger_one(built, t
     (built / ".ggx_schlick_rgb.png.abc12345.tmp").write_bytes(b"left by a killed png16 build")
     (built / "ggx_basis_rgba_2.exr.notes").write_text("not a table of the set")
     assert run(["build", "--size", "6", "--out", built]) == 0
-    assert sorted(path.name for path in built.iterdir()) == sorted([*SHIPPED_LUTS, "ggx_basis_rgba_2.exr.notes"])
+    assert sorted(path.name for path in built.iterdir()) == sorted([*DEFAULT_BUILD_FILES, "ggx_basis_rgba_2.exr.notes"])
 
 
 def test_a_model_build_keeps_the_default_set_and_names_its_shape(built, capsys):
     """Item 9: two exponents of one model are two files; a model build leaves the default set alone."""
     for exponent in ("5", "6"):
-        assert run(["build", "--size", "6", "--model", "generalized-schlick", "--exponent", exponent, "--out", built]) == 0
+        assert (
+            run(["build", "--size", "6", "--model", "generalized-schlick", "--exponent", exponent, "--out", built]) == 0
+        )
     names = sorted(path.name for path in built.iterdir())
-    assert names == sorted([*SHIPPED_LUTS, "ggx_generalized-schlick_exponent5.exr", "ggx_generalized-schlick_exponent6.exr"])
-    assert run(["build", "--size", "6", "--model", "generalized-schlick", "--out", built]) == 0  # the default exponent is 5
+    assert names == sorted(
+        [*DEFAULT_BUILD_FILES, "ggx_generalized-schlick_exponent5.exr", "ggx_generalized-schlick_exponent6.exr"]
+    )
+    assert (
+        run(["build", "--size", "6", "--model", "generalized-schlick", "--out", built]) == 0
+    )  # the default exponent is 5
     assert sorted(path.name for path in built.iterdir()) == names
 
 
@@ -101,11 +119,14 @@ def _edited_presets(tmp_path, edit, rehash=True):
     return path
 
 
-@pytest.mark.parametrize("edit, fragment", [
-    (lambda entry: entry["coefficients"][0].__setitem__(1, 1e6), r"coefficients must lie in \[-10, 10\]"),
-    (lambda entry: entry["f0"].__setitem__(0, 5.0), r"f0 must lie in \[-0.25, 1.25\]"),
-    (lambda entry: entry["rms_delta_e2000"].__setitem__("basis", -0.1), r"basis must lie in \[0, 100\]"),
-])
+@pytest.mark.parametrize(
+    "edit, fragment",
+    [
+        (lambda entry: entry["coefficients"][0].__setitem__(1, 1e6), r"coefficients must lie in \[-10, 10\]"),
+        (lambda entry: entry["f0"].__setitem__(0, 5.0), r"f0 must lie in \[-0.25, 1.25\]"),
+        (lambda entry: entry["rms_delta_e2000"].__setitem__("basis", -0.1), r"basis must lie in \[0, 100\]"),
+    ],
+)
 def test_presets_out_of_range_are_refused(tmp_path, edit, fragment):
     with pytest.raises(PresetFileError, match=fragment):
         material_presets(_edited_presets(tmp_path, edit))
@@ -118,12 +139,15 @@ def test_presets_edited_without_their_hash_are_refused(tmp_path):
     assert material_presets()["content_hash"] == content_hash(material_presets())  # the shipped file is sealed
 
 
-@pytest.mark.parametrize("edit, fragment", [
-    (lambda document: document.__setitem__("n_terms", 5), "n_terms 5 does not match the 4 curves"),
-    (lambda document: document["hemispherical_averages"].__setitem__(2, 0.2), "hemispherical_averages"),
-    (lambda document: document.__setitem__("hemispherical_averages", [1, 0]), "hemispherical_averages"),
-    (lambda document: document.__setitem__("n_terms", True), "n_terms"),
-])
+@pytest.mark.parametrize(
+    "edit, fragment",
+    [
+        (lambda document: document.__setitem__("n_terms", 5), "n_terms 5 does not match the 4 curves"),
+        (lambda document: document["hemispherical_averages"].__setitem__(2, 0.2), "hemispherical_averages"),
+        (lambda document: document.__setitem__("hemispherical_averages", [1, 0]), "hemispherical_averages"),
+        (lambda document: document.__setitem__("n_terms", True), "n_terms"),
+    ],
+)
 def test_basis_fields_outside_the_hash_are_checked(tmp_path, edit, fragment):
     """Item 5: engines read the averages from basis.json (shader comments say so): they are checked on read."""
     document = json.loads(shipped_basis_path().read_text(encoding="utf-8"))
@@ -141,7 +165,9 @@ def test_ktx2_png_and_header_carry_pixel_type_and_content_hash(tmp_path, capsys)
     assert run(["build", "--size", "6", "--half", "--format", "ktx2,header", "--out", out]) == 0
     data = bytearray((out / "ggx_basis_rgba.ktx2").read_bytes())
     ktx = read_ktx2(bytes(data))
-    attributes = {key[len("fresnel:"):]: value for key, value in ktx["key_values"].items() if key.startswith("fresnel:")}
+    attributes = {
+        key[len("fresnel:") :]: value for key, value in ktx["key_values"].items() if key.startswith("fresnel:")
+    }
     texel_bytes = ktx["texels"].astype("<f2").tobytes()
     assert attributes["pixel_type"] == "half"
     assert attributes["content_hash"] == payload_hash(attributes, texel_bytes)
@@ -159,7 +185,7 @@ def _rewritten_exr(source, target, **changes):
     image = OpenEXR.File(str(source), separate_channels=True)
     header = dict(image.header())
     channels = {name: channel.pixels for name, channel in image.channels().items()}
-    attributes = {key[len("fresnel:"):]: str(value) for key, value in header.items() if key.startswith("fresnel:")}
+    attributes = {key[len("fresnel:") :]: str(value) for key, value in header.items() if key.startswith("fresnel:")}
     attributes.update(changes)
     attributes["content_hash"] = exr_hash(attributes, channels)
     header.update({f"fresnel:{key}": value for key, value in attributes.items()})
@@ -167,12 +193,15 @@ def _rewritten_exr(source, target, **changes):
     return target
 
 
-@pytest.mark.parametrize("changes, fragment", [
-    ({"width": "7"}, "header width '7' does not match the pixels"),
-    ({"height": "5"}, "header height '5' does not match the pixels"),
-    ({"pixel_type": "half"}, "header pixel_type 'half' does not match the pixels"),
-    ({"pixel_type": "uint8"}, "pixel_type 'uint8'"),
-])
+@pytest.mark.parametrize(
+    "changes, fragment",
+    [
+        ({"width": "7"}, "header width '7' does not match the pixels"),
+        ({"height": "5"}, "header height '5' does not match the pixels"),
+        ({"pixel_type": "half"}, "header pixel_type 'half' does not match the pixels"),
+        ({"pixel_type": "uint8"}, "pixel_type 'uint8'"),
+    ],
+)
 def test_read_lut_compares_the_header_with_the_pixels(built, tmp_path, changes, fragment):
     path = _rewritten_exr(built / "ggx_basis_rgba.exr", tmp_path / "edited.exr", **changes)
     with pytest.raises(LutFileError, match=fragment):

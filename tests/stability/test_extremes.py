@@ -20,7 +20,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from basis import coefficients_from_gulbrandsen, coefficients_from_nk, default_basis, fresnel_conductor, gulbrandsen_to_nk
+from basis import (
+    coefficients_from_gulbrandsen,
+    coefficients_from_nk,
+    default_basis,
+    fresnel_conductor,
+    gulbrandsen_to_nk,
+)
 from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples, fit_matrix, reconstruct, reconstruction_error
 from basis.training import MIN_SPAN, GramAccumulator
@@ -161,8 +167,10 @@ def test_grazing_view_default_matches_order_128():
 def test_stiff_tier_default_matches_order_128(mu_o, alpha):
     """(μo, α) in the stiff tier between the 128-grid texels: default schedule within 1e-6 of order 128."""
     np.testing.assert_allclose(
-        directional_albedo(channels, mu_o, alpha), directional_albedo(channels, mu_o, alpha, order=HIGH_ORDER),
-        rtol=0, atol=SCHEDULE_TOLERANCE,
+        directional_albedo(channels, mu_o, alpha),
+        directional_albedo(channels, mu_o, alpha, order=HIGH_ORDER),
+        rtol=0,
+        atol=SCHEDULE_TOLERANCE,
     )
 
 
@@ -172,7 +180,10 @@ def test_schedule_tier_boundaries_do_not_jump(boundary):
     boundary) F̄ changes by ≤ 1e-6 on every channel (order 128 changes by < 1e-15 there)."""
     if boundary.startswith("mu"):
         edge = float(boundary.split()[1])
-        mu_o, alpha = np.array([np.nextafter(edge, 0.0), edge])[None, :], np.array([1e-5, 1e-3, 0.05, 0.5, 1.0])[:, None]
+        mu_o, alpha = (
+            np.array([np.nextafter(edge, 0.0), edge])[None, :],
+            np.array([1e-5, 1e-3, 0.05, 0.5, 1.0])[:, None],
+        )
         values = directional_albedo(channels, mu_o, alpha)
         jump = np.abs(values[:, 1] - values[:, 0])
     else:
@@ -377,8 +388,10 @@ def test_gulbrandsen_zero_edge_tint_to_one():
     assert np.all(np.abs(eta / ((1.0 + root) / (1.0 - root)) - 1.0) <= 4.0 * EPS / (1.0 - root))
     assert np.all(kappa <= 2.0 * np.sqrt(EPS) * (eta + 1.0) / np.sqrt(1.0 - R_G0))
     np.testing.assert_allclose(
-        fresnel_conductor(MU[None, :], eta[:, None], kappa[:, None]), fresnel_conductor(MU[None, :], eta[:, None], 0.0),
-        rtol=0, atol=1e-12,
+        fresnel_conductor(MU[None, :], eta[:, None], kappa[:, None]),
+        fresnel_conductor(MU[None, :], eta[:, None], 0.0),
+        rtol=0,
+        atol=1e-12,
     )
     np.testing.assert_allclose(fresnel_conductor(1.0, eta, kappa), R_G0, rtol=0, atol=2 * EPS)
     coefficients = coefficients_from_gulbrandsen(R_G0, 0.0)
@@ -388,8 +401,15 @@ def test_gulbrandsen_zero_edge_tint_to_one():
 
 
 @pytest.mark.parametrize(
-    "reflectivity, edge_tint", [(1.0 - 1e-7, 0.0), (1.0 - 1e-9, 0.0), (1.0 - 1e-9, 1.0), (1.0 - 1e-12, 1.0),
-                                (float(np.nextafter(1.0, 0.0)), 0.0), (float(np.nextafter(1.0, 0.0)), 1.0)],
+    "reflectivity, edge_tint",
+    [
+        (1.0 - 1e-7, 0.0),
+        (1.0 - 1e-9, 0.0),
+        (1.0 - 1e-9, 1.0),
+        (1.0 - 1e-12, 1.0),
+        (float(np.nextafter(1.0, 0.0)), 0.0),
+        (float(np.nextafter(1.0, 0.0)), 1.0),
+    ],
 )
 def test_gulbrandsen_reflectivity_next_to_one(reflectivity, edge_tint):
     """r in its documented range [0, 1) next to 1: either finite coefficients with c0 = r (atol 1e-12), or a

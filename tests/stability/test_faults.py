@@ -24,8 +24,7 @@ import pytest
 from basis.eigenbasis import shipped_basis_path
 from fresnel_lut import cli
 from preintegrate import exr, tables
-from preintegrate.lut import BASIS_LUT, SCHLICK_LUT
-from preintegrate.lut import SHIPPED_LUTS
+from preintegrate.lut import BASIS_LUT, SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 
 #: Values of the wrong type or form: argparse refuses them ("invalid int value", "expected one argument").
@@ -89,8 +88,11 @@ def _cases():
             cases[f"{option}={value!r}"] = (_with_option(base, option, [value]), "range")
         cases[f"{option} missing"] = (_with_option(base, option, []), "type")
     for option, (base, out_of_range) in FLOAT_OPTIONS.items():
-        kinds = {**{value: "range" for value in out_of_range}, **{value: "type" for value in NOT_FLOATS},
-                 **{value: "nonfinite" for value in NON_FINITE}}
+        kinds = {
+            **{value: "range" for value in out_of_range},
+            **{value: "type" for value in NOT_FLOATS},
+            **{value: "nonfinite" for value in NON_FINITE},
+        }
         for index, (value, kind) in enumerate(kinds.items()):
             triple = _valid_triple(option)
             triple[index % 3] = value  # the bad value in channel R, G or B in turn
@@ -102,7 +104,10 @@ def _cases():
     cases["coeffs --json x"] = (BASES["coeffs_nk"] + ["--json", "x"], "usage")
     cases["coeffs eta without kappa"] = (["coeffs", "--eta", "1", "1", "1"], "usage")
     cases["coeffs edge-tint without reflectivity"] = (["coeffs", "--edge-tint", "0", "0", "0"], "usage")
-    cases["coeffs both materials"] = (BASES["coeffs_nk"] + ["--reflectivity", "0.5", "0.5", "0.5", "--edge-tint", "0", "0", "0"], "usage")
+    cases["coeffs both materials"] = (
+        BASES["coeffs_nk"] + ["--reflectivity", "0.5", "0.5", "0.5", "--edge-tint", "0", "0", "0"],
+        "usage",
+    )
     cases["unknown command"] = (["bogus"], "type")
     cases["report unknown option"] = (["report", "--bogus"], "type")
     cases["report --out missing"] = (["report", "--out"], "type")
@@ -133,7 +138,9 @@ def _check_refused(argv, kind, capsys, folder):
     if kind != "usage":
         assert option_named(line, argv), line
     if kind == "range":
-        assert "[" in line or "must be one of" in line or "must be auto, talk or notebook" in line, line  # range/choices
+        assert "[" in line or "must be one of" in line or "must be auto, talk or notebook" in line, (
+            line
+        )  # range/choices
     assert _snapshot(folder) == before, "something was written"
 
 
@@ -220,17 +227,24 @@ def test_unwritable_out_is_refused_before_the_work(command, tmp_path, monkeypatc
 
     monkeypatch.setattr(tables, "build_table", no_work)
     monkeypatch.setattr(cli, "build_basis", no_work)
-    argv = ["build", "--size", "4", "--out", "a_file/luts"] if command == "build" else ["basis", "--count", "100", "--out", "a_file/b.json"]
+    argv = (
+        ["build", "--size", "4", "--out", "a_file/luts"]
+        if command == "build"
+        else ["basis", "--count", "100", "--out", "a_file/b.json"]
+    )
     _check_refused(argv, "usage", capsys, tmp_path)
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["build", "--size", "4", "--out", "a_file/luts"], "a_file"),
-    (["basis", "--count", "100", "--out", "a_file/b.json"], "a_file"),
-    (["report", "--out", "a_file"], "a_file"),
-    (["report", "--out", "a_file/report"], "a_file"),
-    (["build", "--size", "4", "--out", "/proc/no/such/folder"], "/proc/no"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["build", "--size", "4", "--out", "a_file/luts"], "a_file"),
+        (["basis", "--count", "100", "--out", "a_file/b.json"], "a_file"),
+        (["report", "--out", "a_file"], "a_file"),
+        (["report", "--out", "a_file/report"], "a_file"),
+        (["build", "--size", "4", "--out", "/proc/no/such/folder"], "/proc/no"),
+    ],
+)
 def test_out_that_cannot_be_created(argv, fragment, tmp_path, monkeypatch, capsys):
     """--out that is, or lies under, a regular file, or under /proc: exit 2, one line naming the path, the file
     untouched, nothing else written."""
@@ -289,15 +303,19 @@ BAD_BASIS = {
     "empty file": lambda d: _write(d, "b.json", b""),
     "EXR file": _exr_file,
     "PNG bytes": lambda d: _write(d, "b.json", b"\x89PNG\r\n\x1a\n" + bytes(64)),
-    "latin-1 bytes": lambda d: _write(d, "b.json", "{\"format\": \"é\"}".encode("latin-1")),
+    "latin-1 bytes": lambda d: _write(d, "b.json", '{"format": "é"}'.encode("latin-1")),
     "UTF-16 JSON": lambda d: _write(d, "b.json", _shipped_text().encode("utf-16")),
     "JSON list": lambda d: _write(d, "b.json", "[1, 2, 3]"),
     "JSON null": lambda d: _write(d, "b.json", "null"),
     "foreign format": lambda d: _write(d, "b.json", json.dumps({"format": "other/thing@1", "curves": []})),
-    "no format": lambda d: _write(d, "b.json", json.dumps({k: v for k, v in json.loads(_shipped_text()).items() if k != "format"})),
+    "no format": lambda d: _write(
+        d, "b.json", json.dumps({k: v for k, v in json.loads(_shipped_text()).items() if k != "format"})
+    ),
     "truncated 10%": lambda d: _write(d, "b.json", _shipped_text()[: len(_shipped_text()) // 10]),
     "truncated 99%": lambda d: _write(d, "b.json", _shipped_text()[: len(_shipped_text()) * 99 // 100]),
-    "hash mismatch in fit angle": lambda d: _write(d, "b.json", _edited('"fit_angles": [\n  0.0,', '"fit_angles": [\n  0.001,')),
+    "hash mismatch in fit angle": lambda d: _write(
+        d, "b.json", _edited('"fit_angles": [\n  0.0,', '"fit_angles": [\n  0.001,')
+    ),
     "NaN token": lambda d: _write(d, "b.json", _edited('"theta": [\n  0.0,', '"theta": [\n  NaN,')),
     "1e999 token": lambda d: _write(d, "b.json", _edited('"theta": [\n  0.0,', '"theta": [\n  1e999,')),
     "directory": lambda d: (d / "a_folder").mkdir() or d / "a_folder",
@@ -363,6 +381,7 @@ def test_disk_full_during_exr_write(previous_build, monkeypatch, capsys):
     """OSError ENOSPC inside the 2nd EXR write (after writing part of it): exit 2, one line, both previous LUTs
     byte-identical, no temporaries."""
     out, before = previous_build
+
     def partial_then_disk_full(image, filename):
         Path(filename).write_bytes(b"v/1\x01partial")
         raise OSError(errno.ENOSPC, "No space left on device", filename)
@@ -377,6 +396,7 @@ def test_permission_denied_at_rename(previous_build, monkeypatch, capsys):
     """PermissionError at the 2nd rename of a build: exit 2, one line, both previous LUTs byte-identical (the first
     rename rolled back), no temporaries."""
     out, before = previous_build
+
     def permission_denied(source, destination):
         raise PermissionError(errno.EACCES, "Permission denied", str(destination))
 
@@ -500,7 +520,9 @@ def test_foreign_basis_via_subprocess(tmp_path):
 
 def _editable_install() -> bool:
     """True when the package is installed in editable mode (setuptools' finder after the path finder)."""
-    return any("Editable" in type(finder).__name__ or "Editable" in getattr(finder, "__name__", "") for finder in sys.meta_path)
+    return any(
+        "Editable" in type(finder).__name__ or "Editable" in getattr(finder, "__name__", "") for finder in sys.meta_path
+    )
 
 
 def test_commands_after_a_default_build_in_the_same_folder(tmp_path):

@@ -19,6 +19,7 @@ from basis.storage import recover_folder
 from preintegrate import exr
 from preintegrate.exr import read_lut
 from preintegrate.lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, SHIPPED_LUTS
+from preintegrate.tables import DEFAULT_BUILD_FILES
 from tests.conftest import assert_one_line_error, fail_on_call, run
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -78,8 +79,12 @@ _KILLED_BUILD = textwrap.dedent("""
 
 
 def _kill_a_build_between_renames(out: Path, cwd: Path = ROOT) -> None:
-    killed = subprocess.run([sys.executable, "-c", _KILLED_BUILD, str(out)], cwd=cwd, capture_output=True,
-                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    killed = subprocess.run(
+        [sys.executable, "-c", _KILLED_BUILD, str(out)],
+        cwd=cwd,
+        capture_output=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
     assert killed.returncode == -signal.SIGKILL, killed.stderr
     assert (cwd / out / ".fresnel-lut-journal.json").exists()  # the group is half renamed
 
@@ -105,7 +110,7 @@ def test_the_next_build_finishes_a_half_renamed_set(tmp_path, capsys):
     assert run(["build", "--size", "10", "--out", out]) == 0
     shapes = {read_lut(out / name)[0].shape[:2] for name in (BASIS_LUT, SCHLICK_LUT)}
     assert shapes == {(10, 10)} and read_lut(out / AVERAGE_LUT)[0].shape[:2] == (10, 1)
-    assert sorted(path.name for path in out.iterdir()) == sorted(SHIPPED_LUTS)
+    assert sorted(path.name for path in out.iterdir()) == sorted(DEFAULT_BUILD_FILES)
 
 
 def test_a_journal_left_by_a_relative_out_is_finished_from_another_folder(tmp_path, monkeypatch):
@@ -122,7 +127,7 @@ def test_a_journal_left_by_a_relative_out_is_finished_from_another_folder(tmp_pa
     recover_folder(work / "luts")
     shapes = {read_lut(work / "luts" / name)[0].shape[:2] for name in (BASIS_LUT, SCHLICK_LUT)}
     assert shapes == {(8, 8)} and read_lut(work / "luts" / AVERAGE_LUT)[0].shape[:2] == (8, 1)
-    assert sorted(path.name for path in (work / "luts").iterdir()) == sorted(SHIPPED_LUTS)
+    assert sorted(path.name for path in (work / "luts").iterdir()) == sorted(DEFAULT_BUILD_FILES)
     assert sorted(path.name for path in (elsewhere / "luts").iterdir()) == ["keep.txt"]
 
 
@@ -132,17 +137,21 @@ def test_a_stale_temporary_is_removed_by_the_next_write(tmp_path, capsys):
     (out / ".ggx_basis_rgba.exr.abc12345.tmp").write_bytes(b"left by a killed build")
     (out / ".my.own.notes.tmp").write_bytes(b"a user's file: not ours to remove")
     assert run(["build", "--size", "6", "--out", out]) == 0
-    assert sorted(path.name for path in out.iterdir()) == sorted([".my.own.notes.tmp", *SHIPPED_LUTS])
+    assert sorted(path.name for path in out.iterdir()) == sorted([".my.own.notes.tmp", *DEFAULT_BUILD_FILES])
 
 
 def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
     out = tmp_path / "luts"
     environment = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
-    commands = [[sys.executable, "-m", "fresnel_lut.cli", "build", "--size", str(size), "--out", str(out)] + extra
-                for size, extra in ((24, []), (20, ["--half"]))]
+    commands = [
+        [sys.executable, "-m", "fresnel_lut.cli", "build", "--size", str(size), "--out", str(out)] + extra
+        for size, extra in ((24, []), (20, ["--half"]))
+    ]
     for _ in range(3):
-        processes = [subprocess.Popen(command, cwd=ROOT, env=environment, stdout=subprocess.DEVNULL,
-                                      stderr=subprocess.DEVNULL) for command in commands]
+        processes = [
+            subprocess.Popen(command, cwd=ROOT, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            for command in commands
+        ]
         assert [process.wait(timeout=120) for process in processes] == [0, 0]
         headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")]
         assert headers[0]["pixel_type"] == headers[1]["pixel_type"] and headers[0]["width"] == headers[1]["width"]

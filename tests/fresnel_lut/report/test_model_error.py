@@ -12,10 +12,10 @@ import pytest
 
 from basis import default_basis, fresnel_conductor
 from basis.validation import ParameterError
+from fresnel_lut.report.model_error import model_error_markdown, model_error_study, plot_model_error
 from preintegrate.channels import basis_channels
 from preintegrate.lut import build_table, lut_axes
 from preintegrate.quadrature import directional_albedo, lagrange_cardinals, texel_weights
-from fresnel_lut.report.model_error import model_error_markdown, model_error_study, plot_model_error
 
 BASIS = default_basis()
 MU_O, ROUGHNESS = lut_axes(8)

@@ -15,11 +15,18 @@ def test_quick_report(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     assert main(["report", "--quick", "--out", str(tmp_path)]) == 0
     text = (tmp_path / "README.md").read_text(encoding="utf-8")
-    for heading in ("## Machine and versions", "## Targets", "## 1. Preintegration", "## 2 and 3. Fresnel models",
-                    "## 4. Basis build"):
+    for heading in (
+        "## Machine and versions",
+        "## Targets",
+        "## 1. Preintegration",
+        "## 2 and 3. Fresnel models",
+        "## 4. Basis build",
+    ):
         assert heading in text
     assert "| numpy |" in text and "| basis hash |" in text
-    shipped = re.search(r"\| quadrature-schedule \| shipped schedule × 1 \(the default\) \| [\d.]+ \| ([\d.e+-]+) \|", text)
+    shipped = re.search(
+        r"\| quadrature-schedule \| shipped schedule × 1 \(the default\) \| [\d.]+ \| ([\d.e+-]+) \|", text
+    )
     assert shipped is not None and float(shipped.group(1)) < 1e-5
     for name in ("lut_error_vs_time.png", "fresnel_models.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

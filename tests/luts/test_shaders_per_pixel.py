@@ -1,0 +1,163 @@
+"""The generated per-pixel includes (luts/fresnel_basis_material.{glsl,hlsl,wgsl}) run for real and match their
+Python mirrors (preintegrate/shaders.py) and the Python API:
+
+* GLSL on Mesa's llvmpipe (headless EGL): every per-pixel function over 1024 texels of (η, κ) and (r, g) that span
+  the documented ranges, their edges (η → 1, η < 1 inside a dielectric, κ → 10⁴, r → 1, g at 0 and 1) and bad
+  values (NaN, ±inf, negative, beyond the range);
+* WGSL on WebGPU (wgpu on Mesa's lavapipe), the same inputs in a compute shader;
+* HLSL compiled to SPIR-V by glslang's HLSL front end, GLSL also as 4.50 / SPIR-V and ES 3.00.
+
+Tolerances, float32 against float64: coefficients 1e-5 (the exact Fresnel equations in float32, the 2 × 2 inverse
+amplifying by its condition number 4.8), direct-light F 1e-4 against the basis' own spline (the polynomials are
+within 3.1e-5 of it in float64). No output may be NaN or inf, whatever the texel.
+"""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from basis import coefficients_from_gulbrandsen, coefficients_from_nk, reconstruct
+from basis.storage import shipped_path
+from preintegrate.shaders import (
+    coefficients_per_pixel_gulbrandsen,
+    coefficients_per_pixel_nk,
+    direct_fresnel,
+    shader_constants,
+    shader_includes,
+)
+from tests.conftest import (
+    PER_PIXEL_CALLS,
+    assert_per_pixel_outputs,
+    gl_draw,
+    gpu_missing,
+    per_pixel_inputs,
+    wgpu_compute,
+    wgpu_device,
+)
+
+CONSTANTS = shader_constants()
+
+
+OUTPUTS = len(PER_PIXEL_CALLS)
+INCLUDES = dict(shader_includes())
+GLSL_MAIN = (
+    "\nuniform sampler2D inputs;\n"
+    + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(PER_PIXEL_CALLS)))
+    + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
+    + "".join(f"    out{k} = {call};\n" for k, call in enumerate(PER_PIXEL_CALLS))
+    + "}\n"
+)
+
+
+def test_the_shipped_includes_are_the_shipped_basis_own():
+    """luts/fresnel_basis_material.* are what the default build writes for the shipped basis, byte for byte."""
+    for name, text in INCLUDES.items():
+        assert shipped_path(name).read_text(encoding="utf-8") == text, name
+
+
+def test_mirrors_agree_with_the_python_api():
+    """The mirrors are the API's numbers: (η, κ) and (r, g) within 1e-12 of coefficients_from_nk and _gulbrandsen
+    inside the documented ranges; the curves within 3.2e-5 of the spline (and so every F(V·H) of a material whose
+    coefficients sum to at most a few)."""
+    inputs = per_pixel_inputs()[300:]
+    eta, kappa, a, b = inputs.T
+    np.testing.assert_allclose(
+        coefficients_per_pixel_nk(eta, kappa, CONSTANTS), coefficients_from_nk(eta, kappa), rtol=0, atol=1e-12
+    )
+    r = np.clip(a, 0.0, 0.99)
+    np.testing.assert_allclose(
+        coefficients_per_pixel_gulbrandsen(r, b, CONSTANTS), coefficients_from_gulbrandsen(r, b), rtol=0, atol=1e-9
+    )
+    mu = np.linspace(0.0, 1.0, 20001)
+    spline = reconstruct(np.eye(4)[:, None, :], mu[None, :])
+    assert np.max(np.abs(direct_fresnel(np.eye(4)[:, None, :], mu[None, :], CONSTANTS) - spline)) <= 3.2e-5
+
+
+def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors():
+    """Measured on llvmpipe: see the errors in the assertion message when it fails; the bounds are the module's."""
+    inputs = per_pixel_inputs()
+    outputs = gl_draw(
+        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + GLSL_MAIN,
+        [inputs.reshape(32, 32, 4)],
+        {"inputs": 0},
+        OUTPUTS,
+    )
+    assert_per_pixel_outputs(outputs, inputs, "llvmpipe")
+
+
+WGSL_MAIN = (
+    "\n@group(0) @binding(0) var<storage, read> inputs: array<vec4f>;\n"
+    "@group(0) @binding(1) var<storage, read_write> outputs: array<vec4f>;\n"
+    "@compute @workgroup_size(64)\nfn main(@builtin(global_invocation_id) id: vec3<u32>) {\n"
+    "    let i = id.x;\n    if (i >= arrayLength(&inputs)) { return; }\n    let q = inputs[i];\n"
+    + "".join(f"    outputs[{len(PER_PIXEL_CALLS)}u * i + {k}u] = {call};\n" for k, call in enumerate(PER_PIXEL_CALLS))
+    + "}\n"
+)
+
+
+def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
+    import wgpu
+
+    device = wgpu_device(monkeypatch)
+    inputs = per_pixel_inputs().astype(np.float32)
+    usage = wgpu.BufferUsage
+    input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
+    output_buffer = device.create_buffer(size=len(inputs) * OUTPUTS * 16, usage=usage.STORAGE | usage.COPY_SRC)
+    data = wgpu_compute(
+        device,
+        INCLUDES["fresnel_basis_material.wgsl"] + WGSL_MAIN,
+        [{"buffer": input_buffer}, {"buffer": output_buffer}],
+        output_buffer,
+        len(inputs),
+    )
+    output = np.frombuffer(data, np.float32).reshape(len(inputs), OUTPUTS, 4)
+    assert_per_pixel_outputs([output[:, k] for k in range(OUTPUTS)], inputs, "lavapipe")
+
+
+def _validator():
+    path = shutil.which("glslangValidator")
+    if path is None:
+        gpu_missing("glslangValidator (Debian glslang-tools)")
+    return path
+
+
+@pytest.mark.parametrize(
+    "head",
+    ["#version 450\n", "#version 300 es\nprecision highp float;\nprecision highp int;\n"],
+    ids=["450 and SPIR-V", "ES 3.00"],
+)
+def test_glsl_include_compiles(head, tmp_path):
+    source = tmp_path / "material.frag"
+    body = GLSL_MAIN.replace("uniform sampler2D inputs;", "uniform highp sampler2D inputs;")
+    if "450" in head:
+        body = body.replace("uniform highp sampler2D inputs;", "layout(binding = 0) uniform sampler2D inputs;")
+    source.write_text(head + INCLUDES["fresnel_basis_material.glsl"] + body, encoding="utf-8")
+    arguments = [_validator(), str(source)] + (["-V", "-o", str(tmp_path / "m.spv")] if "450" in head else [])
+    checked = subprocess.run(arguments, capture_output=True, text=True)
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+
+
+def test_hlsl_include_compiles_to_spirv(tmp_path):
+    source = tmp_path / "material.hlsl"
+    source.write_text(
+        INCLUDES["fresnel_basis_material.hlsl"]
+        + """
+float4 PixelMain(float4 position : SV_Position) : SV_Target
+{
+    float4 cR, cG, cB;
+    fresnelCoefficientsGulbrandsen3(float3(0.9, 0.8, 0.5), float3(0.9, 0.9, 0.2), cR, cG, cB);
+    float4 d = fresnelCoefficientsNK(0.2, 3.0) + fresnelCoefficientsF82Tint(0.5, 0.5) + fresnelCoefficientsF82(0.5, 0.4)
+             + fresnelCoefficientsSchlick(0.04, 1.0) + fresnelCoefficientsGeneralizedAdobe(0.9, 1.0, 0.5);
+    return float4(fresnelBasisDirect(0.5, cR, cG, cB) + fresnelBasisAverage(cR, cG, cB), 1.0) + d;
+}
+""",
+        encoding="utf-8",
+    )
+    compiled = subprocess.run(
+        [_validator(), "-D", "-V", "-e", "PixelMain", "-S", "frag", str(source), "-o", str(tmp_path / "m.spv")],
+        capture_output=True,
+        text=True,
+    )
+    assert compiled.returncode == 0, compiled.stdout + compiled.stderr

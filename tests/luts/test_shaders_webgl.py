@@ -1,0 +1,131 @@
+"""The generated GLSL include's ES 3.00 path in a real browser: WebGL 2 in headless Chromium (Debian's ``chromium``,
+SwiftShader), driven by Playwright for Python with the system browser (no browser download). Every per-pixel function
+renders into an RGBA32F target (EXT_color_buffer_float) whose floats are read back and compared with the Python
+mirrors, as on llvmpipe (tests/luts/test_shaders_per_pixel.py): coefficients within 1e-5, direct-light curves within
+1e-4 of the basis' spline, nothing NaN or inf, and no error on the page's console. Under ``CI=true`` a missing
+browser or Playwright fails the test (the set-up installs both).
+"""
+
+import shutil
+import tempfile
+
+import numpy as np
+
+from preintegrate.shaders import shader_includes
+from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, gpu_missing, per_pixel_inputs
+
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+FRAGMENT = """#version 300 es
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+{include}
+uniform sampler2D inputs;
+uniform int mode;
+out vec4 result;
+void main() {{
+    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+{branches}
+}}
+"""
+PAGE = """<!doctype html><html><body><canvas id="c" width="32" height="32"></canvas><script>
+function run(fragmentSource, inputs, modes) {
+  const gl = document.getElementById("c").getContext("webgl2");
+  if (!gl) return {error: "no WebGL 2"};
+  if (!gl.getExtension("EXT_color_buffer_float")) return {error: "no EXT_color_buffer_float"};
+  const compile = (type, source) => {
+    const shader = gl.createShader(type); gl.shaderSource(shader, source); gl.compileShader(shader);
+    if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(shader));
+    return shader;
+  };
+  const program = gl.createProgram();
+  gl.attachShader(program, compile(gl.VERTEX_SHADER,
+    "#version 300 es\\nin vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }"));
+  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragmentSource));
+  gl.linkProgram(program);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) return {error: gl.getProgramInfoLog(program)};
+  gl.useProgram(program);
+  const input = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D, input);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 32, 32, 0, gl.RGBA, gl.FLOAT, new Float32Array(inputs));
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  const target = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D, target);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 32, 32, 0, gl.RGBA, gl.FLOAT, null);
+  const framebuffer = gl.createFramebuffer();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+  gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
+  if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) return {error: "float target incomplete"};
+  gl.activeTexture(gl.TEXTURE0);
+  gl.bindTexture(gl.TEXTURE_2D, input);
+  gl.uniform1i(gl.getUniformLocation(program, "inputs"), 0);
+  const quad = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, quad);
+  gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 1, -1, -1, 1, 1, 1]), gl.STATIC_DRAW);
+  const position = gl.getAttribLocation(program, "p");
+  gl.enableVertexAttribArray(position);
+  gl.vertexAttribPointer(position, 2, gl.FLOAT, false, 0, 0);
+  gl.viewport(0, 0, 32, 32);
+  const outputs = [];
+  for (let mode = 0; mode < modes; ++mode) {
+    gl.uniform1i(gl.getUniformLocation(program, "mode"), mode);
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+    const pixels = new Float32Array(32 * 32 * 4);
+    gl.readPixels(0, 0, 32, 32, gl.RGBA, gl.FLOAT, pixels);
+    outputs.push(Array.from(pixels));
+  }
+  return {outputs: outputs, renderer: gl.getParameter(gl.RENDERER)};
+}
+</script></body></html>"""
+
+
+def _browser():
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        gpu_missing("Playwright for Python (the 'browser' extra)")
+    executable = shutil.which("chromium") or shutil.which("chromium-browser")
+    if executable is None:
+        gpu_missing("Chromium (Debian chromium)")
+    return sync_playwright, executable
+
+
+def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
+    sync_playwright, executable = _browser()
+    include = dict(shader_includes())["fresnel_basis_material.glsl"]
+    branches = "\n".join(
+        f"    {'if' if k == 0 else 'else if'} (mode == {k}) result = {call};" for k, call in enumerate(PER_PIXEL_CALLS)
+    )
+    fragment = FRAGMENT.format(include=include, branches=branches)
+    inputs = per_pixel_inputs()
+    texels = inputs.astype(np.float32).ravel().tolist()  # Playwright carries NaN and ±inf
+    with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
+        browser = playwright.chromium.launch_persistent_context(
+            profile, executable_path=executable, args=CHROMIUM_FLAGS, headless=True
+        )
+        try:
+            page = browser.new_page()
+            messages = []
+            page.on("console", lambda message: messages.append((message.type, message.text)))
+            page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
+            page.set_content(PAGE)
+            result = page.evaluate(
+                "([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, len(PER_PIXEL_CALLS)]
+            )
+        finally:
+            browser.close()
+    assert "error" not in result, result.get("error")
+    assert not [text for kind, text in messages if kind in ("error", "pageerror")], messages
+    values = [np.array(output, dtype=np.float64).reshape(1024, 4) for output in result["outputs"]]
+    assert_per_pixel_outputs(values, inputs, f"WebGL 2 ({result['renderer']})")
