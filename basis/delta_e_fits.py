@@ -100,6 +100,8 @@ def delta_e_coefficients(
     # F = c0 (b0 − b1) + F90 b1 + Σ_{k≥2} c_k b_k once c1 = F90 − c0
     fixed = f90[:, None] * curves[:, 1] + (0.0 if free_f0 else start[:, :1] * (curves[:, 0] - curves[:, 1]))
     shapes = [curves[:, 0] - curves[:, 1]] if free_f0 else []
+    if not shapes and curves.shape[1] == 2:  # two terms with F0 and F90 exact: nothing is left to fit
+        return np.array(start, dtype=np.float64)
     shape = np.stack([*shapes, *curves[:, 2:].T], axis=1)  # (A, free terms)
     initial = np.concatenate([start[:, :1], start[:, 2:]], axis=1) if free_f0 else start[:, 2:]
 

@@ -1,7 +1,7 @@
 """The Fresnel eigen-basis as data: curves on a θ grid, fit angles, provenance; read, write, evaluate.
 
 Public objects: ``Basis``, ``default_basis``, ``resolve_basis``, ``shipped_basis_path``, ``BasisFileError``,
-``FORMAT``.
+``FORMAT``, ``TERMS_RANGE``.
 
 ``luts/basis.json`` holds the θ grid (radians), the K curves b_k(θ_j), the K fit angles of the
 coefficient solver, the training-set description, build statistics and a SHA-256 content hash of the
@@ -30,7 +30,7 @@ from .validation import ParameterError, check_range
 if TYPE_CHECKING:
     from scipy.interpolate import CubicSpline
 
-__all__ = ["FORMAT", "Basis", "BasisFileError", "default_basis", "resolve_basis", "shipped_basis_path"]
+__all__ = ["FORMAT", "TERMS_RANGE", "Basis", "BasisFileError", "default_basis", "resolve_basis", "shipped_basis_path"]
 
 #: Identifies the file format; bumped when the layout changes.
 FORMAT = "fresnel-basis/basis@1"
@@ -39,6 +39,10 @@ FORMAT = "fresnel-basis/basis@1"
 class BasisFileError(ParameterError):
     """A basis file is missing, truncated, corrupt, foreign or fails its hash."""
 
+
+#: The supported numbers of basis terms, end to end: a basis file, ``fresnel-lut basis --terms``, the tables (terms
+#: 0-3 and 4-7 in two RGBA textures), ``coeffs``' combination rule and the shaders' two-fetch path.
+TERMS_RANGE = (2, 8)
 
 #: Largest accepted magnitude of a basis curve (the build scales b_k, k ≥ 2, to max |b_k| = 1; b0 = 1, b1 ≤ 1).
 MAX_CURVE = 1e3
@@ -126,8 +130,11 @@ class Basis:
             raise BasisFileError("theta must be finite and strictly increasing")
         if abs(theta[0]) > 1e-12 or abs(theta[-1] - 0.5 * np.pi) > 1e-12:
             raise BasisFileError(f"theta must span [0, pi/2], got [{theta[0]}, {theta[-1]}]")
-        if curves.ndim != 2 or curves.shape[1] != theta.size or not 2 <= curves.shape[0] <= 16:
-            raise BasisFileError(f"curves must have shape (K, {theta.size}) with 2 <= K <= 16, got {curves.shape}")
+        low, high = TERMS_RANGE
+        if curves.ndim != 2 or curves.shape[1] != theta.size or not low <= curves.shape[0] <= high:
+            raise BasisFileError(
+                f"curves must have shape (K, {theta.size}) with {low} <= K <= {high}, got {curves.shape}"
+            )
         if not np.all(np.isfinite(curves)):
             raise BasisFileError("curves contain NaN or inf")
         if np.max(np.abs(curves)) > MAX_CURVE:  # b_k are scaled to max |b_k| = 1; beyond this the spline overflows

@@ -2,7 +2,7 @@
 
 Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_together``,
 ``Journal``, ``read_journal``, ``unfinished_group``, ``recover_folder``, ``write_text``, ``write_json``,
-``read_json_document``.
+``read_json_document``, ``nesting_depth``, ``MAX_NESTING``.
 
 Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
 found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
@@ -36,6 +36,8 @@ except ImportError:  # Windows: no advisory locks; groups are still renamed toge
     fcntl = None
 
 __all__ = [
+    "MAX_NESTING",
+    "nesting_depth",
     "Journal",
     "read_journal",
     "read_json_document",
@@ -284,7 +286,8 @@ def _one_line(error: BaseException, path: Path) -> BaseException:
     if isinstance(error, (KeyboardInterrupt, SystemExit, ParameterError)):
         return error
     reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error) or type(error).__name__
-    return OSError(getattr(error, "errno", None) or 0, f"cannot write {path}: {reason}")
+    errno = getattr(error, "errno", None)
+    return OSError(errno, f"cannot write {path}: {reason}") if errno else OSError(f"cannot write {path}: {reason}")
 
 
 def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: str | None = None) -> list[Path]:
@@ -352,6 +355,21 @@ def write_json(path, document: dict) -> Path:
     return write_text(path, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
 
 
+#: Deepest nesting of lists and tables a document of this project may have (the deepest has 5).
+MAX_NESTING = 32
+
+
+def nesting_depth(document) -> int:
+    """How deeply lists and dicts nest in a parsed JSON or TOML document (iteratively: no recursion limit)."""
+    deepest, stack = 0, [(document, 1)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, (list, dict)):
+            deepest = max(deepest, depth)
+            stack.extend((child, depth + 1) for child in (item.values() if isinstance(item, dict) else item))
+    return deepest
+
+
 def read_json_document(
     path, what: str, format_tag: str | None = None, version: int | None = None, error=ParameterError
 ) -> dict:
@@ -368,6 +386,10 @@ def read_json_document(
         document = json.loads(text)
     except json.JSONDecodeError as cause:
         raise error(f"cannot read {what} {path}: not valid JSON (truncated?): {cause}") from None
+    except RecursionError:
+        raise error(f"cannot read {what} {path}: nested deeper than Python's parser allows") from None
+    if nesting_depth(document) > MAX_NESTING:
+        raise error(f"cannot read {what} {path}: nested deeper than {MAX_NESTING} levels (no file of this project is)")
     if format_tag is not None:
         found = document.get("format") if isinstance(document, dict) else type(document).__name__
         if found != format_tag or (version is not None and document.get("version") != version):

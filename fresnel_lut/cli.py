@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from basis.coefficients import MODEL_FITS, coefficients_from_model
-from basis.eigenbasis import Basis, default_basis, shipped_basis_path
+from basis.eigenbasis import TERMS_RANGE, Basis, default_basis, shipped_basis_path
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.materials import material_from_mapping
 from basis.models import FRESNEL_MODELS, fresnel_model
@@ -77,6 +77,8 @@ def _output_folder(option: str, folder) -> Path:
     folder = Path(folder)
     existing = folder
     while not existing.exists() and existing != existing.parent:
+        if existing.is_symlink():
+            raise ParameterError(f"{option} {folder}: {existing} is a symbolic link to nothing (dangling)")
         existing = existing.parent
     if not existing.is_dir():
         raise ParameterError(f"{option} {folder}: {existing} exists and is not a folder")
@@ -168,7 +170,7 @@ def command_basis(arguments) -> int:
         count=count,
         seed=seed,
         grid_size=check_positive_int("--grid-size", arguments.grid_size, low=16, high=MAX_GRID),
-        n_terms=check_positive_int("--terms", arguments.terms, low=2, high=16),
+        n_terms=check_positive_int("--terms", arguments.terms, low=TERMS_RANGE[0], high=TERMS_RANGE[1]),
         fit_angles=fit_angles,
         progress=lambda done: progress(done, count),
         weighting=arguments.weighting,
@@ -201,7 +203,7 @@ def command_basis(arguments) -> int:
 
 def command_coeffs(arguments) -> int:
     if arguments.list_materials:
-        return _list_materials(arguments.space)
+        return _list_materials(arguments.space, arguments.json)
     basis = _load_basis(arguments.basis)
     if arguments.model is not None:
         return _coeffs_of_model(arguments, basis)
@@ -347,9 +349,27 @@ _MODEL_PARAMETERS = {parameter.name: parameter for model in FRESNEL_MODELS.value
 _SHAPE_OPTIONS = tuple(sorted({name for model in FRESNEL_MODELS.values() for name in model.shape}))
 
 
-def _list_materials(space: str | None) -> int:
+def _list_materials(space: str | None, as_json: bool = False) -> int:
     space = space or "ACEScg"
     document = material_presets()
+    if as_json:
+        print(
+            json.dumps(
+                {
+                    "basis_hash": document["basis_hash"],
+                    "space": space,
+                    "materials": {
+                        name: {
+                            "kind": material["kind"],
+                            "f0": material[space]["f0"],
+                            "rms_delta_e2000": material[space]["rms_delta_e2000"],
+                        }
+                        for name, material in document["materials"].items()
+                    },
+                }
+            )
+        )
+        return 0
     print(f"measured materials of --material ({space}; luts/materials.json, basis {document['basis_hash']}):")
     print(f"  {'name':16s} {'kind':10s} {'F0 (R, G, B)':24s} RMS dE2000 basis / Schlick")
     for name, material in document["materials"].items():
@@ -449,6 +469,8 @@ def command_render(arguments) -> int:
 
 
 def command_report(arguments) -> int:
+    if arguments.materials and (arguments.quick or arguments.fidelity):
+        raise ParameterError("--materials is a report of its own: give it without --quick or --fidelity")
     folder = _output_folder("--out", arguments.out)
     if arguments.materials:
         return _materials_report(folder)
@@ -549,7 +571,9 @@ def make_parser() -> argparse.ArgumentParser:
     basis.add_argument("--count", type=int, default=200_000, help="training curves (default 200000)")
     basis.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
-    basis.add_argument("--terms", type=int, default=4, help="basis elements K (default 4)")
+    basis.add_argument(
+        "--terms", type=int, default=4, help=f"basis elements K ({TERMS_RANGE[0]} to {TERMS_RANGE[1]}, default 4)"
+    )
     basis.add_argument(
         "--fit-angles",
         default="auto",
@@ -685,9 +709,18 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("\nfresnel-lut: interrupted; no file was written or replaced", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader of standard output went away (`… | head`): the console command ends quietly
+        raise
     except (ValueError, OSError) as error:
-        print(f"fresnel-lut: error: {error}", file=sys.stderr)
+        print(f"fresnel-lut: error: {_message(error)}", file=sys.stderr)
         return 2
+
+
+def _message(error: BaseException) -> str:
+    """One line for an error: an OSError by its reason and the file it names, without Python's "[Errno N]"."""
+    if isinstance(error, OSError) and error.strerror:
+        return error.strerror + (f": {error.filename}" if error.filename else "")
+    return str(error)
 
 
 if __name__ == "__main__":

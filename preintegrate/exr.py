@@ -14,6 +14,7 @@ never renames, removes or writes anything. Header attributes carry no time stamp
 from __future__ import annotations
 
 import hashlib
+import os
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
@@ -144,6 +145,8 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
 
     ``channel_names`` defaults to the order stored in the header (``fresnel:channels``).
     """
+    if not isinstance(path, (str, os.PathLike)) or str(path) == "":
+        raise LutFileError(f"path must name an EXR file (text or a path), got {type(path).__name__} {str(path)[:60]!r}")
     path = Path(path)
     if unfinished_group(path) is not None:  # a reader never renames or removes: it refuses a mixed set
         raise LutFileError(

@@ -236,6 +236,9 @@ _COLOUR_TYPE = {1: 0, 2: 4, 3: 2, 4: 6}
 def png16_encoding(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(offset, scale) per channel: value = offset + scale · texel, texel in [0, 1]; channels that stay in
     [0, 1] keep offset 0 and scale 1 (a plain unorm read is then the value itself)."""
+    table, _ = _checked_table("a 16-bit PNG", table, {})
+    if not np.all(np.isfinite(table)):
+        raise ParameterError("table contains NaN or inf; a PNG cannot hold it")
     low, high = table.min(axis=(0, 1)), table.max(axis=(0, 1))
     inside = (low >= 0.0) & (high <= 1.0)
     offset = np.where(inside, 0.0, low)

@@ -21,7 +21,14 @@ from pathlib import Path
 import numpy as np
 
 from basis.storage import shipped_path
-from basis.validation import ParameterError, check_choice, check_positive_int, check_range
+from basis.validation import (
+    ParameterError,
+    as_float_array,
+    check_broadcast,
+    check_choice,
+    check_positive_int,
+    check_range,
+)
 
 from .channels import ChannelSet
 from .estimators import hammersley_albedo
@@ -155,6 +162,11 @@ class LutGrid:
 
     def lookup(self, table: np.ndarray, mu_o, roughness) -> np.ndarray:
         """Bilinear, clamp-to-edge fetch of a table on this grid at (μo, r), as a GPU samples it at level 0."""
+        table = _checked_lookup_table(table, rows_at_least=1)
+        if table.shape[:2] != (self.height, self.width):
+            raise ParameterError(
+                f"table must have this grid's {self.height} x {self.width} texels, got {table.shape[:2]}"
+            )
         return _bilinear(table, mu_o, roughness, self.mu_o, self.roughness)
 
 
@@ -276,14 +288,23 @@ def interpolation_weights(points, centres) -> np.ndarray:
 
 def lut_lookup(table: np.ndarray, mu_o, roughness) -> np.ndarray:
     """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) with rows at texel centres at (μo, r), as a GPU samples
-    it at level 0 (:meth:`LutGrid.lookup` for any grid)."""
+    it at level 0 (:meth:`LutGrid.lookup` for any grid). μo and r are clamped to [0, 1] as a GPU clamps."""
+    table = _checked_lookup_table(table, rows_at_least=2)
     height, width = table.shape[:2]
     return _bilinear(table, mu_o, roughness, texel_centres(width), texel_centres(height))
 
 
+def _checked_lookup_table(table, rows_at_least: int) -> np.ndarray:
+    table = as_float_array("table", table)
+    if table.ndim != 3 or table.shape[0] < rows_at_least or table.shape[1] < 2 or table.shape[2] < 1:
+        raise ParameterError(f"table must have shape (H >= {rows_at_least}, W >= 2, K >= 1), got {table.shape}")
+    return table
+
+
 def _bilinear(table: np.ndarray, mu_o, roughness, columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    mu_o = np.asarray(mu_o, dtype=np.float64)
-    roughness = np.broadcast_to(np.asarray(roughness, dtype=np.float64), mu_o.shape)
+    mu_o, roughness = as_float_array("mu_o", mu_o), as_float_array("roughness", roughness)
+    check_broadcast(mu_o=mu_o, roughness=roughness)
+    mu_o, roughness = np.broadcast_arrays(mu_o, roughness)
     x0, fx = _clamped_position(mu_o, columns)
     if rows.size == 1:
         y0, fy = np.zeros(mu_o.shape, dtype=int), np.zeros(mu_o.shape)

@@ -91,6 +91,10 @@ def basis_albedo(
         raise ParameterError("the shipped LUTs belong to the shipped basis: pass the tables built for this basis")
     basis = resolve_basis(basis)
     coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
+    if coefficients.ndim < 2 or coefficients.shape[-2] != 3:
+        raise ParameterError(
+            f"coefficients must have shape (..., 3, {basis.n_terms}) (R, G, B rows), got {coefficients.shape}"
+        )
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     roughness = check_range("roughness", roughness, 0.0, 1.0)
     basis_table, schlick_table = _check_tables(shipped_tables() if tables is None else tables, basis.n_terms)

@@ -20,7 +20,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..angles import angle_grid, cos_theta, theta_spline
-from ..eigenbasis import Basis
+from ..eigenbasis import TERMS_RANGE, Basis
 from ..fresnel import fresnel_kernel
 from ..parallel import one_blas_thread
 from ..validation import ParameterError, check_choice, check_positive_int
@@ -116,6 +116,11 @@ def greedy_fit_angles(theta: np.ndarray, curves: np.ndarray, candidates=(0.2, 1.
             score = float(np.max(np.abs(coefficients @ curves_dense[:, :terms].T - exact_dense)))
             if score < best[0]:
                 best = (score, float(round(angle, 4)))
+        if best[1] is None:
+            raise ParameterError(
+                f"no fit angle keeps the {terms}-term system solvable: the training curves hold too "
+                f"few distinct shapes for {curves.shape[0]} terms (use fewer terms or more curves)"
+            )
         angles.append(best[1])
     return tuple(angles[2:])
 
@@ -140,14 +145,14 @@ def build_basis(
     grid_size, grid_kind : int, str
         θ samples (≥ 16) and their spacing (see :func:`basis.angles.angle_grid`).
     n_terms : int
-        K in [2, 16]; for K ≠ 4, ``"auto"`` chooses one angle per term after b1 (:func:`greedy_fit_angles`).
+        K in :data:`basis.eigenbasis.TERMS_RANGE` (2 to 8: what the tables and shaders hold); for K ≠ 4, ``"auto"`` chooses one angle per term after b1 (:func:`greedy_fit_angles`).
     fit_angles : {"auto", "talk", "notebook"} or tuple of float
         θ2, θ3 (, …): searched on the held-out set, the talk's, the notebook's, or given.
     weighting : {"normalised", "span"}
         How a curve counts in the SVD (:func:`.svd.build_curves`); "span" is recorded in ``training``.
     """
     count = check_positive_int("count", count, low=100)
-    n_terms = check_positive_int("n_terms", n_terms, low=2, high=16)
+    n_terms = check_positive_int("n_terms", n_terms, low=TERMS_RANGE[0], high=TERMS_RANGE[1])
     grid_size = check_positive_int("grid_size", grid_size, low=16, high=MAX_GRID)
     if isinstance(fit_angles, str):
         check_choice("fit_angles", fit_angles, FIT_ANGLE_CHOICES)

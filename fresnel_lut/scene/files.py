@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import sys
+import unicodedata
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ from basis.angles import cos_theta
 from basis.eigenbasis import Basis, resolve_basis
 from basis.materials import material_from_mapping
 from basis.presets import PRESET_SPACES
+from basis.storage import MAX_NESTING, nesting_depth
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 from preintegrate.ggx import VISIBILITIES
 
@@ -112,7 +114,7 @@ def _name(index: int, item: dict) -> str:
     name = item.get("name", f"material{index}")
     if not isinstance(name, str) or not name or len(name) > 100 or not name.isprintable():
         raise SceneError(f"material {index}: name must be printable text of 1 to 100 characters, got {_describe(name)}")
-    return name
+    return unicodedata.normalize("NFC", name)  # one material, however the editor composed its accents
 
 
 def read_scene(path, basis: Basis | None = None) -> Scene:
@@ -133,6 +135,10 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
         raise SceneError(
             f"scene file {path} is not valid {'JSON' if path.suffix.lower() == '.json' else 'TOML'}: {error}"
         ) from None
+    except RecursionError:
+        raise SceneError(f"scene file {path} is nested deeper than Python's parser allows") from None
+    if nesting_depth(document) > MAX_NESTING:
+        raise SceneError(f"scene file {path} is nested deeper than {MAX_NESTING} levels (a scene has 4)")
     if not isinstance(document, dict):
         raise SceneError(f"scene file {path}: the top level must be a table")
     unknown = set(document) - {"tolerance", "space", "size", "visibility", "material"}

@@ -36,7 +36,7 @@ def _previous_files(coefficients_path: Path) -> set[str]:
         document = json.loads(coefficients_path.read_text(encoding="utf-8"))
         names = {entry.get(key) for entry in document["materials"].values() for key in ("lut", "second_lut")}
         names.add((document.get("scene_basis") or {}).get("file"))
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
         return set()
     suffixes = {fmt.suffix for fmt in FORMATS.values()}
     return {
@@ -164,7 +164,7 @@ def write_scene(
         ),
         "|---|---|---|---|---|---|",
         *[
-            f"| {m.name} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
+            f"| {_cell(m.name)} | {m.roughness[0]:g}–{m.roughness[1]:g} | {plan.layouts[m.name]} | {plan.errors[m.name]:.2e} | "
             f"{plan.default_build_errors[m.name]:.2e} | "
             + ", ".join(
                 f"{plan.full_errors[layout][m.name]:.1e}"
@@ -221,6 +221,11 @@ def write_scene(
         "full_bytes": full,
         "text": "\n".join(report),
     }
+
+
+def _cell(text: str) -> str:
+    """A name as one Markdown table cell: its pipes, backslashes and emphasis marks escaped."""
+    return "".join("\\" + character if character in "\\|*_`[]<>#" else character for character in text)
 
 
 def build_scene(

@@ -430,3 +430,22 @@ def test_scenes_that_used_to_fail_build(tmp_path, capsys, body):
     assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 0
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
     assert all(entry["max_abs_error_fbar"] <= DEFAULT_TOLERANCE for entry in document["materials"].values())
+
+
+def test_names_are_escaped_in_the_report_and_one_spelling_each(tmp_path, capsys):
+    """Issue 26 item 18: a name with '|' broke the report's table; NFC and NFD spellings of one name were two
+    materials (now: the same name twice, refused)."""
+    body = '[[material]]\nname = "a|b *c*"\nf0 = 0.04\nroughness = 0.5\n'
+    path = scene_file(tmp_path, body)
+    assert cli.main(["scene", str(path), "--out", str(tmp_path / "out")]) == 0
+    report = (tmp_path / "out" / "scene_report.md").read_text(encoding="utf-8")
+    row = next(line for line in report.splitlines() if line.startswith("| a"))
+    assert row.startswith("| a\\|b \\*c\\* |") and row.count(" | ") == 5
+    twice = scene_file(
+        tmp_path,
+        '[[material]]\nname = "Caf\u00e9"\nf0 = 0.04\nroughness = 0.5\n'
+        '[[material]]\nname = "Cafe\u0301"\nf0 = 0.05\nroughness = 0.5\n',
+        name="twice.toml",
+    )
+    assert cli.main(["scene", str(twice), "--out", str(tmp_path / "twice")]) == 2
+    assert "appears twice" in capsys.readouterr().err

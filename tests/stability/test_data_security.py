@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import OpenEXR
 import pytest
 
@@ -211,3 +212,108 @@ def test_read_lut_compares_the_header_with_the_pixels(built, tmp_path, changes, 
 def test_one_line_for_basis_without_out(capsys):
     assert run(["basis"]) == 2
     assert_one_line_error(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("kind", ["basis", "presets", "scene json", "scene toml"])
+def test_deeply_nested_files_are_one_line(tmp_path, capsys, kind):
+    """Issue 26 item 13: a deeply nested JSON or TOML file was a RecursionError traceback; now one line."""
+    deep = "[" * 100_000 + "]" * 100_000
+    if kind == "basis":
+        path = tmp_path / "basis.json"
+        path.write_text(deep)
+        argv = ["build", "--size", "4", "--basis", path, "--out", tmp_path / "out"]
+    elif kind == "presets":
+        path = tmp_path / "materials.json"
+        path.write_text('{"a": ' + "[" * 40 + "]" * 40 + "}")  # parses, but deeper than any file of the project
+        with pytest.raises(PresetFileError, match="nested deeper than 32"):
+            material_presets(path)
+        return
+    else:
+        path = tmp_path / ("scene.json" if kind == "scene json" else "scene.toml")
+        path.write_text(deep if kind == "scene json" else "a = " + deep)
+        argv = ["scene", path, "--out", tmp_path / "out"]
+    assert run(argv) == 2
+    error = capsys.readouterr().err
+    assert_one_line_error(error)
+    assert "nested" in error and not (tmp_path / "out").exists()
+
+
+def test_options_are_never_ignored_without_a_word(capsys, tmp_path):
+    """Issue 26 item 12: --list-materials --json prints JSON; report --materials with --quick or --fidelity is refused."""
+    assert run(["coeffs", "--list-materials", "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["space"] == "ACEScg" and "Gold" in document["materials"]
+    for extra in (["--quick"], ["--fidelity"]):
+        assert run(["report", "--materials", *extra, "--out", tmp_path / "r"]) == 2
+        assert_one_line_error(capsys.readouterr().err)
+    assert not (tmp_path / "r").exists()
+
+
+def test_messages_carry_no_python_error_numbers(tmp_path, capsys):
+    """Issue 26 item 16: a dangling symbolic link as --out is named as one; OS errors read without "[Errno N]"."""
+    (tmp_path / "link").symlink_to(tmp_path / "nowhere")
+    assert run(["build", "--size", "4", "--out", tmp_path / "link"]) == 2
+    error = capsys.readouterr().err
+    assert_one_line_error(error)
+    assert "dangling" in error and "Errno" not in error
+
+
+def test_a_closed_pipe_ends_the_listing_quietly(tmp_path):
+    """Issue 26 item 16: `fresnel-lut coeffs --list-materials | head -1` printed "[Errno 32] Broken pipe" with status 2."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    command = Path(sys.executable).parent / "fresnel-lut"
+    completed = subprocess.run(
+        f"'{command}' coeffs --list-materials | head -1", shell=True, capture_output=True, text=True, timeout=60
+    )
+    assert completed.stdout.startswith("measured materials") and completed.stderr == ""
+
+
+def test_one_supported_range_of_terms_end_to_end(tmp_path, capsys):
+    """Issue 26 item 11: basis --terms took 2-16, build 1-8; --count 200 --terms 14 raised TypeError; a two-term
+    basis broke coeffs --material. Now 2 to 8 everywhere, and a two-term basis serves every command."""
+    for terms in ("9", "14", "1"):
+        assert run(["basis", "--count", "200", "--terms", terms, "--out", tmp_path / "b.json"]) == 2
+        assert_one_line_error(capsys.readouterr().err)
+    two = tmp_path / "two.json"
+    assert run(["basis", "--count", "2000", "--terms", "2", "--out", two]) == 0
+    capsys.readouterr()
+    assert run(["coeffs", "--material", "Gold", "--basis", two, "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert len(document["coefficients"][0]) == 2 and document["material"]["rms_delta_e2000"]["basis"] > 0
+    assert run(["build", "--size", "4", "--basis", two, "--out", tmp_path / "luts"]) == 0
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((4, 4, 2)), np.nan, 0.5),
+        lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((4, 4, 2)), "0.5", 0.5),
+        lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((4, 4, 2)), True, 0.5),
+        lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((1, 4, 2)), 0.5, 0.5),
+        lambda: __import__("preintegrate.formats", fromlist=["png16_encoding"]).png16_encoding([1.0, 2.0]),
+        lambda: read_lut(3),
+        lambda: read_lut(b"ggx_basis_rgba.exr"),
+        lambda: __import__("preintegrate.multiple_scattering", fromlist=["basis_albedo"]).basis_albedo(
+            np.zeros(4), 0.5, 0.5
+        ),
+    ],
+    ids=[
+        "lookup nan",
+        "lookup text",
+        "lookup bool",
+        "lookup one row",
+        "png16 encoding of a list",
+        "read_lut int",
+        "read_lut bytes",
+        "basis_albedo (4,)",
+    ],
+)
+def test_api_helpers_refuse_bad_input_with_parameter_error(call):
+    """Issue 26 item 15: these raised IndexError, AttributeError, TypeError or AxisError."""
+    from basis.validation import ParameterError
+
+    with pytest.raises(ParameterError):
+        call()
