@@ -57,6 +57,7 @@ class Scene:
     source: str
     size_fixed: bool = True  # False when the scene file leaves ``size`` to the plan
     visibility: str = "height-correlated"  # the engine's masking-shadowing form (preintegrate.ggx.VISIBILITIES)
+    visibility_stated: bool = False  # whether the scene file says its visibility (the command line must agree)
 
 
 #: Largest scene file read: a scene lists a few dozen materials; a device or a huge file is refused unread.
@@ -187,5 +188,12 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
             SceneMaterial(name, description, np.asarray(curve, dtype=np.float64), _roughness(name, item["roughness"]))
         )
     return Scene(
-        tuple(materials), tolerance, space, size, str(path), size_fixed="size" in document, visibility=visibility
+        tuple(materials),
+        tolerance,
+        space,
+        size,
+        str(path),
+        size_fixed="size" in document,
+        visibility=visibility,
+        visibility_stated="visibility" in document,
     )

@@ -20,7 +20,7 @@ from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
 from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
 
-from .files import SceneError, read_scene, tomllib
+from .files import SceneError, read_scene
 from .plan import ACCURACY_GOAL, ScenePlan, plan_scene
 
 __all__ = ["build_scene", "write_scene"]
@@ -243,10 +243,9 @@ def build_scene(
     scene = read_scene(file)
     if visibility is not None:
         check_choice("--visibility", visibility, list(VISIBILITIES))
-        stated = _stated_visibility(Path(file))
-        if stated is not None and stated != visibility:
+        if scene.visibility_stated and scene.visibility != visibility:
             raise SceneError(
-                f"scene file {file} says visibility = {stated!r}, the command line {visibility!r}; give one"
+                f"scene file {file} says visibility = {scene.visibility!r}, the command line {visibility!r}; give one"
             )
         scene = dataclasses.replace(scene, visibility=visibility)
     if progress is not None:
@@ -258,10 +257,3 @@ def build_scene(
     plan = plan_scene(scene, progress=None if progress is None else lambda text: progress(f"  {text}"))
     # the plan refuses before anything is written
     return write_scene(plan, out, formats=formats, half=half)
-
-
-def _stated_visibility(path: Path) -> str | None:
-    """The ``visibility`` a scene file states itself, if any (the file was read and checked already)."""
-    text = path.read_text(encoding="utf-8")
-    document = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
-    return document.get("visibility")
