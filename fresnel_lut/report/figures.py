@@ -1,6 +1,6 @@
 """Shared plotting helpers of the report studies (matplotlib is the optional ``plot`` extra).
 
-Public objects: ``pyplot``, ``save_figure``.
+Public objects: ``pyplot``, ``save_figure``, ``figure_png``.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from pathlib import Path
 from basis.storage import write_together
 from basis.validation import ParameterError
 
-__all__ = ["pyplot", "save_figure"]
+__all__ = ["figure_png", "pyplot", "save_figure"]
 
 
 def pyplot():
@@ -23,6 +23,18 @@ def pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def figure_png(figure) -> bytes:
+    """The figure as PNG bytes, and closed: for a group of files written as one transaction."""
+    import io
+
+    buffer = io.BytesIO()
+    try:
+        figure.savefig(buffer, format="png")
+    finally:
+        pyplot().close(figure)
+    return buffer.getvalue()
 
 
 def save_figure(figure, path) -> Path:

@@ -34,7 +34,7 @@ from ..render import (
     to_srgb8,
     tone_map,
 )
-from .figures import pyplot, save_figure
+from .figures import figure_png, pyplot
 
 __all__ = ["render_markdown", "render_study", "write_renders"]
 
@@ -99,7 +99,7 @@ STYLES = ("-", "--", ":")
 CHANNEL_COLOURS = ("tab:red", "tab:green", "tab:blue")
 
 
-def _curves_figure(scene: str, path: Path) -> Path:
+def _curves_figure(scene: str) -> bytes:
     """RGB curves and colour strips (0–90°, zoom 80–90°) of ground truth, Schlick and the basis."""
     from basis.eigenbasis import default_basis
 
@@ -154,10 +154,10 @@ def _curves_figure(scene: str, path: Path) -> Path:
     figure.suptitle(f"{material.name}: Fresnel curves (solid: ground truth; dashed: Schlick; dotted: basis)")
     figure.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.955), ncol=6, fontsize=8, frameon=False)
     figure.tight_layout(rect=(0, 0, 1, 0.92))
-    return save_figure(figure, path)
+    return figure_png(figure)
 
 
-def _spheres_figure(rows: list[dict], path: Path) -> Path:
+def _spheres_figure(rows: list[dict]) -> bytes:
     plt = pyplot()
     figure, axes = plt.subplots(len(rows), 6, figsize=(18, 3.1 * len(rows)), squeeze=False)
     limit = max(3.0, max(float(np.percentile(row["maps"]["schlick"][row["mask"]], 99)) for row in rows))
@@ -185,7 +185,7 @@ def _spheres_figure(rows: list[dict], path: Path) -> Path:
             axis.set_xticks([])
             axis.set_yticks([])
     figure.tight_layout()
-    return save_figure(figure, path)
+    return figure_png(figure)
 
 
 def render_markdown(result: dict) -> str:
@@ -212,11 +212,12 @@ def write_renders(out, quick: bool = False, progress=None) -> dict:
     out = Path(out)
     started = time.perf_counter()
     result = render_study(quick=quick, progress=progress)
-    pngs, items = [], []
+    # every picture, image and the Markdown are one transaction: Ctrl-C or a full disk leaves the folder as it was
+    figures, items = {}, []
     for scene in dict.fromkeys(row["scene"] for row in result["rows"]):
         rows = [row for row in result["rows"] if row["scene"] == scene]
-        pngs.append(_curves_figure(scene, out / f"{scene}_curves.png"))
-        pngs.append(_spheres_figure(rows, out / f"{scene}_spheres.png"))
+        figures[out / f"{scene}_curves.png"] = _curves_figure(scene)
+        figures[out / f"{scene}_spheres.png"] = _spheres_figure(rows)
         for row in rows:
             for key, image in row["images"].items():
                 items.append(
@@ -232,6 +233,9 @@ def write_renders(out, quick: bool = False, progress=None) -> dict:
                 )
     exrs = write_luts(
         items,
+        extra_writers=[
+            (path, lambda temporary, data=data: temporary.write_bytes(data)) for path, data in figures.items()
+        ],
         texts=[
             (
                 out / "renders.md",
@@ -246,6 +250,6 @@ def write_renders(out, quick: bool = False, progress=None) -> dict:
             )
         ],
     )
-    result["pngs"], result["exrs"], result["markdown"] = pngs, exrs, out / "renders.md"
+    result["pngs"], result["exrs"], result["markdown"] = list(figures), exrs, out / "renders.md"
     result["seconds"] = time.perf_counter() - started
     return result

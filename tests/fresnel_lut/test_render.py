@@ -110,9 +110,14 @@ def test_multiple_scattering_render_matches_the_api():
     assert 1.0 <= gains[0] < gains[1]
 
 
+@pytest.fixture(scope="module")
+def beryllium_study():
+    return render_study(quick=True, scenes=["beryllium"])
+
+
 @pytest.mark.slow
-def test_study_rows_and_images():
-    result = render_study(quick=True, scenes=["beryllium"])
+def test_study_rows_and_images(beryllium_study):
+    result = beryllium_study
     assert len(result["rows"]) == 2
     row = result["rows"][0]
     assert row["images"]["basis"].shape == (128, 128, 3) and row["samples"] == 128
@@ -178,3 +183,27 @@ def test_point_light_basis_fresnel_is_the_exact_curve_within_the_basis_fit(scene
     if scene == "figure2" and direction[2] < 0:
         green = np.max(np.abs((images["schlick"] - images["exact"])[..., 1]))
         assert green > 50.0 * np.max(np.abs((images["basis"] - images["exact"])[..., 1]))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("call", [1, 4], ids=["first rename", "fourth rename"])
+def test_an_interrupted_render_leaves_the_folder_as_it_was(beryllium_study, tmp_path, monkeypatch, call):
+    """Issue 26 item 14: Ctrl-C during ``render`` said "no file was written or replaced" and left 4-5 new PNGs. The
+    pictures, EXRs and Markdown are one transaction now."""
+    import os
+
+    from fresnel_lut.report import renders
+    from tests.conftest import fail_on_call
+
+    monkeypatch.setattr(renders, "render_study", lambda quick=False, scenes=None, progress=None: beryllium_study)
+    out = tmp_path / "render"
+    out.mkdir()
+    (out / "keep.md").write_text("a file of the user's")
+
+    def interrupt(source, target):
+        raise KeyboardInterrupt
+
+    fail_on_call(monkeypatch, os, "replace", call, interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        renders.write_renders(out, quick=True)
+    assert sorted(path.name for path in out.iterdir()) == ["keep.md"]
