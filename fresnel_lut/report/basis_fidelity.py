@@ -39,7 +39,7 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples, coefficients_from_table, coefficients_least_squares_from_table
 from basis.eigenbasis import Basis, default_basis
-from basis.storage import write_text
+from basis.storage import write_together
 from basis.training import (
     FIGURE_2,
     NOTEBOOK_DOMAIN,
@@ -435,7 +435,7 @@ def fidelity_markdown(result: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_fidelity(result: dict, path) -> Path:
+def plot_fidelity(result: dict, path=None) -> Path | bytes:
     """Left: the frontier, Figure 2 against the measured metals and the dielectrics (four-point), with the
     targets; right: error against K per group (generic) and for the scene basis."""
     plt = pyplot()
@@ -498,12 +498,14 @@ def write_fidelity_report(folder, quick: bool = False, progress: Callable[[str],
     extra, ``folder/basis_fidelity.png``; returns the study, the paths and one summary line per target."""
     result = fidelity_study(quick=quick, progress=progress)
     folder = Path(folder)
-    paths = [write_text(folder / "fidelity.md", "# Basis fidelity (issue 14)\n\n" + fidelity_markdown(result))]
-    summary = []
+    text = "# Basis fidelity (issue 14)\n\n" + fidelity_markdown(result)
+    writers, summary = [(folder / "fidelity.md", lambda temporary: temporary.write_text(text, encoding="utf-8"))], []
     try:
-        paths.append(plot_fidelity(result, folder / "basis_fidelity.png"))
+        png = plot_fidelity(result)
+        writers.append((folder / "basis_fidelity.png", lambda temporary: temporary.write_bytes(png)))
     except ParameterError as error:  # matplotlib is the optional plot extra
         summary.append(f"no plot: {error}")
+    paths = write_together(writers)  # the Markdown and its plot, or neither (a full disk, Ctrl-C)
     shipped = result["errors"]["shipped"]["four-point"]
     summary += [
         f"shipped basis, {group}: max {measure} error {shipped[group][measure]:.4f} (target {bound:.4f})"

@@ -37,8 +37,11 @@ def figure_png(figure) -> bytes:
     return buffer.getvalue()
 
 
-def save_figure(figure, path) -> Path:
-    """Save ``figure`` as PNG atomically (temporary sibling, then rename) and close it."""
+def save_figure(figure, path) -> Path | bytes:
+    """Save ``figure`` as PNG atomically (temporary sibling, then rename) and close it; with ``path`` None, return the
+    PNG bytes instead (:func:`figure_png`), for a caller that writes a group of files as one transaction."""
+    if path is None:
+        return figure_png(figure)
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ParameterError(f"path must end in .png, got {str(path)!r}")

@@ -236,18 +236,19 @@ def _title(result: dict) -> str:
     )
 
 
-def plot_lut_error(result: dict, path) -> Path:
+def plot_lut_error(result: dict, path=None) -> Path | bytes:
     """Write a log-log PNG of max (solid) and RMS (dashed) absolute error against seconds, per method.
 
-    The file is written to a temporary name in the same folder and renamed into place. Needs matplotlib
-    (the ``plot`` extra).
+    The file is written to a temporary name in the same folder and renamed into place; with ``path`` None the PNG
+    bytes are returned instead. Needs matplotlib (the ``plot`` extra).
     """
     plt = pyplot()
-    path = Path(path)
-    if path.suffix.lower() != ".png":
-        raise ParameterError(f"path must end in .png, got {str(path)!r}")
-    if not path.parent.is_dir():
-        raise ParameterError(f"path's folder must exist, got {str(path.parent)!r}")
+    if path is not None:
+        path = Path(path)
+        if path.suffix.lower() != ".png":
+            raise ParameterError(f"path must end in .png, got {str(path)!r}")
+        if not path.parent.is_dir():
+            raise ParameterError(f"path's folder must exist, got {str(path.parent)!r}")
     styles = {
         "quadrature-schedule": ("C1", "D", "quadrature, shipped schedule × factor"),
         "quadrature": ("C0", "o", "quadrature, uniform order n"),

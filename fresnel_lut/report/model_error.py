@@ -608,7 +608,7 @@ def _strip(axes, per_group: dict, groups: list[str], names: list[str], colours: 
     axes.grid(True, axis="y", which="major", alpha=0.4)
 
 
-def plot_model_error(result: dict, path) -> Path:
+def plot_model_error(result: dict, path=None) -> Path | bytes:
     """Write a PNG: curve error and preintegrated error per model and group, and cost against error.
 
     Written to a temporary sibling (its folder is created if missing) and renamed into place. Needs

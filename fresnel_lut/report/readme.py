@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 from basis.eigenbasis import default_basis
-from basis.storage import write_text
+from basis.storage import write_together
 
 from ..progress import Progress
 from .approximation_error import approximation_markdown, approximation_table
@@ -146,7 +146,7 @@ def write_report(out="report", quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     env = environment()
-    timings, pngs = {}, []
+    timings = {}
 
     progress = Progress("study 1: LUT error vs time", "tables")
     begin = time.perf_counter()
@@ -170,9 +170,10 @@ def write_report(out="report", quick: bool = False) -> dict:
     approximations = approximation_table(size=16 if quick else 32)
     timings["reference models"] = time.perf_counter() - begin
 
+    figures = {}
     try:
-        pngs.append(plot_lut_error(lut, out / "lut_error_vs_time.png"))
-        pngs.append(plot_model_error(models, out / "fresnel_models.png"))
+        figures[out / "lut_error_vs_time.png"] = plot_lut_error(lut)
+        figures[out / "fresnel_models.png"] = plot_model_error(models)
         plots_note = ""
     except ValueError as error:  # matplotlib missing
         plots_note = f"\n_Plots skipped: {error}_\n"
@@ -231,6 +232,12 @@ def write_report(out="report", quick: bool = False) -> dict:
         + f"; whole report {time.perf_counter() - started:.1f} s.",
         "",
     ]
-    readme = out / "README.md"
-    write_text(readme, "\n".join(lines))
-    return {"readme": readme, "pngs": pngs, "seconds": time.perf_counter() - started, "targets": targets}
+    readme, text = out / "README.md", "\n".join(lines)
+    # the README and its plots are one transaction: a full disk or Ctrl-C leaves the folder as it was
+    write_together(
+        [
+            (readme, lambda temporary: temporary.write_text(text, encoding="utf-8")),
+            *[(path, lambda temporary, data=data: temporary.write_bytes(data)) for path, data in figures.items()],
+        ]
+    )
+    return {"readme": readme, "pngs": list(figures), "seconds": time.perf_counter() - started, "targets": targets}

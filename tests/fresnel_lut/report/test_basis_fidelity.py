@@ -112,3 +112,24 @@ def test_quick_study_writes_its_section(tmp_path, quick_study):
     scene = result["terms"]["scene"]
     assert max(scene[6].values()) < 0.2 * max(scene[4].values())  # more terms: the showcase scene held far better
     assert plot_fidelity(result, tmp_path / "fidelity.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("call", [1, 2], ids=["first rename", "second rename"])
+def test_the_fidelity_report_is_written_whole_or_not_at_all(quick_study, tmp_path, monkeypatch, call):
+    """Issue 26 item 14: on a full disk `report --fidelity --quick` left fidelity.md without its plot; the Markdown and
+    the plot are one transaction now (a failure at either rename leaves the folder as it was)."""
+    import os
+
+    from fresnel_lut.report import basis_fidelity
+    from tests.conftest import fail_on_call
+
+    monkeypatch.setattr(basis_fidelity, "fidelity_study", lambda quick=False, progress=None: quick_study)
+
+    def disk_full(source, target):
+        raise OSError(28, "No space left on device")
+
+    fail_on_call(monkeypatch, os, "replace", call, disk_full)
+    out = tmp_path / "report"
+    with pytest.raises(OSError, match="No space left"):
+        basis_fidelity.write_fidelity_report(out, quick=True)
+    assert not out.exists() or list(out.iterdir()) == []
