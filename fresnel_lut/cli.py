@@ -46,7 +46,7 @@ from basis.training import FIT_ANGLE_CHOICES, build_basis
 from basis.training.builder import MAX_GRID
 from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
-from preintegrate.formats import FORMATS, check_formats
+from preintegrate.formats import FORMATS, MAX_HEADER_VALUES, check_formats
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
@@ -110,6 +110,12 @@ def _size_text(path: Path) -> str:
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
     formats = check_formats(arguments.format)  # refused before the work
+    if "header" in formats and size * size * 4 > MAX_HEADER_VALUES:
+        raise ParameterError(
+            f"--format header holds at most {MAX_HEADER_VALUES:,} values per table (about "
+            f"{int((MAX_HEADER_VALUES / 4) ** 0.5)} x {int((MAX_HEADER_VALUES / 4) ** 0.5)}); "
+            f"--size {size} needs {size * size * 4:,}: use ktx2 or exr"
+        )
     out = _output_folder("--out", arguments.out)
     order = (
         DEFAULT_ORDER

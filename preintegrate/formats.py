@@ -1,6 +1,6 @@
 """LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
 
-Public objects: ``FORMATS``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
+Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
 
 * **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
   ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a three-channel table is padded with
@@ -51,6 +51,7 @@ from .exr import exr_writer, stored_values
 
 __all__ = [
     "FORMATS",
+    "MAX_HEADER_VALUES",
     "Format",
     "c_header",
     "check_formats",
@@ -117,6 +118,11 @@ FORMATS = {
         ),
     )
 }
+
+
+#: Most values a C header holds: each is written as text (about 16 bytes), so 2^22 floats make a 64 MiB source file,
+#: what a compiler still swallows; a larger table belongs in a binary format (KTX2, EXR).
+MAX_HEADER_VALUES = 1 << 22
 
 
 def check_formats(formats) -> list[str]:

@@ -317,3 +317,16 @@ def test_api_helpers_refuse_bad_input_with_parameter_error(call):
 
     with pytest.raises(ParameterError):
         call()
+
+
+def test_resource_caps_refuse_before_the_work(tmp_path, capsys):
+    """Issue 26 item 17: `build --size 8192 --format header` ran > 300 s and left a 6 GB temporary; a scene of 3,000
+    materials took 192 s and 880 MiB. Both are refused at once, in one line."""
+    assert run(["build", "--size", "8192", "--format", "header", "--out", tmp_path / "big"]) == 2
+    assert "use ktx2 or exr" in capsys.readouterr().err and not (tmp_path / "big").exists()
+    scene = tmp_path / "many.toml"
+    scene.write_text("".join(f'[[material]]\nname = "m{k}"\nf0 = 0.04\nroughness = 0.5\n' for k in range(300)))
+    assert run(["scene", scene, "--out", tmp_path / "out"]) == 2
+    error = capsys.readouterr().err
+    assert_one_line_error(error)
+    assert "at most 256" in error and not (tmp_path / "out").exists()
