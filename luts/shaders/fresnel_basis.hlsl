@@ -36,10 +36,12 @@ float3 FresnelBasisSplitSum8(Texture2D<float4> basisLut, Texture2D<float4> basis
     return float3(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
 }
 
-float3 FresnelSchlickSplitSum(Texture2D<float2> schlickLut, SamplerState linearClamp, float NdotV,
+float3 FresnelSchlickSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV,
                               float perceptualRoughness, float3 F0)
 {
-    float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0);
+    // one texture type for the Schlick table in every function (R = scale, G = bias, B = E; a two-channel scene
+    // table reads B as 0 and A as 1)
+    float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
 

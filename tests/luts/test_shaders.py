@@ -106,3 +106,10 @@ def test_schlick_texel_centre_equals_quadrature():
     np.testing.assert_allclose(
         fresnel_schlick_split_sum(mu_o, roughness, f0), f0 * scale_bias[0] + scale_bias[1], atol=1e-6
     )
+
+
+def test_hlsl_types_the_schlick_table_one_way():
+    """Issue 26 item 20: the HLSL include typed the Schlick table Texture2D<float2> in one function and <float4> in
+    another, so one texture could not serve both."""
+    declarations = re.findall(r"Texture2D<(\w+)> schlickLut", HLSL)
+    assert declarations and set(declarations) == {"float4"}

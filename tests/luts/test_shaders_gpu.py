@@ -197,7 +197,7 @@ def test_hlsl_include_compiles_to_spirv(tmp_path):
         shipped_path("shaders/fresnel_basis.hlsl").read_text(encoding="utf-8")
         + """
 Texture2D<float4> basisLut : register(t0);
-Texture2D<float2> schlickLut : register(t1);
+Texture2D<float4> schlickLut : register(t1);
 SamplerState linearClamp : register(s0);
 float4 PixelMain(float4 position : SV_Position) : SV_Target
 {
