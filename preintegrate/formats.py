@@ -3,11 +3,13 @@
 Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
 
 * **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
-  ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a three-channel table is padded with
-  A = 1 (no GPU API samples three-channel float textures everywhere; WebGPU has none). The data format
+  ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a table of fewer channels is padded with
+  zeros and A = 1 (no GPU API samples three-channel float textures everywhere; WebGPU has none): the
+  Schlick table is (scale, bias, E, 1), the one-column E_avg table (Y, 0, 0, 1). The data format
   descriptor is the one libktx derives from that format (RGBSDA, BT.709 primaries, linear transfer,
   signed float samples with bounds −1.0f and 1.0f); the attributes are key/value pairs (``fresnel:…``)
-  beside ``KTXorientation`` = ``rd`` and ``KTXwriter``.
+  beside ``KTXorientation`` = ``rd`` and ``KTXwriter``. ``ktx validate`` notes each ``fresnel:`` key with
+  warning 7010 (a key outside the KTX namespace, allowed by the specification, §3.10): expected, not a defect.
 * **16-bit PNG** (``png16``): each channel is stored as round((value − offset) / scale · 65535), with
   offset and scale per channel chosen from the table's own range, so a signed channel (the basis table's
   A, b̄3 from −0.64 to 1) survives where a unorm texture would clip it. The engine recovers
