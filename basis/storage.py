@@ -325,16 +325,19 @@ def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: st
                 if owns(path.name) and path.name not in names and (path.is_file() or path.is_symlink())
             )
             journal = Journal(folder, tuple((t.name, p.name) for t, p in zip(temporaries, targets)), tuple(removals))
-            # a journal cut short by a kill is unreadable and dropped: the renames had not begun
-            (folder / JOURNAL).write_text(journal.text(), encoding="utf-8")
             try:
+                # a journal cut short by a kill is unreadable and dropped: the renames had not begun
+                (folder / JOURNAL).write_text(journal.text(), encoding="utf-8")
                 replace_together(zip(temporaries, targets))
+            except BaseException as error:  # nothing is renamed (replace_together rolls back): no group to finish
+                (folder / JOURNAL).unlink(missing_ok=True)
+                raise _one_line(error, targets[0]) from None
+            try:
                 for name in removals:
                     _remove_file(folder / name)
-            except BaseException as error:
-                raise _one_line(error, targets[0]) from None
-            finally:
-                (folder / JOURNAL).unlink(missing_ok=True)
+            except BaseException as error:  # the journal stays: the next writer finishes the removals
+                raise _one_line(error, folder / removals[0]) from None
+            (folder / JOURNAL).unlink(missing_ok=True)
     except BaseException:
         for temporary in temporaries:
             temporary.unlink(missing_ok=True)

@@ -155,3 +155,26 @@ def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
         assert [process.wait(timeout=120) for process in processes] == [0, 0]
         headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")]
         assert headers[0]["pixel_type"] == headers[1]["pixel_type"] and headers[0]["width"] == headers[1]["width"]
+
+
+def test_an_interrupted_removal_is_finished_by_the_next_build(tmp_path, monkeypatch, capsys):
+    """The renames of a build are done but Ctrl-C stops it while it removes a stale file of its set (the second table
+    of an earlier eight-term build): the journal stays, a reader refuses the half-finished set, the next build
+    finishes it."""
+    from basis import storage
+
+    out = tmp_path / "luts"
+    assert run(["build", "--size", "6", "--out", out]) == 0
+    (out / "ggx_basis_rgba_2.exr").write_bytes((out / BASIS_LUT).read_bytes())  # a stale second table
+
+    def interrupted(path):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(storage, "_remove_file", interrupted)
+    assert run(["build", "--size", "8", "--out", out]) == 130
+    assert (out / ".fresnel-lut-journal.json").exists() and (out / "ggx_basis_rgba_2.exr").exists()
+    with pytest.raises(exr.LutFileError, match="half-renamed"):
+        read_lut(out / "ggx_basis_rgba_2.exr")
+    monkeypatch.undo()
+    assert run(["build", "--size", "8", "--out", out]) == 0
+    assert sorted(path.name for path in out.iterdir()) == sorted(DEFAULT_BUILD_FILES)
