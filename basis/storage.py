@@ -127,9 +127,14 @@ JOURNAL_FORMAT = "fresnel-basis/journal"
 JOURNAL_VERSION = 2
 
 
-def _temporary_pattern(target_name: str) -> re.Pattern:
-    """The names :func:`temporary_sibling` gives a temporary of ``target_name``: ``.NAME.XXXXXXXX.tmp``."""
-    return re.compile(rf"^\.{re.escape(target_name)}\.[A-Za-z0-9_]{{8}}\.tmp$")
+#: The names :func:`temporary_sibling` gives: ``.TARGET.XXXXXXXX.tmp`` (``mkstemp``'s eight characters).
+_TEMPORARY = re.compile(r"\.(?P<target>.+)\.[A-Za-z0-9_]{8}\.tmp")
+
+
+def _temporary_of(name: str) -> str | None:
+    """The target whose temporary ``name`` is, or None where it is not one of this module's temporaries."""
+    match = _TEMPORARY.fullmatch(name)
+    return match.group("target") if match else None
 
 
 def _plain_name(name) -> bool:
@@ -201,7 +206,7 @@ def read_journal(folder) -> Journal | None:
             isinstance(pair, list)
             and len(pair) == 2
             and all(map(_plain_name, pair))
-            and _temporary_pattern(pair[1]).match(pair[0])
+            and _temporary_of(pair[0]) == pair[1]
         ):
             return None
     if not all(map(_plain_name, removals)):
@@ -249,8 +254,8 @@ def _remove_stale_temporaries(folder: Path, owned: Callable[[str], bool]) -> Non
     """Temporaries a killed writer left in ``folder`` for the names ``owned`` accepts: exactly
     ``.NAME.XXXXXXXX.tmp`` (this module's pattern), nothing else of the folder's; only with the lock held."""
     for stale in folder.glob(".*.tmp"):
-        name = re.fullmatch(r"\.(.+)\.[A-Za-z0-9_]{8}\.tmp", stale.name)
-        if name and owned(name.group(1)) and stale.is_file() and not stale.is_symlink():
+        target = _temporary_of(stale.name)
+        if target is not None and owned(target) and stale.is_file() and not stale.is_symlink():
             stale.unlink(missing_ok=True)
 
 

@@ -52,7 +52,7 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples
 from basis.eigenbasis import Basis, resolve_basis
-from basis.models.formulas import F82_MU, lazanyi_dip
+from basis.models.formulas import F82_MU, adobe_dip_weight, f82_dip_weight, lazanyi_dip, schlick_weight
 from basis.validation import ParameterError, as_float_array, check_choice
 
 from .lut import LutGrid
@@ -136,8 +136,7 @@ class ShaderConstants:
 
 def _linear_functions(mu: np.ndarray) -> np.ndarray:
     """(…, 3): the fixed functions of the linear artist models, t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶)."""
-    one_minus = 1.0 - mu
-    fifth = one_minus**5
+    fifth = schlick_weight(mu)
     return np.stack([1.0 - fifth, fifth, lazanyi_dip(mu)], axis=-1)
 
 
@@ -263,22 +262,19 @@ def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: Shade
 
 def _model_weights(model: str, parameters: dict[str, np.ndarray]) -> np.ndarray:
     """(…, 3) weights w of t for a model of :data:`PER_PIXEL_MODELS` (parameters sanitised to [0, 1])."""
-    dip = lazanyi_dip(F82_MU)  # μ̄ (1 − μ̄)⁶ at μ̄ = 1/7
-    fifth = (1.0 - F82_MU) ** 5
+    # the dip weights a are the model registry's own formulas (basis.models.formulas), which the shaders' constants
+    # FRESNEL_F82_SCHLICK_WEIGHT and FRESNEL_F82_DIP spell out for float32
     if model == "schlick":
         f0, f90 = parameters["f0"], parameters["f90"]
         return np.stack(np.broadcast_arrays(f0, f90, np.zeros_like(f0)), axis=-1)
-    if model == "f82":  # Hoffman 2019 eq. 4: a = (F_Schlick(μ̄) − F82) / (μ̄ (1 − μ̄)⁶)
-        f0, f82 = parameters["f0"], parameters["f82"]
-        a = (f0 + (1.0 - f0) * fifth - f82) / dip
-        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -a), axis=-1)
-    if model == "f82-tint":  # Hoffman 2023 eq. 3: a = F_Schlick(μ̄)(1 − tint) / (μ̄ (1 − μ̄)⁶)
-        f0, tint = parameters["f0"], parameters["tint"]
-        a = (f0 + (1.0 - f0) * fifth) * (1.0 - tint) / dip
-        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -a), axis=-1)
+    if model == "f82":  # Hoffman 2019 eq. 4
+        f0 = parameters["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -f82_dip_weight(f0, parameters["f82"])), axis=-1)
+    if model == "f82-tint":  # Hoffman 2023 eq. 3
+        f0 = parameters["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -adobe_dip_weight(f0, parameters["tint"])), axis=-1)
     r0, r90, tint = parameters["r0"], parameters["r90"], parameters["tint"]  # Hoffman 2023 eq. 6, p = 5
-    a = (r0 + (r90 - r0) * fifth) * (1.0 - tint) / dip
-    return np.stack(np.broadcast_arrays(r0, r90, -a), axis=-1)
+    return np.stack(np.broadcast_arrays(r0, r90, -adobe_dip_weight(r0, tint, r90)), axis=-1)
 
 
 def coefficients_per_pixel_model(model: str, constants: ShaderConstants | None = None, **parameters) -> np.ndarray:
