@@ -4,22 +4,25 @@ Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, 
 ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
 ``linear_model_curve``, ``PER_PIXEL_MODELS``,
-``CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
+``CURVE_SEGMENTS``, ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
 
-Everything a shader needs to turn a texel's material parameters into the four coefficients of the basis, and the
-coefficients into F(V·H) for a punctual light, depends on the basis alone: b_k at the fit angles, the constant 2 × 2
-inverse of the four-point system, the projections of the linear artist models' fixed functions, the hemispherical
-averages, and the curves b_k themselves. :func:`shader_constants` computes them from a :class:`~basis.Basis`, and
-:func:`shader_includes` writes them with the functions that use them as one self-contained include per language
-(GLSL 3.30/4.50/ES 3.00, HLSL, WGSL), which the default build writes beside its tables: coefficients and table
-cannot come from different bases (the include states the basis hash, and so does every table header).
+Everything a shader needs to turn a texel's material parameters into the K coefficients of the basis, and the
+coefficients into F(V·H) for a punctual light, depends on the basis alone: b_k at the fit angles, the constant
+(K − 2) × (K − 2) inverse of the K-point system, the projections of the linear artist models' fixed functions, the
+hemispherical averages, and the curves b_k themselves. :func:`shader_constants` computes them from a
+:class:`~basis.Basis` of 2 … 8 terms, and :func:`shader_includes` writes them with the functions that use them as
+one self-contained include per language (GLSL 3.30/4.50/ES 3.00, HLSL, WGSL), which every default build writes
+beside its tables: coefficients and table cannot come from different bases (the include states the basis hash, and
+so does every table header). A channel's coefficients are one vec4 for K ≤ 4 (zero-padded) and a ``FresnelTerms8``
+record of two (terms 0-3, 4-7, as the two textures of the build hold them) for K > 4.
 
 The Python functions here mirror the shaders operation for operation (in float64): engines' CPU tools get the
 numbers the GPU computes, and the tests compare the two.
 
 * **(η, κ) per pixel** (Belcour 2020, "Coefficients"): c0 = F(0°) in closed form, c1 = F(90°) − c0 (F(90°) = 1 but
-  for η = 1, κ = 0), (c2, c3) = S⁻¹ (F(θ_i) − c0 − c1 b1(θ_i)) with the exact Fresnel equations (Hoffman 2020,
-  "1823: Fresnel's Equations") at the two fit angles: two Fresnel evaluations and a constant 2 × 2 product.
+  for η = 1, κ = 0), (c2 … c_(K−1)) = S⁻¹ (F(θ_i) − c0 − c1 b1(θ_i)) with the exact Fresnel equations (Hoffman
+  2020, "1823: Fresnel's Equations") at the K − 2 fit angles: for the shipped basis two Fresnel evaluations (one
+  vec2) and a constant 2 × 2 product.
 * **Gulbrandsen (r, g)** → (η, κ) in closed form (Gulbrandsen 2014, eq. 7–9) → the same solve.
 * **Linear artist models** (Schlick F0/F90; Hoffman 2019's F82; the F82 tint of Adobe, OpenPBR's
   ``specular_color`` and MaterialX's ``color82``, Hoffman 2023 eq. 3; Hoffman 2023's generalised Adobe with
@@ -60,6 +63,7 @@ from .lut import LutGrid
 __all__ = [
     "CURVE_SEGMENTS",
     "CURVE_TOLERANCE",
+    "FINE_CURVE_SEGMENTS",
     "PER_PIXEL_MODELS",
     "SHADER_INCLUDES",
     "ShaderConstants",
@@ -81,8 +85,11 @@ __all__ = [
 #: shipped basis: one polynomial in μ needs degree 16 for 4.2e-4, in θ degree 24 for 2e-4, in √μ degree 16 for
 #: 4.7e-4; these three segments reach 2.9e-5 at degree 8.
 CURVE_SEGMENTS = (0.0, 0.08, 0.3, 1.0)
+#: The segments of a basis whose curves these three do not hold (the higher terms of K > 4 bases wiggle near
+#: grazing: a 6-term basis misses by 1.7e-4, an 8-term one by 1.5e-3 at degree 12); seven reach 6e-5 for K = 8.
+FINE_CURVE_SEGMENTS = (0.0, 0.02, 0.05, 0.1, 0.18, 0.3, 0.5, 1.0)
 #: The most the direct-light polynomials may differ from the basis' spline in float64 (the issue's 1e-4, with room
-#: for float32 evaluation); the degree is the smallest of 6 … 12 that reaches it.
+#: for float32 evaluation); the degree is the smallest of 6 … 12 that reaches it, on the first segments that do.
 CURVE_TOLERANCE = 5e-5
 _DEGREES = range(6, 13)
 _CURVE_SAMPLES = 4001  # per segment, end points included: the fit's and the check's grid
@@ -110,15 +117,43 @@ class ShaderConstants:
     """What the shader includes of one basis hold (all float64 here; the includes print them with 9 digits)."""
 
     basis_hash: str
-    fit_mu: np.ndarray  # (2,) cos θ2, cos θ3
-    fit_b1: np.ndarray  # (2,) b1(θ2), b1(θ3)
-    inverse: np.ndarray  # (2, 2) S⁻¹, S[i, j] = b_{j+2}(θ_{i+2})
-    projections: np.ndarray  # (3, 4) four-point coefficients of t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶)
-    averages: np.ndarray  # (4,) hemispherical averages of b_k
+    fit_mu: np.ndarray  # (K − 2,) cos θ_2 … cos θ_(K−1)
+    fit_b1: np.ndarray  # (K − 2,) b1 at those angles
+    inverse: np.ndarray  # (K − 2, K − 2) S⁻¹, S[i, j] = b_{j+2}(θ_{i+2})
+    projections: np.ndarray  # (3, K) K-point coefficients of t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶)
+    averages: np.ndarray  # (K,) hemispherical averages of b_k
     curve_degree: int
-    curve_polynomials: np.ndarray  # (segments, degree + 1, 4): b_k on a segment, powers of s = 2 (μ − lo)/(hi − lo) − 1
+    curve_polynomials: np.ndarray  # (segments, degree + 1, K): b_k on a segment, powers of s = 2 (μ − lo)/(hi − lo) − 1
     curve_error: float  # max |polynomial − spline| over the segments' dense grids, float64
+    curve_segments: tuple[float, ...] = CURVE_SEGMENTS  # the polynomials' segment edges in μ
+    amplification: float = 1.0  # Lebesgue constant of the solve: max over μ of Σ_i |(B(μ) S⁻¹)_i|
     grid: LutGrid = LutGrid(128, 128)  # the tables' grid: the include's coordinate function reads them on it
+
+    @property
+    def n_terms(self) -> int:
+        return self.averages.shape[0]
+
+    @property
+    def float32_tolerance(self) -> float:
+        """What float32 allows the per-pixel coefficients, against float64: the fit-angle Fresnel values carry
+        ~2e-7 (a few float32 steps), amplified by the inverse (∞-norm condition number ``condition``; 4.8 for the
+        shipped basis: 1e-5 with room), so 2e-6 · max(1, condition) rounded up to 1, 2 or 5 × 10^n."""
+        return _round_up(2e-6 * max(1.0, self.condition))
+
+    @property
+    def float32_curve_tolerance(self) -> float:
+        """What float32 allows the Fresnel curve Σ_k c_k b_k(μ) of per-pixel coefficients, against float64: sample
+        errors of ~2e-7 carried by F(0) and amplified by the solve's Lebesgue constant ``amplification`` (1.3 for
+        the shipped basis), rounded up to 1, 2 or 5 × 10^n."""
+        return _round_up(2e-7 * (1.0 + self.amplification))
+
+    @property
+    def condition(self) -> float:
+        """The ∞-norm condition number of S (1 for K = 2, where there is nothing to solve)."""
+        if self.inverse.size == 0:
+            return 1.0
+        system = np.linalg.inv(self.inverse)
+        return float(np.linalg.norm(system, np.inf) * np.linalg.norm(self.inverse, np.inf))
 
     @property
     def row_mapping(self) -> tuple[float, float, float, float]:
@@ -134,6 +169,15 @@ class ShaderConstants:
         return low, high, scale, 0.5 / height - low * scale
 
 
+def _round_up(value: float) -> float:
+    """The smallest of 1, 2, 5 × 10^n at or above ``value``."""
+    exponent = np.floor(np.log10(value))
+    for step in (1.0, 2.0, 5.0, 10.0):
+        if step * 10.0**exponent >= value * (1.0 - 1e-12):
+            return float(step * 10.0**exponent)
+    raise AssertionError("unreachable")
+
+
 def _linear_functions(mu: np.ndarray) -> np.ndarray:
     """(…, 3): the fixed functions of the linear artist models, t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶)."""
     fifth = schlick_weight(mu)
@@ -141,18 +185,15 @@ def _linear_functions(mu: np.ndarray) -> np.ndarray:
 
 
 def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None) -> ShaderConstants:
-    """The constants of :func:`shader_includes` for a four-term basis (default: the shipped one) and the grid of its
-    tables (default: the default build's 128 × 128)."""
+    """The constants of :func:`shader_includes` for a basis of 2 … 8 terms (default: the shipped one) and the grid of
+    its tables (default: the default build's 128 × 128)."""
     basis = resolve_basis(basis)
-    if basis.n_terms != 4:
-        raise ParameterError(
-            f"the shader functions hold four coefficients per channel; this basis has {basis.n_terms} "
-            "terms (its tables still work with fresnelBasisSplitSum8 and CPU coefficients)"
-        )
     system = basis.evaluate(basis.fit_angles)  # B[i, k] = b_k(θ_i)
     inverse = np.linalg.inv(system[2:, 2:])
     projections = coefficients_from_samples(_linear_functions(cos_theta(basis.fit_angles)).T, basis)
-    degree, polynomials, error = _fit_curves(basis)
+    degree, polynomials, error, segments = _fit_curves(basis)
+    curves = basis.evaluate_mu(np.linspace(0.0, 1.0, 2001))  # (μ, K)
+    amplification = float(np.max(np.sum(np.abs(curves[:, 2:] @ inverse), axis=-1))) if basis.n_terms > 2 else 0.0
     return ShaderConstants(
         basis.content_hash,
         cos_theta(basis.fit_angles[2:]),
@@ -163,27 +204,35 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None) ->
         degree,
         polynomials,
         error,
+        segments,
+        amplification,
         LutGrid(128, 128) if grid is None else grid,
     )
 
 
-def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float]:
-    """Least-squares polynomials of b_k on each segment of :data:`CURVE_SEGMENTS`, the smallest degree that holds
-    :data:`CURVE_TOLERANCE` (or the largest tried, with its error stated)."""
-    grids = []
-    for low, high in zip(CURVE_SEGMENTS[:-1], CURVE_SEGMENTS[1:]):
-        s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
-        grids.append((s, basis.evaluate_mu(low + 0.5 * (s + 1.0) * (high - low))))
-    for degree in _DEGREES:
-        polynomials, error = [], 0.0
-        for s, values in grids:
-            chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, 4), well conditioned
-            power = np.stack([np.polynomial.chebyshev.cheb2poly(chebyshev[:, k]) for k in range(4)], axis=-1)
-            polynomials.append(power)
-            error = max(error, float(np.max(np.abs(np.polynomial.polynomial.polyval(s, power).T - values))))
-        if error <= CURVE_TOLERANCE or degree == _DEGREES[-1]:
-            return degree, np.array(polynomials), error
-    raise AssertionError("unreachable")
+def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...]]:
+    """Least-squares polynomials of b_k on each segment, the smallest degree that holds :data:`CURVE_TOLERANCE` on
+    :data:`CURVE_SEGMENTS`, else on :data:`FINE_CURVE_SEGMENTS` (else the closest fit tried, its error stated)."""
+    best = None
+    for segments in (CURVE_SEGMENTS, FINE_CURVE_SEGMENTS):
+        grids = []
+        for low, high in zip(segments[:-1], segments[1:]):
+            s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
+            grids.append((s, basis.evaluate_mu(low + 0.5 * (s + 1.0) * (high - low))))
+        for degree in _DEGREES:
+            polynomials, error = [], 0.0
+            for s, values in grids:
+                chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, K), well conditioned
+                power = np.stack(
+                    [np.polynomial.chebyshev.cheb2poly(chebyshev[:, k]) for k in range(basis.n_terms)], axis=-1
+                )
+                polynomials.append(power)
+                error = max(error, float(np.max(np.abs(np.polynomial.polynomial.polyval(s, power).T - values))))
+            if error <= CURVE_TOLERANCE:
+                return degree, np.array(polynomials), error, segments
+            if best is None or error < best[2]:
+                best = (degree, np.array(polynomials), error, segments)
+    return best
 
 
 # ----------------------------------------------------------------------------- the Python mirrors
@@ -312,11 +361,11 @@ def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = No
     constants = shader_constants() if constants is None else constants
     coefficients = as_float_array("coefficients", coefficients)
     mu = sanitize_unit(v_dot_h, 1.0)
-    edges = np.asarray(CURVE_SEGMENTS)
+    edges = np.asarray(constants.curve_segments)
     segment = np.clip(np.searchsorted(edges, mu, side="right") - 1, 0, len(edges) - 2)
     low, high = edges[segment], edges[segment + 1]
     s = 2.0 * (mu - low) / (high - low) - 1.0
-    polynomials = constants.curve_polynomials[segment]  # (…, degree + 1, 4)
+    polynomials = constants.curve_polynomials[segment]  # (…, degree + 1, K)
     curves = polynomials[..., -1, :]
     for power in range(constants.curve_degree - 1, -1, -1):  # Horner, as the shaders
         curves = curves * s[..., None] + polynomials[..., power, :]
@@ -329,18 +378,272 @@ def _number(value: float) -> str:
     return text if any(mark in text for mark in ".en") else text + ".0"
 
 
+def _exponent(value: float, digits: int = 0) -> str:
+    """1e-5, 3.1e-5: a tolerance as the comments write it."""
+    return f"{value:.{digits}e}".replace("e-0", "e-").replace("e+0", "e")
+
+
 def _vector(values, prefix: str) -> str:
     return f"{prefix}(" + ", ".join(_number(value) for value in values) + ")"
 
 
-def _header(constants: ShaderConstants, language: str, command: str) -> str:
+@dataclasses.dataclass(frozen=True)
+class _Spelling:
+    """How one shading language spells what the includes need: scalar and vector types, constants, dot products and
+    the record of eight terms (two vec4: terms 0-3 and 4-7) that holds a K > 4 basis' coefficients and curves."""
+
+    language: str  # "glsl" | "hlsl" | "wgsl"
+    n_terms: int
+
+    @property
+    def scalar(self) -> str:
+        return "f32" if self.language == "wgsl" else "float"
+
+    def type(self, width: int) -> str:
+        if width == 1:
+            return self.scalar
+        return {"glsl": f"vec{width}", "hlsl": f"float{width}", "wgsl": f"vec{width}f"}[self.language]
+
+    @property
+    def four(self) -> str:
+        return self.type(4)
+
+    @property
+    def wide(self) -> bool:
+        return self.n_terms > 4
+
+    @property
+    def terms(self) -> str:
+        """The type of one channel's coefficients (and of the curves' values)."""
+        return "FresnelTerms8" if self.wide else self.four
+
+    def constant(self, name: str, values, comment: str = "") -> str:
+        values = np.atleast_1d(np.asarray(values, dtype=np.float64))
+        kind = self.type(len(values))
+        value = _number(values[0]) if len(values) == 1 else _vector(values, kind)
+        line = {
+            "glsl": f"const {kind} {name} = {value};",
+            "hlsl": f"static const {kind} {name} = {value};",
+            "wgsl": f"const {name}: {kind} = {value};",
+        }[self.language]
+        return line + (f"  // {comment}" if comment else "")
+
+    def constant_terms(self, name: str, values, comment: str = "") -> list[str]:
+        """``values`` (K,) as one vec4 ``name`` (K ≤ 4, zero-padded) or two, ``name`` and ``name_HI`` (terms 4-7)."""
+        padded = np.zeros(8 if self.wide else 4)
+        padded[: len(values)] = values
+        lines = [self.constant(name, padded[:4], comment)]
+        return lines + ([self.constant(f"{name}_HI", padded[4:], "terms 4-7")] if self.wide else [])
+
+    def make_terms(self, low: str, high: str | None = None) -> str:
+        if not self.wide:
+            return low
+        return f"{'fresnelTerms8' if self.language == 'hlsl' else 'FresnelTerms8'}({low}, {high})"
+
+    def terms_value(self, expressions: list[str]) -> str:
+        padded = list(expressions) + ["0.0"] * ((8 if self.wide else 4) - len(expressions))
+        low = f"{self.four}({', '.join(padded[:4])})"
+        return self.make_terms(low, f"{self.four}({', '.join(padded[4:])})" if self.wide else None)
+
+    def dot_terms(self, coefficients: str, low: str, high: str | None = None) -> str:
+        """Σ_k c_k x_k of one channel's coefficients and terms ``x`` (``low``, and ``high`` for terms 4-7)."""
+        if not self.wide:
+            return f"dot({coefficients}, {low})"
+        return f"dot({coefficients}.lo, {low}) + dot({coefficients}.hi, {high})"
+
+    def dot(self, left: str, right: str, width: int) -> str:
+        return f"{left} * {right}" if width == 1 else f"dot({left}, {right})"
+
+    def record(self) -> str:
+        """The definition of ``FresnelTerms8`` (K > 4 only)."""
+        if not self.wide:
+            return ""
+        if self.language == "wgsl":
+            return "struct FresnelTerms8 {\n    lo: vec4f,  // terms 0-3\n    hi: vec4f,  // terms 4-7\n}\n"
+        v4 = self.four
+        text = f"struct FresnelTerms8\n{{\n    {v4} lo;  // terms 0-3\n    {v4} hi;  // terms 4-7\n}};\n"
+        if self.language == "hlsl":
+            text += (
+                f"FresnelTerms8 fresnelTerms8({v4} lo, {v4} hi)\n{{\n    FresnelTerms8 terms;\n    terms.lo = lo;\n"
+                "    terms.hi = hi;\n    return terms;\n}\n"
+            )
+        return text
+
+
+def _fit_chunks(n_angles: int) -> list[tuple[str, slice]]:
+    """The fit angles θ_2 … θ_(K−1) in vectors of at most four: (constant suffix, angles); none for K = 2."""
+    if n_angles == 0:
+        return []
+    if n_angles <= 4:
+        return [("", slice(0, n_angles))]
+    return [("", slice(0, 4)), ("_HI", slice(4, n_angles))]
+
+
+def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str, str]:
+    """(constants, functions, coefficient statements) of the K − 2 fit angles: each vector of angles gets its
+    fresnelAtFitAngles function; c_(2+j) = Σ_i S⁻¹[j, i] (F(θ_i) − c0 − c1 b1(θ_i))."""
+    c, sp = constants, spelling
+    chunks = _fit_chunks(len(c.fit_mu))
+    lines, functions, rests = [], [], []
+    for suffix, part in chunks:
+        mu = c.fit_mu[part]
+        width = len(mu)
+        lines += [
+            sp.constant(f"FRESNEL_FIT_MU{suffix}", mu, "cos(theta_i) of the fit angles"),
+            sp.constant(f"FRESNEL_FIT_MU2{suffix}", mu**2, "cos^2"),
+            sp.constant(f"FRESNEL_FIT_SIN2{suffix}", (1.0 - mu) * (1.0 + mu), "sin^2"),
+            sp.constant(f"FRESNEL_FIT_B1{suffix}", c.fit_b1[part], "b1 at the fit angles"),
+        ]
+        name = "fresnelAtFitAngles" + ("Hi" if suffix else "")
+        kind, m, m2, s2 = (
+            sp.type(width),
+            f"FRESNEL_FIT_MU{suffix}",
+            f"FRESNEL_FIT_MU2{suffix}",
+            f"FRESNEL_FIT_SIN2{suffix}",
+        )
+        result = f"(s + {m2} - twoAMu) * r / ((s + {m2} + twoAMu) * (r + twoAMu * {s2}))"
+        if sp.language == "wgsl":
+            functions.append(
+                f"fn {name}(eta: f32, kappa2: f32) -> {kind} {{\n"
+                "    let nearOne = abs(eta - 1.0) < 0.5;\n"
+                "    let base = select(eta * eta, (eta - 1.0) * (eta + 1.0), nearOne) - kappa2;\n"
+                f"    let t = base + select(-{s2}, {m2}, nearOne);\n"
+                "    let e4 = 4.0 * eta * eta * kappa2;\n"
+                "    let s = sqrt(t * t + e4);\n"
+                "    let u = s + abs(t);\n"
+                f"    let twoA2 = select(e4 / u, u, t >= {kind}(0.0));\n"
+                f"    let twoAMu = 2.0 * {m} * sqrt(0.5 * twoA2);\n"
+                f"    let r = s * {m2} + {s2} * {s2};\n"
+                f"    return clamp({result},\n                 {kind}(0.0), {kind}(1.0));\n}}\n"
+            )
+        else:
+            select = (
+                f"mix(e4 / u, u, greaterThanEqual(t, {kind}(0.0)))"
+                if sp.language == "glsl" and width > 1
+                else "(t >= 0.0) ? u : e4 / u"
+            )
+            functions.append(
+                f"{kind} {name}(float eta, float kappa2)\n{{\n"
+                "    bool nearOne = abs(eta - 1.0) < 0.5;\n"
+                "    float base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;\n"
+                f"    {kind} t = base + (nearOne ? {m2} : -{s2});\n"
+                "    float e4 = 4.0 * eta * eta * kappa2;\n"
+                f"    {kind} s = sqrt(t * t + e4);\n"
+                f"    {kind} u = s + abs(t);\n"
+                f"    {kind} twoA2 = {select};\n"
+                f"    {kind} twoAMu = 2.0 * {m} * sqrt(0.5 * twoA2);\n"
+                f"    {kind} r = s * {m2} + {s2} * {s2};\n"
+                f"    return clamp({result},\n                 0.0, 1.0);\n}}\n"
+            )
+        rest = "rest" + ("Hi" if suffix else "")
+        declare = f"let {rest}" if sp.language == "wgsl" else f"{kind} {rest}"
+        rests.append(f"    {declare} = {name}(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1{suffix};\n")
+    solved = []
+    for j, row in enumerate(c.inverse):
+        terms = []
+        for suffix, part in chunks:
+            width = part.stop - part.start
+            lines.append(
+                sp.constant(f"FRESNEL_FIT_INVERSE_{j}{suffix}", row[part], f"row {j} of S^-1" if not suffix else "")
+            )
+            terms.append(sp.dot(f"FRESNEL_FIT_INVERSE_{j}{suffix}", "rest" + ("Hi" if suffix else ""), width))
+        solved.append(" + ".join(terms))
+    statements = "".join(rests) + f"    return {sp.terms_value(['f0', 'f90 - f0', *solved])};\n"
+    return "\n".join(lines), "\n".join(functions), statements
+
+
+def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
+    """(arrays, Horner statements) of the direct-light polynomials: b_0 … b_3 in FRESNEL_CURVES, b_4 … b_7 in
+    FRESNEL_CURVES_HI."""
+    c, sp, d = constants, spelling, constants.curve_degree
+    lanes = 8 if sp.wide else 4
+    polynomial = np.zeros(c.curve_polynomials.shape[:2] + (lanes,))
+    polynomial[..., : c.n_terms] = c.curve_polynomials
+    polynomial = polynomial.reshape(-1, lanes)
+    count, v4 = polynomial.shape[0], sp.four
+    arrays = []
+    for suffix, rows in [("", polynomial[:, :4])] + ([("_HI", polynomial[:, 4:])] if sp.wide else []):
+        body = ",\n".join("    " + _vector(row, v4) for row in rows)
+        if sp.language == "wgsl":
+            arrays.append(
+                f"var<private> FRESNEL_CURVES{suffix}: array<vec4f, {count}> = array<vec4f, {count}>(\n{body}\n);"
+            )
+        elif sp.language == "hlsl":
+            arrays.append(f"static const float4 FRESNEL_CURVES{suffix}[{count}] = {{\n{body}\n}};")
+        else:
+            arrays.append(f"const vec4 FRESNEL_CURVES{suffix}[{count}] = vec4[{count}](\n{body}\n);")
+    names = {"b": ""} if not sp.wide else {"bLo": "", "bHi": "_HI"}  # variable → its array's suffix
+    wgsl = sp.language == "wgsl"
+    start = "".join(
+        f"    {'var ' if wgsl else v4 + ' '}{name} = FRESNEL_CURVES{suffix}[base + {d}];\n"
+        for name, suffix in names.items()
+    )
+    step = "".join(
+        f"        {name} = {name} * s + FRESNEL_CURVES{suffix}[base + p];\n" for name, suffix in names.items()
+    )
+    loop = f"for (var p: i32 = {d - 1}; p >= 0; p = p - 1)" if wgsl else f"for (int p = {d - 1}; p >= 0; --p)"
+    brace = " {\n" if wgsl else "\n    {\n"
+    statements = start + f"    {loop}{brace}{step}    }}\n    return {sp.make_terms(*names) if sp.wide else 'b'};\n"
+    return "\n".join(arrays), statements
+
+
+def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
+    """(edges constant, statements giving the segment j of μ and its ends lo, hi): three segments as one vec4 and
+    selects, more as an array and a count of the edges at or below μ (what ``direct_fresnel`` computes)."""
+    edges, sp = constants.curve_segments, spelling
+    wgsl, hlsl = sp.language == "wgsl", sp.language == "hlsl"
+    if len(edges) == 4:
+        if wgsl:
+            return (
+                f"const FRESNEL_CURVE_EDGES = {_vector(edges, 'vec4f')};",
+                "    let j = select(select(2, 1, mu < FRESNEL_CURVE_EDGES.z), 0, mu < FRESNEL_CURVE_EDGES.y);\n"
+                "    let lo = select(select(FRESNEL_CURVE_EDGES.z, FRESNEL_CURVE_EDGES.y, j == 1), FRESNEL_CURVE_EDGES.x, "
+                "j == 0);\n"
+                "    let hi = select(select(FRESNEL_CURVE_EDGES.w, FRESNEL_CURVE_EDGES.z, j == 1), FRESNEL_CURVE_EDGES.y, "
+                "j == 0);\n",
+            )
+        return (
+            f"{'static const' if hlsl else 'const'} {sp.four} FRESNEL_CURVE_EDGES = {_vector(edges, sp.four)};",
+            "    int j = (mu < FRESNEL_CURVE_EDGES.y) ? 0 : ((mu < FRESNEL_CURVE_EDGES.z) ? 1 : 2);\n"
+            "    float lo = (j == 0) ? FRESNEL_CURVE_EDGES.x : ((j == 1) ? FRESNEL_CURVE_EDGES.y : FRESNEL_CURVE_EDGES.z);\n"
+            "    float hi = (j == 0) ? FRESNEL_CURVE_EDGES.y : ((j == 1) ? FRESNEL_CURVE_EDGES.z : FRESNEL_CURVE_EDGES.w);\n",
+        )
+    count, values = len(edges), ", ".join(_number(edge) for edge in edges)
+    if wgsl:
+        return (
+            f"var<private> FRESNEL_CURVE_EDGES: array<f32, {count}> = array<f32, {count}>({values});",
+            f"    var j: i32 = 0;\n    for (var i: i32 = 1; i < {count - 1}; i = i + 1) {{\n"
+            "        j = j + select(0, 1, mu >= FRESNEL_CURVE_EDGES[i]);\n    }\n"
+            "    let lo = FRESNEL_CURVE_EDGES[j];\n    let hi = FRESNEL_CURVE_EDGES[j + 1];\n",
+        )
+    declaration = (
+        f"static const float FRESNEL_CURVE_EDGES[{count}] = {{{values}}};"
+        if hlsl
+        else f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});"
+    )
     return (
-        f"// fresnel-basis: per-pixel Fresnel of basis {constants.basis_hash} ({language}). Generated by `{command}` from the\n"
-        "// basis' own file: do not edit, regenerate it (preintegrate/shaders.py). Self-contained: use it beside the\n"
-        "// tables whose header says fresnel:basis_hash = " + constants.basis_hash + ".\n"
+        declaration,
+        f"    int j = 0;\n    for (int i = 1; i < {count - 1}; ++i)\n    {{\n"
+        "        j += (mu >= FRESNEL_CURVE_EDGES[i]) ? 1 : 0;\n    }\n"
+        "    float lo = FRESNEL_CURVE_EDGES[j];\n    float hi = FRESNEL_CURVE_EDGES[j + 1];\n",
+    )
+
+
+def _header(constants: ShaderConstants, language: str, command: str) -> str:
+    k, m = constants.n_terms, constants.n_terms - 2
+    solve = (
+        f"exact Fresnel at the {m} fit angle{'s' if m != 1 else ''} + a constant {m}x{m} inverse"
+        if m
+        else "F(0), 1 - F(0)"
+    )
+    kind = "one vec4 per channel" if k <= 4 else "FresnelTerms8 per channel (.lo terms 0-3, .hi terms 4-7)"
+    return (
+        f"// fresnel-basis: per-pixel Fresnel of basis {constants.basis_hash} ({language}, {k} terms). Generated by\n"
+        f"// `{command}` from the basis' own file: do not edit, regenerate it (preintegrate/shaders.py). Self-contained:\n"
+        "// use it beside the tables whose header says fresnel:basis_hash = " + constants.basis_hash + ".\n"
         "//\n"
-        '// Per pixel, per colour channel (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):\n'
-        "//   fresnelCoefficientsNK(eta, kappa)               exact Fresnel at the two fit angles + a constant 2x2 inverse\n"
+        f'// Per pixel, per colour channel, {kind} (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):\n'
+        f"//   fresnelCoefficientsNK(eta, kappa)               {solve}\n"
         "//   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same\n"
         "//   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)\n"
         "//   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82\n"
@@ -349,54 +652,63 @@ def _header(constants: ShaderConstants, language: str, command: str) -> str:
         "// then: F for a punctual light = fresnelBasisDirect(VdotH, c); the image-based split sum and the\n"
         "// multiple-scattering average use the same c (fresnelBasisAverage). Inputs: NaN becomes a fallback, every\n"
         "// other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to [0, 0.9999], the rest to [0, 1]).\n"
-        f"// Float32: coefficients within 1e-5 of float64; the direct-light curves within {constants.curve_error:.1e} of the\n"
-        "// basis' spline (float64; tests/luts/test_shaders_per_pixel.py measures both on the GPU).\n"
+        f"// Float32: coefficients within {_exponent(constants.float32_tolerance)} of float64, the Fresnel curve they give "
+        f"within {_exponent(constants.float32_curve_tolerance)}; the\n"
+        f"// direct-light curves within {_exponent(constants.curve_error, 1)} of the basis' spline (float64; tests/luts/ measures all three\n"
+        "// on the GPU).\n"
     )
 
 
 def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     """GLSL (3.30, 4.50, ES 3.00) or, with ``hlsl``, HLSL: the same statements with the other spellings."""
-    v2, v3, v4, f = ("float2", "float3", "float4", "float") if hlsl else ("vec2", "vec3", "vec4", "float")
+    sp = _Spelling("hlsl" if hlsl else "glsl", constants.n_terms)
+    v2, v3, v4, f, T = sp.type(2), sp.type(3), sp.four, "float", sp.terms
     const = "static const" if hlsl else "const"
     bits = "asuint" if hlsl else "floatBitsToUint"
     c, d = constants, constants.curve_degree
-    select_twoA2 = "(t >= 0.0) ? u : e4 / u" if hlsl else "mix(e4 / u, u, greaterThanEqual(t, vec2(0.0)))"
-    split_sum = (
-        "// The split sum of the basis table at level 0, read through fresnelBasisLutUV.\n"
-        + (
-            "float3 fresnelBasisSplitSumUV(Texture2D<float4> lut, SamplerState linearClamp, float NdotV, float r, "
-            "float4 cR, float4 cG, float4 cB)\n{\n    float4 b = lut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0);\n"
-            if hlsl
-            else "vec3 fresnelBasisSplitSumUV(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG, vec4 cB)\n{\n"
-            "    vec4 b = textureLod(lut, fresnelBasisLutUV(NdotV, r), 0.0);\n"
+    fit_constants, fit_functions, solve = _fit_parts(c, sp)
+    curve_arrays, horner = _curve_parts(c, sp)
+    edges, segment = _segment_parts(c, sp)
+    second = ", sampler2D lut2" if not hlsl else ", Texture2D<float4> lut2"
+    if hlsl:
+        fetch = "lut.SampleLevel(linearClamp, uv, 0)"
+        signature = f"Texture2D<float4> lut{second if sp.wide else ''}, SamplerState linearClamp"
+    else:
+        fetch = "textureLod(lut, uv, 0.0)"
+        signature = f"sampler2D lut{second if sp.wide else ''}"
+    fetch_terms = sp.make_terms(fetch, fetch.replace("lut.", "lut2.").replace("(lut,", "(lut2,")) if sp.wide else fetch
+    projections = [
+        line
+        for name, row, what in zip(
+            ("SCALE", "BIAS", "DIP"), c.projections, ("1 - (1 - mu)^5", "(1 - mu)^5", "mu (1 - mu)^6")
         )
-        + f"    return {v3}(dot(cR, b), dot(cG, b), dot(cB, b));\n}}"
+        for line in sp.constant_terms(f"FRESNEL_PROJECTION_{name}", row, f"coefficients of {what}")
+    ]
+    linear = [
+        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
+        for s in ([""] + (["_HI"] if sp.wide else []))
+    ]
+    averages = "\n".join(sp.constant_terms("FRESNEL_BASIS_AVERAGES", c.averages, "2 * integral of b_k(mu) mu dmu"))
+    b_terms = ("b", None) if not sp.wide else ("b.lo", "b.hi")
+    direct = f"{v3}(" + ", ".join(sp.dot_terms(ch, *b_terms) for ch in ("cR", "cG", "cB")) + ")"
+    average = (
+        f"{v3}("
+        + ", ".join(
+            sp.dot_terms(ch, "FRESNEL_BASIS_AVERAGES", "FRESNEL_BASIS_AVERAGES_HI") for ch in ("cR", "cG", "cB")
+        )
+        + ")"
     )
-    polynomial = c.curve_polynomials.reshape(-1, 4)
-    array = (
-        f"{const} {v4} FRESNEL_CURVES[{polynomial.shape[0]}] = {{\n"
-        if hlsl
-        else f"{const} {v4} FRESNEL_CURVES[{polynomial.shape[0]}] = {v4}[{polynomial.shape[0]}](\n"
-    )
-    array += ",\n".join("    " + _vector(row, v4) for row in polynomial) + ("\n};\n" if hlsl else "\n);\n")
     return (
         _header(c, "HLSL" if hlsl else "GLSL 3.30 / 4.50 / ES 3.00", command)
         + f"""
 {const} uint FRESNEL_BASIS_HASH = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}
-{const} {v2} FRESNEL_FIT_MU = {_vector(c.fit_mu, v2)};       // cos(theta_2), cos(theta_3)
-{const} {v2} FRESNEL_FIT_MU2 = {_vector(c.fit_mu**2, v2)};      // cos^2 of the fit angles
-{const} {v2} FRESNEL_FIT_SIN2 = {_vector((1.0 - c.fit_mu) * (1.0 + c.fit_mu), v2)};     // sin^2 of the fit angles
-{const} {v2} FRESNEL_FIT_B1 = {_vector(c.fit_b1, v2)};       // b1 at the fit angles
-{const} {v2} FRESNEL_FIT_INVERSE_0 = {_vector(c.inverse[0], v2)}; // rows of S^-1, S[i][j] = b_(j+2)(theta_(i+2))
-{const} {v2} FRESNEL_FIT_INVERSE_1 = {_vector(c.inverse[1], v2)};
-{const} {v4} FRESNEL_PROJECTION_SCALE = {_vector(c.projections[0], v4)}; // coefficients of 1 - (1 - mu)^5
-{const} {v4} FRESNEL_PROJECTION_BIAS = {_vector(c.projections[1], v4)};  // coefficients of (1 - mu)^5
-{const} {v4} FRESNEL_PROJECTION_DIP = {_vector(c.projections[2], v4)};   // coefficients of mu (1 - mu)^6
-{const} {v4} FRESNEL_BASIS_AVERAGES = {_vector(c.averages, v4)};   // 2 * integral of b_k(mu) mu dmu
-{const} {v4} FRESNEL_CURVE_EDGES = {_vector(CURVE_SEGMENTS, v4)};
+{sp.record()}{fit_constants}
+{chr(10).join(projections)}
+{averages}
+{edges}
 {const} int FRESNEL_CURVE_DEGREE = {d};
 // b_k(mu) on segment j: sum_p FRESNEL_CURVES[j * {d + 1} + p] * s^p, s = 2 (mu - lo) / (hi - lo) - 1
-{array}
+{curve_arrays}
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
 // everything else clamped to [lo, hi].
 {f} fresnelSanitize({f} x, {f} fallback, {f} lo, {f} hi)
@@ -425,35 +737,19 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return clamp(0.5 * fs * (1.0 + ratio), 0.0, 1.0);
 }}
 
-// Exact Fresnel at both fit angles at once, the angle terms constant: F = (s + mu^2 - 2a mu) r /
+// Exact Fresnel at the fit angles, the angle terms constant: F = (s + mu^2 - 2a mu) r /
 // ((s + mu^2 + 2a mu)(r + 2a mu sin^2)), r = s mu^2 + sin^4 (Hoffman's Fs times (1 + Fp/Fs) / 2: one division).
-{v2} fresnelAtFitAngles({f} eta, {f} kappa2)
-{{
-    bool nearOne = abs(eta - 1.0) < 0.5;
-    {f} base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;
-    {v2} t = base + (nearOne ? FRESNEL_FIT_MU2 : -FRESNEL_FIT_SIN2);
-    {f} e4 = 4.0 * eta * eta * kappa2;
-    {v2} s = sqrt(t * t + e4);
-    {v2} u = s + abs(t);
-    {v2} twoA2 = {select_twoA2};
-    {v2} twoAMu = 2.0 * FRESNEL_FIT_MU * sqrt(0.5 * twoA2);
-    {v2} r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r / ((s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2)),
-                 0.0, 1.0);
-}}
-
+{fit_functions}
 // Four-point coefficients of (eta, kappa^2), already in range: c0 = F(0) in closed form, c1 = F(90) - c0, then the
-// constant 2x2 inverse.
-{v4} fresnelCoefficientsEtaKappa2({f} eta, {f} kappa2)
+// constant inverse.
+{T} fresnelCoefficientsEtaKappa2({f} eta, {f} kappa2)
 {{
     {f} f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
     {f} f90 = (eta == 1.0 && kappa2 == 0.0) ? 0.0 : 1.0;
-    {v2} rest = fresnelAtFitAngles(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1;
-    return {v4}(f0, f90 - f0, dot(FRESNEL_FIT_INVERSE_0, rest), dot(FRESNEL_FIT_INVERSE_1, rest));
-}}
+{solve}}}
 
 // Four-point coefficients of one channel's (eta, kappa).
-{v4} fresnelCoefficientsNK({f} eta, {f} kappa)
+{T} fresnelCoefficientsNK({f} eta, {f} kappa)
 {{
     kappa = fresnelSanitize(kappa, 0.0, 0.0, 1e4);
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(eta, 1.5, 1e-4, 1e4), kappa * kappa);
@@ -473,34 +769,34 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return {v2}(n, g * spread * above);
 }}
 
-{v4} fresnelCoefficientsGulbrandsen({f} r, {f} g)
+{T} fresnelCoefficientsGulbrandsen({f} r, {f} g)
 {{
     {v2} nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
     return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
 }}
 
 // Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions).
-{v4} fresnelCoefficientsLinear({f} w0, {f} w1, {f} w2)
+{T} fresnelCoefficientsLinear({f} w0, {f} w1, {f} w2)
 {{
-    return w0 * FRESNEL_PROJECTION_SCALE + w1 * FRESNEL_PROJECTION_BIAS + w2 * FRESNEL_PROJECTION_DIP;
+    return {sp.make_terms(*linear)};
 }}
 
 {const} {f} FRESNEL_F82_SCHLICK_WEIGHT = {_number((1.0 - F82_MU) ** 5)};  // (1 - 1/7)^5
 {const} {f} FRESNEL_F82_DIP = {_number(lazanyi_dip(F82_MU))};              // (1/7) (1 - 1/7)^6
 
-{v4} fresnelCoefficientsSchlick({f} f0, {f} f90)
+{T} fresnelCoefficientsSchlick({f} f0, {f} f90)
 {{
     return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
 }}
 
-{v4} fresnelCoefficientsF82({f} f0, {f} f82)
+{T} fresnelCoefficientsF82({f} f0, {f} f82)
 {{
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     f82 = fresnelSanitize(f82, 0.0, 0.0, 1.0);
     return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
 }}
 
-{v4} fresnelCoefficientsF82Tint({f} f0, {f} tint)
+{T} fresnelCoefficientsF82Tint({f} f0, {f} tint)
 {{
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
@@ -508,7 +804,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
                                      -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }}
 
-{v4} fresnelCoefficientsGeneralizedAdobe({f} r0, {f} r90, {f} tint)
+{T} fresnelCoefficientsGeneralizedAdobe({f} r0, {f} r90, {f} tint)
 {{
     r0 = fresnelSanitize(r0, 0.0, 0.0, 1.0);
     r90 = fresnelSanitize(r90, 0.0, 0.0, 1.0);
@@ -517,28 +813,19 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
                                      -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }}
 
-// The curves b_0 .. b_3 at mu = V.H (piecewise polynomials, Horner).
-{v4} fresnelBasisCurves({f} mu)
+// The curves b_0 .. b_{c.n_terms - 1} at mu = V.H (piecewise polynomials, Horner).
+{T} fresnelBasisCurves({f} mu)
 {{
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
-    int j = (mu < FRESNEL_CURVE_EDGES.y) ? 0 : ((mu < FRESNEL_CURVE_EDGES.z) ? 1 : 2);
-    {f} lo = (j == 0) ? FRESNEL_CURVE_EDGES.x : ((j == 1) ? FRESNEL_CURVE_EDGES.y : FRESNEL_CURVE_EDGES.z);
-    {f} hi = (j == 0) ? FRESNEL_CURVE_EDGES.y : ((j == 1) ? FRESNEL_CURVE_EDGES.z : FRESNEL_CURVE_EDGES.w);
-    {f} s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
+{segment}    {f} s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
     int base = j * {d + 1};
-    {v4} b = FRESNEL_CURVES[base + {d}];
-    for (int p = {d - 1}; p >= 0; --p)
-    {{
-        b = b * s + FRESNEL_CURVES[base + p];
-    }}
-    return b;
-}}
+{horner}}}
 
 // Fresnel of a punctual light for each colour channel: F(V.H) = sum_k c_k b_k(theta_h).
-{v3} fresnelBasisDirect({f} VdotH, {v4} cR, {v4} cG, {v4} cB)
+{v3} fresnelBasisDirect({f} VdotH, {T} cR, {T} cG, {T} cB)
 {{
-    {v4} b = fresnelBasisCurves(VdotH);
-    return {v3}(dot(cR, b), dot(cG, b), dot(cB, b));
+    {T} b = fresnelBasisCurves(VdotH);
+    return {direct};
 }}
 
 // The tables' coordinates (the grid of the build that wrote this include: {c.grid.width} x {c.grid.height}, rows at
@@ -550,24 +837,30 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return {v2}(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
-{split_sum}
+// The split sum of the basis table{"s two textures" if sp.wide else ""} at level 0, read through fresnelBasisLutUV.
+{v3} fresnelBasisSplitSumUV({signature}, {f} NdotV, {f} r, {T} cR, {T} cG, {T} cB)
+{{
+    {v2} uv = fresnelBasisLutUV(NdotV, r);
+    {T} b = {fetch_terms};
+    return {direct};
+}}
 
 // The hemispherical average F_avg = sum_k c_k avg(b_k) (multiple-scattering compensation), clamped to [0, 1].
-{v3} fresnelBasisAverage({v4} cR, {v4} cG, {v4} cB)
+{v3} fresnelBasisAverage({T} cR, {T} cG, {T} cB)
 {{
-    return clamp({v3}(dot(cR, FRESNEL_BASIS_AVERAGES), dot(cG, FRESNEL_BASIS_AVERAGES), dot(cB, FRESNEL_BASIS_AVERAGES)),
+    return clamp({average},
                  0.0, 1.0);
 }}
 
 // All three channels at once, for (eta, kappa) and (r, g) texture reads.
-void fresnelCoefficientsNK3({v3} eta, {v3} kappa, out {v4} cR, out {v4} cG, out {v4} cB)
+void fresnelCoefficientsNK3({v3} eta, {v3} kappa, out {T} cR, out {T} cG, out {T} cB)
 {{
     cR = fresnelCoefficientsNK(eta.x, kappa.x);
     cG = fresnelCoefficientsNK(eta.y, kappa.y);
     cB = fresnelCoefficientsNK(eta.z, kappa.z);
 }}
 
-void fresnelCoefficientsGulbrandsen3({v3} r, {v3} g, out {v4} cR, out {v4} cG, out {v4} cB)
+void fresnelCoefficientsGulbrandsen3({v3} r, {v3} g, out {T} cR, out {T} cG, out {T} cB)
 {{
     cR = fresnelCoefficientsGulbrandsen(r.x, g.x);
     cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
@@ -588,29 +881,44 @@ def hlsl_include(constants: ShaderConstants, command: str) -> str:
 def wgsl_include(constants: ShaderConstants, command: str) -> str:
     """The same functions in WGSL (no NaN test by x != x either: the bits are tested through bitcast)."""
     c, d = constants, constants.curve_degree
-    polynomial = c.curve_polynomials.reshape(-1, 4)
-    rows = ",\n".join("    " + _vector(row, "vec4f") for row in polynomial)
+    sp = _Spelling("wgsl", c.n_terms)
+    T = sp.terms
+    fit_constants, fit_functions, solve = _fit_parts(c, sp)
+    curve_arrays, horner = _curve_parts(c, sp)
+    edges, segment = _segment_parts(c, sp)
+    projections = [
+        line
+        for name, row in zip(("SCALE", "BIAS", "DIP"), c.projections)
+        for line in sp.constant_terms(f"FRESNEL_PROJECTION_{name}", row)
+    ]
+    linear = [
+        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
+        for s in ([""] + (["_HI"] if sp.wide else []))
+    ]
+    b_terms = ("b", None) if not sp.wide else ("b.lo", "b.hi")
+    direct = "vec3f(" + ", ".join(sp.dot_terms(ch, *b_terms) for ch in ("cR", "cG", "cB")) + ")"
+    average = (
+        "vec3f("
+        + ", ".join(
+            sp.dot_terms(ch, "FRESNEL_BASIS_AVERAGES", "FRESNEL_BASIS_AVERAGES_HI") for ch in ("cR", "cG", "cB")
+        )
+        + ")"
+    )
+    fetch = "textureSampleLevel(lut, linearClamp, uv, 0.0)"
+    fetch_terms = sp.make_terms(fetch, fetch.replace("(lut,", "(lut2,")) if sp.wide else fetch
+    textures = "lut: texture_2d<f32>, " + ("lut2: texture_2d<f32>, " if sp.wide else "")
     return (
         _header(c, "WGSL", command)
         + f"""
 const FRESNEL_BASIS_HASH: u32 = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}
-const FRESNEL_FIT_MU = {_vector(c.fit_mu, "vec2f")};
-const FRESNEL_FIT_MU2 = {_vector(c.fit_mu**2, "vec2f")};
-const FRESNEL_FIT_SIN2 = {_vector((1.0 - c.fit_mu) * (1.0 + c.fit_mu), "vec2f")};
-const FRESNEL_FIT_B1 = {_vector(c.fit_b1, "vec2f")};
-const FRESNEL_FIT_INVERSE_0 = {_vector(c.inverse[0], "vec2f")};
-const FRESNEL_FIT_INVERSE_1 = {_vector(c.inverse[1], "vec2f")};
-const FRESNEL_PROJECTION_SCALE = {_vector(c.projections[0], "vec4f")};
-const FRESNEL_PROJECTION_BIAS = {_vector(c.projections[1], "vec4f")};
-const FRESNEL_PROJECTION_DIP = {_vector(c.projections[2], "vec4f")};
-const FRESNEL_BASIS_AVERAGES = {_vector(c.averages, "vec4f")};
-const FRESNEL_CURVE_EDGES = {_vector(CURVE_SEGMENTS, "vec4f")};
+{sp.record()}{fit_constants}
+{chr(10).join(projections)}
+{chr(10).join(sp.constant_terms("FRESNEL_BASIS_AVERAGES", c.averages))}
+{edges}
 const FRESNEL_CURVE_DEGREE: i32 = {d};
 const FRESNEL_F82_SCHLICK_WEIGHT: f32 = {_number((1.0 - F82_MU) ** 5)};
 const FRESNEL_F82_DIP: f32 = {_number(lazanyi_dip(F82_MU))};
-var<private> FRESNEL_CURVES: array<vec4f, {polynomial.shape[0]}> = array<vec4f, {polynomial.shape[0]}>(
-{rows}
-);
+{curve_arrays}
 
 fn fresnelSanitize(x: f32, fallback: f32, lo: f32, hi: f32) -> f32 {{
     return select(clamp(x, lo, hi), fallback, (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u);
@@ -634,28 +942,13 @@ fn fresnelExact(mu: f32, eta: f32, kappa: f32) -> f32 {{
     return clamp(0.5 * fs * (1.0 + ratio), 0.0, 1.0);
 }}
 
-fn fresnelAtFitAngles(eta: f32, kappa2: f32) -> vec2f {{
-    let nearOne = abs(eta - 1.0) < 0.5;
-    let base = select(eta * eta, (eta - 1.0) * (eta + 1.0), nearOne) - kappa2;
-    let t = base + select(-FRESNEL_FIT_SIN2, FRESNEL_FIT_MU2, nearOne);
-    let e4 = 4.0 * eta * eta * kappa2;
-    let s = sqrt(t * t + e4);
-    let u = s + abs(t);
-    let twoA2 = select(e4 / u, u, t >= vec2f(0.0));
-    let twoAMu = 2.0 * FRESNEL_FIT_MU * sqrt(0.5 * twoA2);
-    let r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r / ((s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2)),
-                 vec2f(0.0), vec2f(1.0));
-}}
-
-fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> vec4f {{
+{fit_functions}
+fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> {T} {{
     let f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
     let f90 = select(1.0, 0.0, eta == 1.0 && kappa2 == 0.0);
-    let rest = fresnelAtFitAngles(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1;
-    return vec4f(f0, f90 - f0, dot(FRESNEL_FIT_INVERSE_0, rest), dot(FRESNEL_FIT_INVERSE_1, rest));
-}}
+{solve}}}
 
-fn fresnelCoefficientsNK(etaIn: f32, kappaIn: f32) -> vec4f {{
+fn fresnelCoefficientsNK(etaIn: f32, kappaIn: f32) -> {T} {{
     let kappa = fresnelSanitize(kappaIn, 0.0, 0.0, 1e4);
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(etaIn, 1.5, 1e-4, 1e4), kappa * kappa);
 }}
@@ -673,55 +966,47 @@ fn fresnelGulbrandsenToEtaKappa2(rIn: f32, gIn: f32) -> vec2f {{
     return vec2f(n, g * spread * above);
 }}
 
-fn fresnelCoefficientsGulbrandsen(r: f32, g: f32) -> vec4f {{
+fn fresnelCoefficientsGulbrandsen(r: f32, g: f32) -> {T} {{
     let nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
     return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
 }}
 
-fn fresnelCoefficientsLinear(w0: f32, w1: f32, w2: f32) -> vec4f {{
-    return w0 * FRESNEL_PROJECTION_SCALE + w1 * FRESNEL_PROJECTION_BIAS + w2 * FRESNEL_PROJECTION_DIP;
+fn fresnelCoefficientsLinear(w0: f32, w1: f32, w2: f32) -> {T} {{
+    return {sp.make_terms(*linear)};
 }}
 
-fn fresnelCoefficientsSchlick(f0: f32, f90: f32) -> vec4f {{
+fn fresnelCoefficientsSchlick(f0: f32, f90: f32) -> {T} {{
     return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
 }}
 
-fn fresnelCoefficientsF82(f0In: f32, f82In: f32) -> vec4f {{
+fn fresnelCoefficientsF82(f0In: f32, f82In: f32) -> {T} {{
     let f0 = fresnelSanitize(f0In, 0.0, 0.0, 1.0);
     let f82 = fresnelSanitize(f82In, 0.0, 0.0, 1.0);
     return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
 }}
 
-fn fresnelCoefficientsF82Tint(f0In: f32, tintIn: f32) -> vec4f {{
+fn fresnelCoefficientsF82Tint(f0In: f32, tintIn: f32) -> {T} {{
     let f0 = fresnelSanitize(f0In, 0.0, 0.0, 1.0);
     let tint = fresnelSanitize(tintIn, 0.0, 0.0, 1.0);
     return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }}
 
-fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> vec4f {{
+fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> {T} {{
     let r0 = fresnelSanitize(r0In, 0.0, 0.0, 1.0);
     let r90 = fresnelSanitize(r90In, 0.0, 0.0, 1.0);
     let tint = fresnelSanitize(tintIn, 0.0, 0.0, 1.0);
     return fresnelCoefficientsLinear(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }}
 
-fn fresnelBasisCurves(muIn: f32) -> vec4f {{
+fn fresnelBasisCurves(muIn: f32) -> {T} {{
     let mu = fresnelSanitize(muIn, 1.0, 0.0, 1.0);
-    let j = select(select(2, 1, mu < FRESNEL_CURVE_EDGES.z), 0, mu < FRESNEL_CURVE_EDGES.y);
-    let lo = select(select(FRESNEL_CURVE_EDGES.z, FRESNEL_CURVE_EDGES.y, j == 1), FRESNEL_CURVE_EDGES.x, j == 0);
-    let hi = select(select(FRESNEL_CURVE_EDGES.w, FRESNEL_CURVE_EDGES.z, j == 1), FRESNEL_CURVE_EDGES.y, j == 0);
-    let s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
+{segment}    let s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
     let base = j * {d + 1};
-    var b = FRESNEL_CURVES[base + {d}];
-    for (var p: i32 = {d - 1}; p >= 0; p = p - 1) {{
-        b = b * s + FRESNEL_CURVES[base + p];
-    }}
-    return b;
-}}
+{horner}}}
 
-fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {{
+fn fresnelBasisDirect(VdotH: f32, cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
     let b = fresnelBasisCurves(VdotH);
-    return vec3f(dot(cR, b), dot(cG, b), dot(cB, b));
+    return {direct};
 }}
 
 const FRESNEL_LUT_ROWS = {_vector(c.row_mapping, "vec4f")};  // lo, hi, scale, offset ({c.grid.width} x {c.grid.height}, rows at {c.grid.rows})
@@ -731,14 +1016,15 @@ fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {{
     return vec2f(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
-fn fresnelBasisSplitSumUV(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, cR: vec4f, cG: vec4f,
-                          cB: vec4f) -> vec3f {{
-    let b = textureSampleLevel(lut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0);
-    return vec3f(dot(cR, b), dot(cG, b), dot(cB, b));
+fn fresnelBasisSplitSumUV({textures}linearClamp: sampler, NdotV: f32, r: f32, cR: {T}, cG: {T},
+                          cB: {T}) -> vec3f {{
+    let uv = fresnelBasisLutUV(NdotV, r);
+    let b = {fetch_terms};
+    return {direct};
 }}
 
-fn fresnelBasisAverage(cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {{
-    return clamp(vec3f(dot(cR, FRESNEL_BASIS_AVERAGES), dot(cG, FRESNEL_BASIS_AVERAGES), dot(cB, FRESNEL_BASIS_AVERAGES)),
+fn fresnelBasisAverage(cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
+    return clamp({average},
                  vec3f(0.0), vec3f(1.0));
 }}
 """

@@ -229,11 +229,11 @@ def write_default_build(
     progress: Callable[[int, int], None] | None = None,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
-    the shader includes generated from the same basis (:mod:`preintegrate.shaders`; four-term bases) in the same
+    the shader includes generated from the same basis (:mod:`preintegrate.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
-    includes = shader_includes(basis, grid=grid) if basis.n_terms == 4 else []
+    includes = shader_includes(basis, grid=grid)
     return write_tables(
         default_tables(basis, grid, order, progress),
         out,

@@ -136,9 +136,10 @@ PER_PIXEL_CALLS = (
 )
 
 
-def per_pixel_expected(inputs):
-    """The Python mirrors (preintegrate.shaders) of every call of :data:`PER_PIXEL_CALLS`, (1024, 4) each, for the
-    texels as float32 holds them."""
+def per_pixel_expected(inputs, constants=None):
+    """The Python mirrors (preintegrate.shaders) of every call of :data:`PER_PIXEL_CALLS` for the texels as float32
+    holds them, (1024, L) each: the K terms zero-padded to the L = 4 (K ≤ 4) or 8 lanes the shaders return, the
+    table coordinates (u, v, u, v)."""
     import numpy as np
 
     from preintegrate.shaders import (
@@ -150,31 +151,50 @@ def per_pixel_expected(inputs):
         shader_constants,
     )
 
-    constants = shader_constants()
+    constants = shader_constants() if constants is None else constants
+    k = constants.n_terms
     eta, kappa, a, b = np.asarray(inputs, dtype=np.float32).astype(np.float64).T
+
+    def lanes(values):
+        padded = np.zeros((values.shape[0], 8 if k > 4 else 4))
+        padded[:, :k] = values
+        return padded
+
     return [
-        coefficients_per_pixel_nk(eta, kappa, constants),
-        coefficients_per_pixel_gulbrandsen(a, b, constants),
-        coefficients_per_pixel_model("schlick", constants, f0=a, f90=b),
-        coefficients_per_pixel_model("f82", constants, f0=a, f82=b),
-        coefficients_per_pixel_model("f82-tint", constants, f0=a, tint=b),
-        coefficients_per_pixel_model("generalized-adobe", constants, r0=a, r90=np.ones_like(a), tint=b),
-        direct_fresnel(np.eye(4)[:, None, :], a[None, :], constants).T,
+        lanes(coefficients_per_pixel_nk(eta, kappa, constants)),
+        lanes(coefficients_per_pixel_gulbrandsen(a, b, constants)),
+        lanes(coefficients_per_pixel_model("schlick", constants, f0=a, f90=b)),
+        lanes(coefficients_per_pixel_model("f82", constants, f0=a, f82=b)),
+        lanes(coefficients_per_pixel_model("f82-tint", constants, f0=a, tint=b)),
+        lanes(coefficients_per_pixel_model("generalized-adobe", constants, r0=a, r90=np.ones_like(a), tint=b)),
+        lanes(direct_fresnel(np.eye(k)[:, None, :], a[None, :], constants).T),
         np.tile(lut_coordinates(a, b, constants), 2),
     ]
 
 
-def assert_per_pixel_outputs(outputs, inputs, where: str) -> dict:
-    """Each output (1024, 4) finite and within 1e-5 of its mirror (1e-4 for the direct-light curves); the errors."""
+def assert_per_pixel_outputs(outputs, inputs, where: str, constants=None) -> dict:
+    """Each output finite and within what float32 allows of its mirror: the coefficients within the constants'
+    ``float32_tolerance`` (1e-5 for the shipped basis) and the Fresnel curve they give within
+    ``float32_curve_tolerance`` (max over μ of |Σ_k (c_GPU − c_mirror)_k b_k(μ)|), the direct-light curves within
+    1e-4, the coordinates within 1e-6; the errors."""
     import numpy as np
 
-    errors = {}
-    for call, got, want in zip(PER_PIXEL_CALLS, outputs, per_pixel_expected(inputs)):
-        got = np.asarray(got, dtype=np.float64)
+    from preintegrate.shaders import direct_fresnel, shader_constants
+
+    constants = shader_constants() if constants is None else constants
+    k, mu = constants.n_terms, np.linspace(0.0, 1.0, 257)
+    errors, bounds = {}, {}
+    for call, got, want in zip(PER_PIXEL_CALLS, outputs, per_pixel_expected(inputs, constants)):
+        got = np.asarray(got, dtype=np.float64)[:, : want.shape[1]]
         assert np.all(np.isfinite(got)), f"{call}: NaN or inf on {where}"
         errors[call] = float(np.max(np.abs(got - want)))
+        bounds[call] = 1e-4 if "Curves" in call else (1e-6 if "LutUV" in call else constants.float32_tolerance)
+        if "Coefficients" in call:
+            difference = direct_fresnel((got - want)[:, None, :k], mu[None, :], constants)
+            errors[f"F of {call}"] = float(np.max(np.abs(difference)))
+            bounds[f"F of {call}"] = constants.float32_curve_tolerance
     for call, error in errors.items():
-        assert error <= (1e-4 if "Curves" in call else 1e-5), (where, call, error, errors)
+        assert error <= bounds[call], (where, call, error, errors)
     return errors
 
 

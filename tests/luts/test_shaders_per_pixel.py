@@ -7,9 +7,11 @@ Python mirrors (preintegrate/shaders.py) and the Python API:
 * WGSL on WebGPU (wgpu on Mesa's lavapipe), the same inputs in a compute shader;
 * HLSL compiled to SPIR-V by glslang's HLSL front end, GLSL also as 4.50 / SPIR-V and ES 3.00.
 
-Tolerances, float32 against float64: coefficients 1e-5 (the exact Fresnel equations in float32, the 2 × 2 inverse
-amplifying by its condition number 4.8), direct-light F 1e-4 against the basis' own spline (the polynomials are
-within 3.1e-5 of it in float64). No output may be NaN or inf, whatever the texel.
+Tolerances, float32 against float64 (``ShaderConstants.float32_tolerance`` and ``float32_curve_tolerance``, which
+the include states): coefficients 1e-5 (the exact Fresnel equations in float32, amplified by the inverse's condition
+number 2.7), the Fresnel curve they give 5e-7 (the solve's Lebesgue constant 1.25), direct-light F 1e-4 against the
+basis' own spline (the polynomials are within 3.1e-5 of it in float64). No output may be NaN or inf, whatever the
+texel. Other sizes of basis: tests/luts/test_shaders_terms.py.
 """
 
 import shutil
