@@ -15,7 +15,8 @@ Error, on the materials each parametrisation is for (max over θ of |ΔF|; max o
 bilinear lookup, against the exact curve's own split sum): the held-out metals of the basis build (400 (η, κ), η 0.1–4, κ 1–8), Gulbrandsen's artist
 grid (r, g), the F82-tint model's sweep (F0, tint).
 
-Run: ``.venv/bin/python -m benchmarks.shader_cost [--width W --height H --frames N --rounds R] [--out FILE]``.
+Run: ``.venv/bin/python -m benchmarks.shader_cost [--width W --height H --frames N --rounds R --repeats M]
+[--out FILE]`` (the report: ``--out report/shader_fresnel.md``).
 """
 
 from __future__ import annotations
@@ -250,21 +251,33 @@ def main(argv=None) -> int:
     parser.add_argument("--height", type=int, default=720)
     parser.add_argument("--frames", type=int, default=4, help="frames per variant per round (default 4)")
     parser.add_argument("--rounds", type=int, default=15, help="rounds alternating the variants (default 15)")
+    parser.add_argument(
+        "--repeats", type=int, default=3, help="whole measurements, each with its own context (default 3)"
+    )
     parser.add_argument("--out", type=Path, default=None, help="also write the Markdown table here")
     arguments = parser.parse_args(argv)
-    times, renderer = frame_times(arguments.width, arguments.height, arguments.frames, arguments.rounds)
+    runs = [
+        frame_times(arguments.width, arguments.height, arguments.frames, arguments.rounds)
+        for _ in range(max(1, arguments.repeats))
+    ]
+    renderer = runs[0][1]
     measured = errors()
     lines = [
         f"Renderer: {renderer}; {arguments.width} x {arguments.height}, median of {arguments.rounds} rounds of "
-        f"{arguments.frames} frames, variants alternated. Command: `python -m benchmarks.shader_cost`.",
+        f"{arguments.frames} frames, variants alternated, {len(runs)} measurements: the median ratio and its range "
+        "over them (the machine is shared: a ratio moves by about 0.1 from one measurement to the next). "
+        "Command: `python -m benchmarks.shader_cost`.",
         "",
-        "| variant | max abs dF over theta | max abs dFbar over the table | ms per frame | cost / Schlick |",
-        "|---|---|---|---|---|",
+        "| variant | max abs dF over theta | max abs dFbar over the table | ms per frame | cost / Schlick | range |",
+        "|---|---|---|---|---|---|",
     ]
-    for name, seconds in times.items():
+    for name in runs[0][0]:
         f_error, fbar_error = measured[name]
+        ratios = [times[name] / times["schlick"] for times, _ in runs]
+        milliseconds = statistics.median(1e3 * times[name] for times, _ in runs)
         lines.append(
-            f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {1e3 * seconds:.2f} | {seconds / times['schlick']:.2f} |"
+            f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {milliseconds:.2f} | {statistics.median(ratios):.2f} "
+            f"| {min(ratios):.2f}-{max(ratios):.2f} |"
         )
     lines += [
         "",

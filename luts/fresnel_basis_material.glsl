@@ -17,7 +17,7 @@
 // on the GPU).
 
 const uint FRESNEL_BASIS_HASH = 0xfb609e12u;  // the first 8 hex digits of fb609e12db5d9a8b
-const vec2 FRESNEL_FIT_MU = vec2(0.0807084485, 0.305816908);  // cos(theta_i) of the fit angles
+const vec2 FRESNEL_FIT_MU_ROOT2 = vec2(0.114138982, 0.432490419);  // sqrt(2) cos(theta_i) of the fit angles
 const vec2 FRESNEL_FIT_MU2 = vec2(0.00651385365, 0.0935239815);  // cos^2
 const vec2 FRESNEL_FIT_SIN2 = vec2(0.993486146, 0.906476019);  // sin^2
 const vec2 FRESNEL_FIT_B1 = vec2(0.583625487, 0.153494185);  // b1 at the fit angles
@@ -98,20 +98,28 @@ vec2 fresnelAtFitAngles(float eta, float kappa2)
     vec2 s = sqrt(t * t + e4);
     vec2 u = s + abs(t);
     vec2 twoA2 = mix(e4 / u, u, greaterThanEqual(t, vec2(0.0)));
-    vec2 twoAMu = 2.0 * FRESNEL_FIT_MU * sqrt(0.5 * twoA2);
+    vec2 twoAMu = FRESNEL_FIT_MU_ROOT2 * sqrt(twoA2);  // 2 a mu
     vec2 r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r / ((s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2)),
+    vec2 den = (s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2);
+    float inverse = 1.0 / (den.x * den.y);
+    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse,
                  0.0, 1.0);
 }
 
-// Four-point coefficients of (eta, kappa^2), already in range: c0 = F(0) in closed form, c1 = F(90) - c0, then the
-// constant inverse.
-vec4 fresnelCoefficientsEtaKappa2(float eta, float kappa2)
+// Coefficients of (eta, kappa^2), already in range, whose F(0) is f0: c0 = f0, c1 = F(90) - c0, then the constant
+// inverse of the fit angles.
+vec4 fresnelCoefficientsSolve(float f0, float eta, float kappa2)
 {
-    float f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
     float f90 = (eta == 1.0 && kappa2 == 0.0) ? 0.0 : 1.0;
     vec2 rest = fresnelAtFitAngles(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1;
     return vec4(f0, f90 - f0, dot(FRESNEL_FIT_INVERSE_0, rest), dot(FRESNEL_FIT_INVERSE_1, rest));
+}
+
+// The same with F(0) in closed form.
+vec4 fresnelCoefficientsEtaKappa2(float eta, float kappa2)
+{
+    return fresnelCoefficientsSolve(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), eta,
+                                    kappa2);
 }
 
 // Four-point coefficients of one channel's (eta, kappa).
@@ -121,12 +129,11 @@ vec4 fresnelCoefficientsNK(float eta, float kappa)
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(eta, 1.5, 1e-4, 1e4), kappa * kappa);
 }
 
-// Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9), with q = sqrt(r): kappa^2 = (r (n + 1)^2 - (n - 1)^2)
-// / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of positive terms (no float32 cancellation).
+// Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9) for r in [0, 0.9999], g in [0, 1], with q = sqrt(r):
+// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of
+// positive terms (no float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
 vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
 {
-    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
-    g = fresnelSanitize(g, 0.0, 0.0, 1.0);
     float q = sqrt(r);
     float over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q), over1pq = 1.0 / (1.0 + q);  // 1/(1 - r) = their product
     float n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
@@ -135,10 +142,12 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
     return vec2(n, g * spread * above);
 }
 
+// Gulbrandsen's F(0) is r itself: no closed-form F(0) needed.
 vec4 fresnelCoefficientsGulbrandsen(float r, float g)
 {
-    vec2 nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
-    return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    vec2 nk2 = fresnelGulbrandsenToEtaKappa2(r, fresnelSanitize(g, 0.0, 0.0, 1.0));
+    return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
 // Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions).

@@ -17,7 +17,7 @@
 // on the GPU).
 
 const FRESNEL_BASIS_HASH: u32 = 0xfb609e12u;  // the first 8 hex digits of fb609e12db5d9a8b
-const FRESNEL_FIT_MU: vec2f = vec2f(0.0807084485, 0.305816908);  // cos(theta_i) of the fit angles
+const FRESNEL_FIT_MU_ROOT2: vec2f = vec2f(0.114138982, 0.432490419);  // sqrt(2) cos(theta_i) of the fit angles
 const FRESNEL_FIT_MU2: vec2f = vec2f(0.00651385365, 0.0935239815);  // cos^2
 const FRESNEL_FIT_SIN2: vec2f = vec2f(0.993486146, 0.906476019);  // sin^2
 const FRESNEL_FIT_B1: vec2f = vec2f(0.583625487, 0.153494185);  // b1 at the fit angles
@@ -91,17 +91,23 @@ fn fresnelAtFitAngles(eta: f32, kappa2: f32) -> vec2f {
     let s = sqrt(t * t + e4);
     let u = s + abs(t);
     let twoA2 = select(e4 / u, u, t >= vec2f(0.0));
-    let twoAMu = 2.0 * FRESNEL_FIT_MU * sqrt(0.5 * twoA2);
+    let twoAMu = FRESNEL_FIT_MU_ROOT2 * sqrt(twoA2);
     let r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r / ((s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2)),
+    let den = (s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2);
+    let inverse = 1.0 / (den.x * den.y);
+    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse,
                  vec2f(0.0), vec2f(1.0));
 }
 
-fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> vec4f {
-    let f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
+fn fresnelCoefficientsSolve(f0: f32, eta: f32, kappa2: f32) -> vec4f {
     let f90 = select(1.0, 0.0, eta == 1.0 && kappa2 == 0.0);
     let rest = fresnelAtFitAngles(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1;
     return vec4f(f0, f90 - f0, dot(FRESNEL_FIT_INVERSE_0, rest), dot(FRESNEL_FIT_INVERSE_1, rest));
+}
+
+fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> vec4f {
+    return fresnelCoefficientsSolve(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), eta,
+                                    kappa2);
 }
 
 fn fresnelCoefficientsNK(etaIn: f32, kappaIn: f32) -> vec4f {
@@ -109,9 +115,7 @@ fn fresnelCoefficientsNK(etaIn: f32, kappaIn: f32) -> vec4f {
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(etaIn, 1.5, 1e-4, 1e4), kappa * kappa);
 }
 
-fn fresnelGulbrandsenToEtaKappa2(rIn: f32, gIn: f32) -> vec2f {
-    let r = fresnelSanitize(rIn, 0.0, 0.0, 0.9999);
-    let g = fresnelSanitize(gIn, 0.0, 0.0, 1.0);
+fn fresnelGulbrandsenToEtaKappa2(r: f32, g: f32) -> vec2f {
     let q = sqrt(r);
     let over1pr = 1.0 / (1.0 + r);
     let over1mq = 1.0 / (1.0 - q);
@@ -122,9 +126,10 @@ fn fresnelGulbrandsenToEtaKappa2(rIn: f32, gIn: f32) -> vec2f {
     return vec2f(n, g * spread * above);
 }
 
-fn fresnelCoefficientsGulbrandsen(r: f32, g: f32) -> vec4f {
-    let nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
-    return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
+fn fresnelCoefficientsGulbrandsen(rIn: f32, gIn: f32) -> vec4f {
+    let r = fresnelSanitize(rIn, 0.0, 0.0, 0.9999);
+    let nk2 = fresnelGulbrandsenToEtaKappa2(r, fresnelSanitize(gIn, 0.0, 0.0, 1.0));
+    return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
 fn fresnelCoefficientsLinear(w0: f32, w1: f32, w2: f32) -> vec4f {

@@ -267,7 +267,7 @@ def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: Shade
     u = s + np.abs(t)
     with np.errstate(divide="ignore", invalid="ignore"):
         two_a2 = np.where(t >= 0.0, u, e4 / u)
-    two_a_mu = 2.0 * mu * np.sqrt(0.5 * two_a2)
+    two_a_mu = np.sqrt(2.0) * mu * np.sqrt(two_a2)
     r = s * mu2 + sin2 * sin2
     return np.clip((s + mu2 - two_a_mu) * r / ((s + mu2 + two_a_mu) * (r + two_a_mu * sin2)), 0.0, 1.0)
 
@@ -279,9 +279,15 @@ def coefficients_per_pixel_nk(eta, kappa, constants: ShaderConstants | None = No
 
 
 def _coefficients_eta_kappa2(eta: np.ndarray, kappa2: np.ndarray, constants: ShaderConstants | None) -> np.ndarray:
-    """``fresnelCoefficientsEtaKappa2``: the four-point solve of (η, κ²) in range."""
+    """``fresnelCoefficientsEtaKappa2``: the K-point solve of (η, κ²) in range, F(0) in closed form."""
+    return _coefficients_solve(((eta - 1.0) ** 2 + kappa2) / ((eta + 1.0) ** 2 + kappa2), eta, kappa2, constants)
+
+
+def _coefficients_solve(
+    f0: np.ndarray, eta: np.ndarray, kappa2: np.ndarray, constants: ShaderConstants | None
+) -> np.ndarray:
+    """``fresnelCoefficientsSolve``: c0 = F(0) = ``f0``, c1 = F(90°) − c0, the rest through the constant inverse."""
     constants = shader_constants() if constants is None else constants
-    f0 = ((eta - 1.0) ** 2 + kappa2) / ((eta + 1.0) ** 2 + kappa2)
     f90 = np.where((eta == 1.0) & (kappa2 == 0.0), 0.0, 1.0)
     samples = _fresnel_at_fit_angles(eta, kappa2, constants)  # (…, 2)
     rest = samples - f0[..., None] - (f90 - f0)[..., None] * constants.fit_b1
@@ -293,7 +299,9 @@ def _gulbrandsen_eta_kappa2(reflectivity: np.ndarray, edge_tint: np.ndarray) -> 
     """Gulbrandsen 2014 eq. 7-9 as the shaders write it. With q = √r, n = g n_min + (1 − g) n_max and
     κ² = (r (n + 1)² − (n − 1)²)/(1 − r) factors exactly into g (n_max − n_min)(n − 1/n_max), each factor a sum of
     positive terms: n_max − n_min = 2q (1 + q)/((1 − q)(1 + r)), n − 1/n_max = g 2q (1 − q)/((1 + r)(1 + q))
-    + (1 − g) 4q/(1 − r). Float32 then holds κ where the textbook form cancels (r → 0 with g → 1: 6e-4 in c2)."""
+    + (1 − g) 4q/(1 − r). Float32 then holds κ where the textbook form cancels (r → 0 with g → 1: 6e-4 in c2), and
+    n_max = (1 + q)/(1 − q) holds n − 1 (which F depends on as r → 0) to a few ulps: (1 + q)²/(1 − r) misses the
+    Fresnel curve by 5.9e-7 at r = 1e-7 in float32, this by 3.4e-7 at worst."""
     g, r = edge_tint, reflectivity
     q = np.sqrt(r)
     over_1pr, over_1mq, over_1pq = 1.0 / (1.0 + r), 1.0 / (1.0 - q), 1.0 / (1.0 + q)  # 1/(1 − r) = their product
@@ -305,8 +313,9 @@ def _gulbrandsen_eta_kappa2(reflectivity: np.ndarray, edge_tint: np.ndarray) -> 
 
 def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: ShaderConstants | None = None) -> np.ndarray:
     """(…, 4) coefficients of (r, g) texels, as ``fresnelCoefficientsGulbrandsen`` computes them."""
-    reflectivity, edge_tint = sanitize_gulbrandsen(reflectivity, edge_tint)
-    return _coefficients_eta_kappa2(*_gulbrandsen_eta_kappa2(*np.broadcast_arrays(reflectivity, edge_tint)), constants)
+    reflectivity, edge_tint = np.broadcast_arrays(*sanitize_gulbrandsen(reflectivity, edge_tint))
+    # Gulbrandsen's mapping is built so that F(0) = r: the shaders skip the closed form
+    return _coefficients_solve(reflectivity, *_gulbrandsen_eta_kappa2(reflectivity, edge_tint), constants)
 
 
 def _model_weights(model: str, parameters: dict[str, np.ndarray]) -> np.ndarray:
@@ -489,7 +498,7 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
         mu = c.fit_mu[part]
         width = len(mu)
         lines += [
-            sp.constant(f"FRESNEL_FIT_MU{suffix}", mu, "cos(theta_i) of the fit angles"),
+            sp.constant(f"FRESNEL_FIT_MU_ROOT2{suffix}", np.sqrt(2.0) * mu, "sqrt(2) cos(theta_i) of the fit angles"),
             sp.constant(f"FRESNEL_FIT_MU2{suffix}", mu**2, "cos^2"),
             sp.constant(f"FRESNEL_FIT_SIN2{suffix}", (1.0 - mu) * (1.0 + mu), "sin^2"),
             sp.constant(f"FRESNEL_FIT_B1{suffix}", c.fit_b1[part], "b1 at the fit angles"),
@@ -497,11 +506,20 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
         name = "fresnelAtFitAngles" + ("Hi" if suffix else "")
         kind, m, m2, s2 = (
             sp.type(width),
-            f"FRESNEL_FIT_MU{suffix}",
+            f"FRESNEL_FIT_MU_ROOT2{suffix}",
             f"FRESNEL_FIT_MU2{suffix}",
             f"FRESNEL_FIT_SIN2{suffix}",
         )
-        result = f"(s + {m2} - twoAMu) * r / ((s + {m2} + twoAMu) * (r + twoAMu * {s2}))"
+        numerator, denominator = f"(s + {m2} - twoAMu) * r", f"(s + {m2} + twoAMu) * (r + twoAMu * {s2})"
+        if width == 2:  # one division for both angles: den.x den.y < 1e31 over the documented (η, κ)
+            declare = "let" if sp.language == "wgsl" else kind
+            quotient = (
+                f"    {declare} den = {denominator};\n"
+                f"    {'let' if sp.language == 'wgsl' else 'float'} inverse = 1.0 / (den.x * den.y);\n"
+            )
+            result = f"{numerator} * den.yx * inverse"
+        else:
+            quotient, result = "", f"{numerator} / ({denominator})"
         if sp.language == "wgsl":
             functions.append(
                 f"fn {name}(eta: f32, kappa2: f32) -> {kind} {{\n"
@@ -512,8 +530,8 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
                 "    let s = sqrt(t * t + e4);\n"
                 "    let u = s + abs(t);\n"
                 f"    let twoA2 = select(e4 / u, u, t >= {kind}(0.0));\n"
-                f"    let twoAMu = 2.0 * {m} * sqrt(0.5 * twoA2);\n"
-                f"    let r = s * {m2} + {s2} * {s2};\n"
+                f"    let twoAMu = {m} * sqrt(twoA2);\n"
+                f"    let r = s * {m2} + {s2} * {s2};\n{quotient}"
                 f"    return clamp({result},\n                 {kind}(0.0), {kind}(1.0));\n}}\n"
             )
         else:
@@ -531,8 +549,8 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
                 f"    {kind} s = sqrt(t * t + e4);\n"
                 f"    {kind} u = s + abs(t);\n"
                 f"    {kind} twoA2 = {select};\n"
-                f"    {kind} twoAMu = 2.0 * {m} * sqrt(0.5 * twoA2);\n"
-                f"    {kind} r = s * {m2} + {s2} * {s2};\n"
+                f"    {kind} twoAMu = {m} * sqrt(twoA2);  // 2 a mu\n"
+                f"    {kind} r = s * {m2} + {s2} * {s2};\n{quotient}"
                 f"    return clamp({result},\n                 0.0, 1.0);\n}}\n"
             )
         rest = "rest" + ("Hi" if suffix else "")
@@ -740,13 +758,19 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 // Exact Fresnel at the fit angles, the angle terms constant: F = (s + mu^2 - 2a mu) r /
 // ((s + mu^2 + 2a mu)(r + 2a mu sin^2)), r = s mu^2 + sin^4 (Hoffman's Fs times (1 + Fp/Fs) / 2: one division).
 {fit_functions}
-// Four-point coefficients of (eta, kappa^2), already in range: c0 = F(0) in closed form, c1 = F(90) - c0, then the
-// constant inverse.
-{T} fresnelCoefficientsEtaKappa2({f} eta, {f} kappa2)
+// Coefficients of (eta, kappa^2), already in range, whose F(0) is f0: c0 = f0, c1 = F(90) - c0, then the constant
+// inverse of the fit angles.
+{T} fresnelCoefficientsSolve({f} f0, {f} eta, {f} kappa2)
 {{
-    {f} f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
     {f} f90 = (eta == 1.0 && kappa2 == 0.0) ? 0.0 : 1.0;
 {solve}}}
+
+// The same with F(0) in closed form.
+{T} fresnelCoefficientsEtaKappa2({f} eta, {f} kappa2)
+{{
+    return fresnelCoefficientsSolve(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), eta,
+                                    kappa2);
+}}
 
 // Four-point coefficients of one channel's (eta, kappa).
 {T} fresnelCoefficientsNK({f} eta, {f} kappa)
@@ -755,12 +779,11 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(eta, 1.5, 1e-4, 1e4), kappa * kappa);
 }}
 
-// Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9), with q = sqrt(r): kappa^2 = (r (n + 1)^2 - (n - 1)^2)
-// / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of positive terms (no float32 cancellation).
+// Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9) for r in [0, 0.9999], g in [0, 1], with q = sqrt(r):
+// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of
+// positive terms (no float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
 {v2} fresnelGulbrandsenToEtaKappa2({f} r, {f} g)
 {{
-    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
-    g = fresnelSanitize(g, 0.0, 0.0, 1.0);
     {f} q = sqrt(r);
     {f} over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q), over1pq = 1.0 / (1.0 + q);  // 1/(1 - r) = their product
     {f} n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
@@ -769,10 +792,12 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return {v2}(n, g * spread * above);
 }}
 
+// Gulbrandsen's F(0) is r itself: no closed-form F(0) needed.
 {T} fresnelCoefficientsGulbrandsen({f} r, {f} g)
 {{
-    {v2} nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
-    return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    {v2} nk2 = fresnelGulbrandsenToEtaKappa2(r, fresnelSanitize(g, 0.0, 0.0, 1.0));
+    return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }}
 
 // Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions).
@@ -943,19 +968,21 @@ fn fresnelExact(mu: f32, eta: f32, kappa: f32) -> f32 {{
 }}
 
 {fit_functions}
-fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> {T} {{
-    let f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
+fn fresnelCoefficientsSolve(f0: f32, eta: f32, kappa2: f32) -> {T} {{
     let f90 = select(1.0, 0.0, eta == 1.0 && kappa2 == 0.0);
 {solve}}}
+
+fn fresnelCoefficientsEtaKappa2(eta: f32, kappa2: f32) -> {T} {{
+    return fresnelCoefficientsSolve(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), eta,
+                                    kappa2);
+}}
 
 fn fresnelCoefficientsNK(etaIn: f32, kappaIn: f32) -> {T} {{
     let kappa = fresnelSanitize(kappaIn, 0.0, 0.0, 1e4);
     return fresnelCoefficientsEtaKappa2(fresnelSanitize(etaIn, 1.5, 1e-4, 1e4), kappa * kappa);
 }}
 
-fn fresnelGulbrandsenToEtaKappa2(rIn: f32, gIn: f32) -> vec2f {{
-    let r = fresnelSanitize(rIn, 0.0, 0.0, 0.9999);
-    let g = fresnelSanitize(gIn, 0.0, 0.0, 1.0);
+fn fresnelGulbrandsenToEtaKappa2(r: f32, g: f32) -> vec2f {{
     let q = sqrt(r);
     let over1pr = 1.0 / (1.0 + r);
     let over1mq = 1.0 / (1.0 - q);
@@ -966,9 +993,10 @@ fn fresnelGulbrandsenToEtaKappa2(rIn: f32, gIn: f32) -> vec2f {{
     return vec2f(n, g * spread * above);
 }}
 
-fn fresnelCoefficientsGulbrandsen(r: f32, g: f32) -> {T} {{
-    let nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
-    return fresnelCoefficientsEtaKappa2(nk2.x, nk2.y);
+fn fresnelCoefficientsGulbrandsen(rIn: f32, gIn: f32) -> {T} {{
+    let r = fresnelSanitize(rIn, 0.0, 0.0, 0.9999);
+    let nk2 = fresnelGulbrandsenToEtaKappa2(r, fresnelSanitize(gIn, 0.0, 0.0, 1.0));
+    return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }}
 
 fn fresnelCoefficientsLinear(w0: f32, w1: f32, w2: f32) -> {T} {{
