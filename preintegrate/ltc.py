@@ -1,0 +1,407 @@
+"""Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
+
+Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``LtcFit``, ``fit_ltc``, ``ltc_table``, ``ltc_inverse``,
+``ltc_density``, ``target_lobe``, ``lobe_error``, ``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
+
+A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
+D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
+D(ω) = D_o(ω_o) |det M⁻¹| / |M⁻¹ω|³. Its integral over a polygon P is the clamped-cosine integral over M⁻¹P:
+Lambert's closed form (Heitz 2016 eq. 11; Arvo 1995) Σ_edges (p̂_i × p̂_j)_z θ_ij / (2π sin θ_ij), after clipping
+M⁻¹P to the upper hemisphere (done exactly here, edge by edge, with the horizon edge from the exit to the entry
+point; Heitz 2016 §5.2). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|p̂_i × p̂_j|, which float32 holds for short
+edges where acos does not.
+
+The fit. For an isotropic BRDF seen in the xz plane, M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 §4.2: four
+free entries). Per texel (μo, r) of a :class:`~preintegrate.lut.LutGrid` (α = r²), (a, b, c, d) minimise the L2
+distance ∫ (f̂ − D)² dω to the normalised cosine-weighted GGX lobe f̂(ω_i) = D_GGX(h) G2(μo, μi) / (4 μo E(μo, α))
+(no Fresnel: the split sum supplies it, Heitz 2016 §4.4), on a fixed set of directions, so the fit is
+deterministic: a grid of visible-normal samples of the lobe (Heitz 2018) and a grid of the sphere, weighted by the
+balance heuristic. Levenberg-Marquardt on (log a, b, log c, d), all rows of a column at once, from normal to grazing
+incidence, each column starting from the one before (the public fit, ``fitLTC.cpp``, also starts each texel from
+its neighbour; it minimises an L3 error by Nelder-Mead on random samples).
+
+Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m02, m20, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
+so the scale is free): the layout of the public tables (three.js ``ltc_1``), on this project's axes (column μo,
+row r, texel centres), so ``fresnelBasisLutUV`` addresses it as it does the split-sum tables.
+
+The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
+(∫_P D dω) × ∫_Ω f F cos dω, the second factor the split sum Σ_k c_k b̄_k(μo, r) of the basis table: the LTC
+matrices do not depend on Fresnel, so one table of them serves every material.
+
+References
+----------
+:cite:`Heitz2016` E. Heitz, J. Dupuy, S. Hill, D. Neubelt, "Real-Time Polygonal-Light Shading with Linearly
+Transformed Cosines", ACM TOG 35(4), 2016, eq. 1-3, 11 and §4-5. :cite:`Heitz2018` "Sampling the GGX Distribution of
+Visible Normals", JCGT 7(4). :cite:`Arvo1995` "Applications of Irradiance Tensors to the Simulation of Non-Lambertian
+Phenomena", SIGGRAPH 1995.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from basis.parallel import one_blas_thread, worker_count
+from basis.validation import ParameterError, as_float_array
+
+from .ggx import ndf, sample_vndf, view_vector, visibility_g2
+from .lut import LutGrid
+from .quadrature import directional_albedo
+
+__all__ = [
+    "LTC_CHANNELS",
+    "LTC_LUT",
+    "LtcFit",
+    "fit_ltc",
+    "lobe_error",
+    "ltc_density",
+    "ltc_inverse",
+    "ltc_table",
+    "polygon_integral",
+    "rect_light_integral",
+    "shading_frame",
+    "target_lobe",
+]
+
+LTC_LUT = "ggx_ltc.exr"
+#: The stored entries of M⁻¹ / (M⁻¹)₁₁, in RGBA order.
+LTC_CHANNELS = ("m00", "m02", "m20", "m22")
+_FIT_GRID = 24  # per axis of each direction grid: 2 × 24² directions per texel for the fit
+_ERROR_GRID = 64  # and 2 × 64² for the lobe error reported
+_ITERATIONS_FIRST, _ITERATIONS = 80, 30
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class LtcFit:
+    """A fitted table: ``parameters`` (H, W, 4) = (a, b, c, d) of M, ``inverse`` (H, W, 4) = the stored
+    (m00, m02, m20, m22) of M⁻¹ / (M⁻¹)₁₁, ``error`` (H, W) = ½∫|f̂ − D| dω per texel, on ``grid``."""
+
+    grid: LutGrid
+    parameters: np.ndarray
+    inverse: np.ndarray
+    error: np.ndarray
+
+
+def _midpoints(count: int) -> np.ndarray:
+    return (np.arange(count) + 0.5) / count
+
+
+def _sphere_grid(count: int) -> np.ndarray:
+    """(count², 3) directions uniform in z ∈ (−1, 1) and φ: equal-area cells of the sphere."""
+    z, phi = np.meshgrid(1.0 - 2.0 * _midpoints(count), 2.0 * np.pi * _midpoints(count), indexing="ij")
+    radius = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    return np.stack([radius * np.cos(phi), radius * np.sin(phi), z], axis=-1).reshape(-1, 3)
+
+
+def target_lobe(omega_i, mu_o, alpha, albedo, visibility: str = "height-correlated") -> np.ndarray:
+    """f̂(ω_i) = D(h) G2(μo, μi) / (4 μo E): the cosine-weighted GGX lobe without Fresnel, normalised by its
+    directional albedo ``albedo`` = E(μo, α); 0 below the horizon. ``omega_i`` (…, 3), the rest broadcast."""
+    omega_i = np.asarray(omega_i, dtype=np.float64)
+    mu_o = np.asarray(mu_o, dtype=np.float64)
+    omega_o = view_vector(mu_o)
+    half = omega_o + omega_i
+    length = np.linalg.norm(half, axis=-1)
+    mu_h = half[..., 2] / np.where(length > 0.0, length, 1.0)
+    mu_i = omega_i[..., 2]
+    value = ndf(mu_h, alpha) * visibility_g2(visibility)(mu_o, mu_i, alpha) / (4.0 * mu_o * albedo)
+    return np.where((mu_i > 0.0) & (length > 0.0), value, 0.0)
+
+
+def _lobe_pdf(omega_i, mu_o, alpha) -> np.ndarray:
+    """Density of ω_i reflected about a visible normal (Heitz 2018): D(h) G1(μo) / (4 μo)."""
+    from .ggx import g1
+
+    omega_o = view_vector(np.asarray(mu_o, dtype=np.float64))
+    half = omega_o + omega_i
+    length = np.linalg.norm(half, axis=-1)
+    mu_h = half[..., 2] / np.where(length > 0.0, length, 1.0)
+    return np.where(length > 0.0, ndf(mu_h, alpha) * g1(mu_o, alpha) / (4.0 * mu_o), 0.0)
+
+
+def _directions(mu_o: np.ndarray, alpha: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """(T, N, 3) directions and (T, N) weights 1/(N pdf) of the fit's fixed set for T texels: count² reflected
+    visible normals and count² cells of the sphere, balance heuristic."""
+    u1, u2 = (grid.reshape(-1) for grid in np.meshgrid(_midpoints(count), _midpoints(count), indexing="ij"))
+    omega_o = view_vector(mu_o)[:, None, :]
+    half = sample_vndf(omega_o, alpha[:, None], u1[None, :], u2[None, :])
+    reflected = 2.0 * np.sum(omega_o * half, axis=-1, keepdims=True) * half - omega_o
+    sphere = np.broadcast_to(_sphere_grid(count)[None], (len(mu_o), count * count, 3))
+    directions = np.concatenate([reflected, sphere], axis=1)
+    pdf = 0.5 * _lobe_pdf(directions, mu_o[:, None], alpha[:, None]) + 0.5 / (4.0 * np.pi)
+    return directions, 1.0 / (directions.shape[1] * pdf)
+
+
+def _matrix_inverse(parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(…, 3, 3) M⁻¹ of (a, b, c, d) and |det M⁻¹|; M = [[a, 0, b], [0, c, 0], [d, 0, 1]]."""
+    a, b, c, d = np.moveaxis(parameters, -1, 0)
+    pivot = a - b * d
+    zero = np.zeros_like(a)
+    inverse = np.stack(
+        [
+            np.stack([1.0 / pivot, zero, -b / pivot], axis=-1),
+            np.stack([zero, 1.0 / c, zero], axis=-1),
+            np.stack([-d / pivot, zero, a / pivot], axis=-1),
+        ],
+        axis=-2,
+    )
+    return inverse, np.abs(1.0 / (c * pivot))
+
+
+def ltc_density(omega, parameters) -> np.ndarray:
+    """D(ω) of the LTC with M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 eq. 1-3): ``omega`` (…, N, 3),
+    ``parameters`` (…, 4) = (a, b, c, d) with c > 0 and a − b d > 0. With p = a − b d, M⁻¹ω =
+    ((x − b z)/p, y/c, (a z − d x)/p) and |det M⁻¹| = 1/(c p)."""
+    omega = np.asarray(omega, dtype=np.float64)
+    a, b, c, d = (value[..., None] for value in np.moveaxis(np.asarray(parameters, dtype=np.float64), -1, 0))
+    x, y, z = omega[..., 0], omega[..., 1], omega[..., 2]
+    pivot = a - b * d
+    local_x, local_y, local_z = (x - b * z) / pivot, y / c, (a * z - d * x) / pivot
+    length2 = local_x * local_x + local_y * local_y + local_z * local_z
+    return np.maximum(local_z, 0.0) / (np.pi * np.abs(c * pivot) * length2 * length2)
+
+
+def _unpack(free: np.ndarray) -> np.ndarray:
+    return np.stack([np.exp(free[..., 0]), free[..., 1], np.exp(free[..., 2]), free[..., 3]], axis=-1)
+
+
+def _residuals(free, directions, weights, target) -> np.ndarray:
+    with np.errstate(over="ignore"):  # a trial step out of range: its residuals are inf and it is refused
+        parameters = _unpack(free)
+    valid = parameters[..., 0] - parameters[..., 1] * parameters[..., 3] > 1e-12 * parameters[..., 0]
+    safe = np.where(valid[..., None], parameters, np.array([1.0, 0.0, 1.0, 0.0]))
+    residual = np.sqrt(weights) * (target - ltc_density(directions, safe))
+    return np.where(valid[..., None], residual, np.inf)
+
+
+def _levenberg_marquardt(free, directions, weights, target, iterations: int) -> np.ndarray:
+    """Minimise Σ residual² for every texel at once (T, 4) → (T, 4); forward-difference Jacobians. A texel stops
+    when a step gains less than 1e-10 of its cost or its damping passes 1e10, so each texel's path depends on
+    itself alone (the rows can be split among threads without changing a bit)."""
+    damping = np.full(free.shape[0], 1e-3)
+    residual = _residuals(free, directions, weights, target)
+    cost = np.sum(residual * residual, axis=-1)
+    active = np.isfinite(cost)
+    for _ in range(iterations):
+        if not np.any(active):
+            break
+        step = 1e-6 * np.maximum(1.0, np.abs(free))
+        jacobian = np.stack(
+            [
+                (_residuals(free + step[:, k : k + 1] * np.eye(4)[k], directions, weights, target) - residual)
+                / step[:, k : k + 1]
+                for k in range(4)
+            ],
+            axis=-1,
+        )  # (T, N, 4)
+        jacobian = np.where(np.isfinite(jacobian), jacobian, 0.0)
+        normal = np.einsum("tni,tnj->tij", jacobian, jacobian)
+        gradient = np.einsum("tni,tn->ti", jacobian, residual)
+        damped = normal + damping[:, None, None] * (np.eye(4) * np.diagonal(normal, axis1=1, axis2=2)[:, None, :])
+        damped += 1e-300 * np.eye(4)
+        delta = -np.linalg.solve(damped, gradient[..., None])[..., 0]
+        trial = free + delta
+        trial_residual = _residuals(trial, directions, weights, target)
+        trial_cost = np.sum(trial_residual * trial_residual, axis=-1)
+        better = active & (trial_cost < cost)
+        gain = np.where(better, cost - trial_cost, 0.0)
+        free = np.where(better[:, None], trial, free)
+        residual = np.where(better[:, None], trial_residual, residual)
+        cost = np.where(better, trial_cost, cost)
+        damping = np.where(better, damping / 3.0, np.where(active, damping * 4.0, damping))
+        active &= ~((better & (gain <= 1e-10 * cost)) | (damping > 1e10))
+    return free
+
+
+def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations):
+    """Fit the texels of one column's rows (T,) from ``start`` (T, 4) or the aligned guess."""
+    directions, weights = _directions(mu_o, alpha, _FIT_GRID)
+    target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[:, None], visibility)
+    guess = _aligned_guess(directions, weights, target, np.clip(2.0 * alpha, 1e-5, 1.0))
+    if start is not None:  # the previous column's fit where it starts closer (a narrow lobe moves away from it)
+        costs = [
+            np.sum(_residuals(candidate, directions, weights, target) ** 2, axis=-1) for candidate in (start, guess)
+        ]
+        guess = np.where((costs[0] <= costs[1])[:, None], start, guess)
+    return _levenberg_marquardt(guess, directions, weights, target, iterations)
+
+
+def lobe_error(parameters, grid: LutGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
+    """(H, W) half the L1 distance ½∫|f̂ − D| dω between the target lobe and the LTC of ``parameters`` (H, W, 4),
+    on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint)."""
+    albedo = _albedo(grid) if albedo is None else albedo
+    errors = np.empty((grid.height, grid.width))
+    for j in range(grid.height):
+        alpha = np.full(grid.width, grid.alpha[j])
+        directions, weights = _directions(grid.mu_o, alpha, count)
+        target = target_lobe(directions, grid.mu_o[:, None], alpha[:, None], albedo[j][:, None], grid.visibility)
+        density = ltc_density(directions, parameters[j])
+        errors[j] = 0.5 * np.sum(weights * np.abs(target - density), axis=-1)
+    return errors
+
+
+def _albedo(grid: LutGrid) -> np.ndarray:
+    """(H, W) E(μo, α) with F = 1, by the project's quadrature (3e-8 against an independent integral)."""
+    return directional_albedo(
+        lambda x: np.ones(np.shape(x) + (1,)),
+        grid.mu_o[None, :],
+        grid.alpha[:, None],
+        visibility=grid.visibility,
+        workers=1,
+    )[..., 0]
+
+
+def _aligned_guess(directions, weights, target, spread) -> np.ndarray:
+    """(T, 4) free parameters of M = R_y(θ) diag(s, s, 1) normalised to m22 = 1, θ the polar angle (signed, in the
+    xz plane) of the target lobe's mean direction: a = s, b = tan θ, c = s / cos θ, d = −s tan θ."""
+    mean = np.sum((weights * target)[..., None] * directions, axis=1)
+    theta = np.arctan2(mean[:, 0], np.maximum(mean[:, 2], 1e-9))
+    tangent = np.tan(theta)
+    return np.stack([np.log(spread), tangent, np.log(spread / np.cos(theta)), -spread * tangent], axis=-1)
+
+
+def fit_ltc(
+    grid: LutGrid | None = None, progress: Callable[[int, int], None] | None = None, workers: int | None = None
+) -> LtcFit:
+    """The LTC of every texel of ``grid`` (default 64 × 64, rows at texel centres, height-correlated G2), the rows
+    of each column shared among ``workers`` threads (default: the machine's cores; the result is the same)."""
+    grid = LutGrid(64, 64) if grid is None else grid
+    if not isinstance(grid, LutGrid):
+        raise ParameterError(f"grid must be a LutGrid, got {type(grid).__name__}")
+    albedo = _albedo(grid)
+    alpha = grid.alpha
+    fitted = np.empty((grid.height, grid.width, 4))
+    chunks = np.array_split(np.arange(grid.height), min(grid.height, 4 * worker_count(workers)))
+    free = None
+    with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
+        for step, column in enumerate(range(grid.width - 1, -1, -1)):  # normal incidence first
+            mu_o = np.full(grid.height, grid.mu_o[column])
+            iterations = _ITERATIONS_FIRST if step == 0 else _ITERATIONS
+            parts = pool.map(
+                lambda rows: _fit_rows(
+                    mu_o[rows],
+                    alpha[rows],
+                    albedo[rows, column],
+                    grid.visibility,
+                    None if free is None else free[rows],
+                    iterations,
+                ),
+                chunks,
+            )
+            free = np.concatenate(list(parts))
+            fitted[:, column] = _unpack(free)
+            if progress is not None:
+                progress(step + 1, grid.width + 1)
+    inverse, _ = _matrix_inverse(fitted)
+    stored = np.stack([inverse[..., 0, 0], inverse[..., 0, 2], inverse[..., 2, 0], inverse[..., 2, 2]], axis=-1)
+    stored /= inverse[..., 1, 1][..., None]
+    error = lobe_error(fitted, grid, albedo)
+    if progress is not None:
+        progress(grid.width + 1, grid.width + 1)
+    return LtcFit(grid, fitted, stored, error)
+
+
+def ltc_inverse(stored) -> np.ndarray:
+    """(…, 3, 3) M⁻¹ (up to scale) from the stored (…, 4) = (m00, m02, m20, m22): [[m00, 0, m02], [0, 1, 0],
+    [m20, 0, m22]], as the shaders build it."""
+    stored = as_float_array("stored", stored)
+    m00, m02, m20, m22 = np.moveaxis(stored, -1, 0)
+    zero, one = np.zeros_like(m00), np.ones_like(m00)
+    return np.stack(
+        [np.stack([m00, zero, m02], -1), np.stack([zero, one, zero], -1), np.stack([m20, zero, m22], -1)], -2
+    )
+
+
+def _edge(p, q) -> np.ndarray:
+    """Lambert's edge term (p̂ × q̂)_z θ / sin θ, θ the angle between p and q (Heitz 2016 eq. 11 without 1/2π)."""
+    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    cross = np.cross(p, q)
+    sine = np.linalg.norm(cross, axis=-1)
+    cosine = np.sum(p * q, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(sine > 1e-12, np.arctan2(sine, cosine) / sine, 1.0)
+    return cross[..., 2] * ratio
+
+
+def polygon_integral(vertices) -> np.ndarray:
+    """∫ of the clamped cosine max(0, z)/π over the spherical polygon of ``vertices`` (…, V, 3) (directions from
+    the origin; the polygon clipped to z ≥ 0 edge by edge): Lambert's formula (Heitz 2016 eq. 11). Positive when
+    the vertices turn counter-clockwise seen from the origin, i.e. (v1 − v0) × (v3 − v0) points towards it: the
+    winding three.js gives a rectangular light that faces the shaded point."""
+    vertices = as_float_array("vertices", vertices)
+    if vertices.ndim < 2 or vertices.shape[-1] != 3 or vertices.shape[-2] < 3:
+        raise ParameterError(f"vertices must be (..., V >= 3, 3), got shape {vertices.shape}")
+    p = vertices
+    q = np.roll(vertices, -1, axis=-2)
+    above_p, above_q = p[..., 2] >= 0.0, q[..., 2] >= 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = p[..., 2] / (p[..., 2] - q[..., 2])
+    crossing = p + np.where(np.isfinite(t), t, 0.0)[..., None] * (q - p)
+    start = np.where(above_p[..., None], p, crossing)
+    end = np.where(above_q[..., None], q, crossing)
+    kept = above_p | above_q
+    total = np.sum(np.where(kept, _edge(start, end), 0.0), axis=-1)
+    exits = above_p & ~above_q  # the clipped polygon runs along the horizon from its exit to its entry point
+    entries = ~above_p & above_q
+    exit_point = np.sum(np.where(exits[..., None], crossing, 0.0), axis=-2)
+    entry_point = np.sum(np.where(entries[..., None], crossing, 0.0), axis=-2)
+    has_horizon = np.any(exits, axis=-1) & np.any(entries, axis=-1)
+    safe_exit = np.where(has_horizon[..., None], exit_point, np.array([1.0, 0.0, 0.0]))
+    safe_entry = np.where(has_horizon[..., None], entry_point, np.array([0.0, 1.0, 0.0]))
+    total = total + np.where(has_horizon, _edge(safe_exit, safe_entry), 0.0)
+    return -total / (2.0 * np.pi)
+
+
+def shading_frame(normal, view) -> np.ndarray:
+    """(…, 3, 3) rows T1, T2, N: the local frame in which the view lies in the xz plane (T1 along the view's
+    tangential part; any tangent where the view is the normal)."""
+    normal = as_float_array("normal", normal)
+    view = as_float_array("view", view)
+    tangent = view - normal * np.sum(view * normal, axis=-1, keepdims=True)
+    length = np.linalg.norm(tangent, axis=-1, keepdims=True)
+    fallback = np.cross(normal, np.where(np.abs(normal[..., :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
+    fallback /= np.linalg.norm(fallback, axis=-1, keepdims=True)
+    t1 = np.where(length > 1e-7, tangent / np.where(length > 0.0, length, 1.0), fallback)
+    t2 = np.cross(normal, t1)
+    return np.stack([t1, t2, normal], axis=-2)
+
+
+def rect_light_integral(stored, normal, view, position, corners) -> np.ndarray:
+    """∫_P D dω of the LTC of ``stored`` (…, 4) (one texel's M⁻¹ entries, as fetched) over the quad ``corners``
+    (…, 4, 3) seen from ``position`` (…, 3) with ``normal`` and ``view`` (…, 3): one-sided (0 from behind), what
+    the shaders' ``fresnelRectLightLtc`` computes."""
+    frame = shading_frame(normal, view)
+    local = np.einsum(
+        "...ij,...vj->...vi", frame, as_float_array("corners", corners) - np.asarray(position)[..., None, :]
+    )
+    transformed = np.einsum("...ij,...vj->...vi", ltc_inverse(stored), local)
+    return np.maximum(polygon_integral(transformed), 0.0)
+
+
+def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc"):
+    """The :class:`~preintegrate.tables.Table`-ready parts of a fit: values (H, W, 4), channel names, header."""
+    from .lut import GENERATOR
+
+    grid = fit.grid
+    header = {
+        "convention": grid.convention.replace(
+            "values are directional albedos Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, "
+            "omega_i) * cos(theta_i) d omega_i",
+            "values are the entries (m00, m02, m20, m22) of M^-1 / M^-1[1][1] of the linearly transformed cosine "
+            "fitted to rho_GGX(omega_o, omega_i) cos(theta_i) / E (Heitz 2016; M^-1 = [[m00, 0, m02], [0, 1, 0], "
+            "[m20, 0, m22]] in the frame T1 = tangential part of the view, T2 = N x T1, N)",
+        ),
+        "width": str(grid.width),
+        "height": str(grid.height),
+        "generator": f"{GENERATOR} ({command})",
+        "channel_set": "ltc",
+        "channels": ",".join(LTC_CHANNELS),
+        "combination": "specular = polygon integral of the LTC x (split sum of the basis table, sum_k c_k b_k)",
+        "ltc_fit": f"L2 by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel",
+        "ltc_lobe_error_max": f"{float(np.max(fit.error)):.6g}",
+        "ltc_lobe_error_mean": f"{float(np.mean(fit.error)):.6g}",
+    }
+    return fit.inverse, LTC_CHANNELS, header
