@@ -37,7 +37,7 @@ $(TEST_STAMP): $(STAMP)
 	touch $(TEST_STAMP)
 
 luts: $(STAMP)
-	$(VENV)/bin/fresnel-lut build --out luts
+	$(VENV)/bin/fresnel-lut build --ltc --out luts
 
 basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json

@@ -48,6 +48,7 @@ from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
 from preintegrate.formats import FORMATS, MAX_HEADER_VALUES, check_formats
 from preintegrate.ggx import VISIBILITIES
+from preintegrate.ltc import LtcGrid
 from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 from preintegrate.tables import write_default_build, write_model_build
@@ -107,6 +108,18 @@ def _size_text(path: Path) -> str:
     return f"{size / 1024:.1f} KiB" if size < 1024**2 else f"{size / 1024**2:.2f} MiB"
 
 
+def _after(first: Progress, second: Progress | None):
+    """A progress callback that closes ``first`` (the integration's line) before ``second`` starts reporting."""
+    if second is None:
+        return None
+
+    def report(done: int, total: int) -> None:
+        first.close()
+        second(done, total)
+
+    return report
+
+
 def command_build(arguments) -> int:
     size = check_positive_int("--size", arguments.size, low=2, high=8192)
     formats = check_formats(arguments.format)  # refused before the work
@@ -132,6 +145,15 @@ def command_build(arguments) -> int:
         )
     if arguments.model is not None and arguments.basis is not None:
         raise ParameterError("--basis goes with the basis table, not with --model")
+    if arguments.model is not None and arguments.ltc:
+        raise ParameterError("--ltc goes with the default build, not with --model")
+    if arguments.ltc_size is not None and not arguments.ltc:
+        raise ParameterError("--ltc-size goes with --ltc")
+    ltc = (
+        LtcGrid(check_positive_int("--ltc-size", arguments.ltc_size or 64, low=2, high=1024), arguments.visibility)
+        if arguments.ltc
+        else None
+    )
     if arguments.model is not None:
         model = fresnel_model(arguments.model)
         unused = sorted(set(shape) - set(model.shape))
@@ -144,7 +166,12 @@ def command_build(arguments) -> int:
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     if arguments.model is None:
-        paths = write_default_build(out, basis, grid, order, formats, arguments.half, progress)
+        ltc_progress = Progress(f"fitting {ltc.size}x{ltc.size} LTC texels", "rows") if ltc is not None else None
+        paths = write_default_build(
+            out, basis, grid, order, formats, arguments.half, progress, ltc, _after(progress, ltc_progress)
+        )
+        if ltc_progress is not None:
+            ltc_progress.close()
     else:
         paths, channels = write_model_build(out, arguments.model, shape, grid, order, formats, arguments.half, progress)
     progress.close()
@@ -564,6 +591,12 @@ def make_parser() -> argparse.ArgumentParser:
         help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)",
     )
     build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
+    build.add_argument(
+        "--ltc",
+        action="store_true",
+        help="also fit the area lights' LTC table ggx_ltc (64 x 64 by default, about 30 s; make luts does)",
+    )
+    build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
     build.add_argument(
         "--model",
         default=None,

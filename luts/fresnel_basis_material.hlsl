@@ -250,3 +250,118 @@ void fresnelCoefficientsGulbrandsen3(float3 r, float3 g, out float4 cR, out floa
     cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
     cB = fresnelCoefficientsGulbrandsen(r.z, g.z);
 }
+
+// ---- Rectangular lights: linearly transformed cosines (Heitz, Dupuy, Hill, Neubelt 2016) with the same
+// coefficients. The LTC table (ggx_ltc, `fresnel-lut build --ltc`) has the public tables' axes and packing
+// (three.js LTC_Uv and ltc_1): u = r, v = sqrt(1 - NdotV), end points on texel centres, 64 x 64.
+static const float FRESNEL_LTC_SIZE = 64.0;
+
+float2 fresnelLtcUV(float NdotV, float perceptualRoughness)
+{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    return float2(r, sqrt(1.0 - mu)) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+// The same from sin(theta_v) = |N x V| as well: sqrt(1 - NdotV) = sin / sqrt(1 + NdotV), which float32 holds as
+// NdotV -> 1, where this axis is steepest (1 - NdotV cancels: 0.016 texels of error, 3e-4 in a sharp lobe's light).
+float2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
+{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    float root = (mu > 0.0) ? min(sinV / sqrt(1.0 + mu), 1.0) : 1.0;
+    return float2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan2 keeps short edges in float32.
+float fresnelLtcEdge(float3 p, float3 q)
+{
+    float3 c = cross(p, q);
+    float s = length(c);
+    return c.z * ((s > 1e-7) ? atan2(s, dot(p, q)) / s : 1.0);
+}
+
+float3 fresnelLtcUnit(float3 v)
+{
+    return v / max(length(v), 1e-30);
+}
+
+// The integral of the clamped cosine over the quad m * c_i (Heitz 2016 eq. 11), clipped to the upper hemisphere
+// edge by edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its
+// corners turn counter-clockwise seen from the point that it lights, as three.js winds them).
+float fresnelLtcQuad(float3x3 m, float3 corners[4])
+{
+    float3 p[4];
+    for (int i = 0; i < 4; ++i)
+    {
+        p[i] = mul(m, corners[i]);
+    }
+    float sum = 0.0;
+    float3 exitPoint = float3(1.0, 0.0, 0.0), entryPoint = float3(0.0, 1.0, 0.0);
+    bool exits = false, enters = false;
+    for (int i = 0; i < 4; ++i)
+    {
+        float3 a = p[i], b = p[(i + 1) & 3];
+        bool aboveA = a.z >= 0.0, aboveB = b.z >= 0.0;
+        float denominator = a.z - b.z;
+        float3 x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
+        if (aboveA || aboveB)
+        {
+            sum += fresnelLtcEdge(fresnelLtcUnit(aboveA ? a : x), fresnelLtcUnit(aboveB ? b : x));
+        }
+        if (aboveA && !aboveB)
+        {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB)
+        {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    if (exits && enters)
+    {
+        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+    }
+    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+}
+
+// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V:
+// the frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
+float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    float4 t = ltcLut.SampleLevel(linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0);
+    float3 T1 = V - N * dot(V, N);
+    T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
+    float tangential = length(T1);
+    // a view within 1e-4 rad of the normal: any tangent (the LTC is isotropic there to float32's resolution)
+    T1 = (tangential > 1e-4) ? T1 / tangential
+                             : normalize(cross(N, (abs(N.x) < 0.9) ? float3(1.0, 0.0, 0.0) : float3(0.0, 1.0, 0.0)));
+    float3 T2 = cross(N, T1);
+    float3x3 m = mul(float3x3(t.x, 0.0, t.z, 0.0, 1.0, 0.0, t.y, 0.0, t.w), float3x3(T1, T2, N));
+    float3 local[4];
+    for (int i = 0; i < 4; ++i)
+    {
+        local[i] = corners[i] - P;
+    }
+    return fresnelLtcQuad(m, local);
+}
+
+// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
+// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+float3 fresnelBasisRectLight(Texture2D<float4> ltcLut, Texture2D<float4> lut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float4 cR, float4 cG,
+                           float4 cB)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelBasisSplitSumUV(lut, linearClamp, NdotV, r, cR, cG, cB);
+}
+
+// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
+float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 f0)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    float2 s = schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0).rg;
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * (f0 * s.x + s.y);
+}

@@ -196,3 +196,96 @@ fn fresnelBasisAverage(cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {
     return clamp(vec3f(dot(cR, FRESNEL_BASIS_AVERAGES), dot(cG, FRESNEL_BASIS_AVERAGES), dot(cB, FRESNEL_BASIS_AVERAGES)),
                  vec3f(0.0), vec3f(1.0));
 }
+
+// Rectangular lights: linearly transformed cosines (Heitz 2016) with the same coefficients; the LTC table
+// (ggx_ltc, `fresnel-lut build --ltc`) on the public tables' axes and packing, 64 x 64.
+const FRESNEL_LTC_SIZE: f32 = 64.0;
+
+fn fresnelLtcUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {
+    let r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    let mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    return vec2f(r, sqrt(1.0 - mu)) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f {
+    let r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    let mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    let root = select(1.0, min(sinV / sqrt(1.0 + mu), 1.0), mu > 0.0);
+    return vec2f(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+fn fresnelLtcEdge(p: vec3f, q: vec3f) -> f32 {
+    let c = cross(p, q);
+    let s = length(c);
+    return c.z * select(1.0, atan2(s, dot(p, q)) / max(s, 1e-30), s > 1e-7);
+}
+
+fn fresnelLtcUnit(v: vec3f) -> vec3f {
+    return v / max(length(v), 1e-30);
+}
+
+fn fresnelLtcQuad(m: mat3x3f, corners: array<vec3f, 4>) -> f32 {
+    var p: array<vec3f, 4>;
+    for (var i = 0; i < 4; i = i + 1) {
+        p[i] = m * corners[i];
+    }
+    var sum = 0.0;
+    var exitPoint = vec3f(1.0, 0.0, 0.0);
+    var entryPoint = vec3f(0.0, 1.0, 0.0);
+    var exits = false;
+    var enters = false;
+    for (var i = 0; i < 4; i = i + 1) {
+        let a = p[i];
+        let b = p[(i + 1) & 3];
+        let aboveA = a.z >= 0.0;
+        let aboveB = b.z >= 0.0;
+        let denominator = a.z - b.z;
+        let x = a + (b - a) * (a.z / select(1.0, denominator, denominator != 0.0));
+        if (aboveA || aboveB) {
+            sum = sum + fresnelLtcEdge(fresnelLtcUnit(select(x, a, aboveA)), fresnelLtcUnit(select(x, b, aboveB)));
+        }
+        if (aboveA && !aboveB) {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB) {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    if (exits && enters) {
+        sum = sum + fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+    }
+    return max(-sum * 0.159154943, 0.0);
+}
+
+fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f,
+                  corners: array<vec3f, 4>, r: f32) -> f32 {
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    let t = textureSampleLevel(ltcLut, linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    let first = V - N * dot(V, N);
+    let tangent = first - N * dot(first, N);
+    let tangential = length(tangent);
+    let other = select(vec3f(0.0, 1.0, 0.0), vec3f(1.0, 0.0, 0.0), abs(N.x) < 0.9);
+    let T1 = select(normalize(cross(N, other)), tangent / max(tangential, 1e-30), tangential > 1e-4);
+    let T2 = cross(N, T1);
+    let m = mat3x3f(vec3f(t.x, 0.0, t.y), vec3f(0.0, 1.0, 0.0), vec3f(t.z, 0.0, t.w)) * transpose(mat3x3f(T1, T2, N));
+    var local: array<vec3f, 4>;
+    for (var i = 0; i < 4; i = i + 1) {
+        local[i] = corners[i] - P;
+    }
+    return fresnelLtcQuad(m, local);
+}
+
+fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, lut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f,
+                         corners: array<vec3f, 4>, r: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelBasisSplitSumUV(lut, linearClamp, NdotV, r, cR, cG, cB);
+}
+
+fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
+                           V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, f0: vec3f) -> vec3f {
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    let s = textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0).rg;
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * (f0 * s.x + s.y);
+}

@@ -1,7 +1,8 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``LtcFit``, ``fit_ltc``, ``ltc_table``, ``ltc_inverse``,
-``ltc_density``, ``target_lobe``, ``lobe_error``, ``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
+Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
+``ltc_table``, ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
+``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -12,17 +13,18 @@ point; Heitz 2016 §5.2). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|
 edges where acos does not.
 
 The fit. For an isotropic BRDF seen in the xz plane, M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 §4.2: four
-free entries). Per texel (μo, r) of a :class:`~preintegrate.lut.LutGrid` (α = r²), (a, b, c, d) minimise the L2
+free entries). Per texel (μo, r) of an :class:`LtcGrid` (α = r²), (a, b, c, d) minimise the L2
 distance ∫ (f̂ − D)² dω to the normalised cosine-weighted GGX lobe f̂(ω_i) = D_GGX(h) G2(μo, μi) / (4 μo E(μo, α))
 (no Fresnel: the split sum supplies it, Heitz 2016 §4.4), on a fixed set of directions, so the fit is
 deterministic: a grid of visible-normal samples of the lobe (Heitz 2018) and a grid of the sphere, weighted by the
 balance heuristic. Levenberg-Marquardt on (log a, b, log c, d), all rows of a column at once, from normal to grazing
-incidence, each column starting from the one before (the public fit, ``fitLTC.cpp``, also starts each texel from
-its neighbour; it minimises an L3 error by Nelder-Mead on random samples).
+incidence, each row of view angles starting from the one before or from a guess aligned with the lobe's mean
+direction, whichever is closer (the public fit, ``fitLTC.cpp``, starts each texel from its neighbour; it minimises
+an L3 error by Nelder-Mead on random samples).
 
-Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m02, m20, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
-so the scale is free): the layout of the public tables (three.js ``ltc_1``), on this project's axes (column μo,
-row r, texel centres), so ``fresnelBasisLutUV`` addresses it as it does the split-sum tables.
+Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m20, m02, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
+so the scale is free) on the axes of the public tables (:class:`LtcGrid`: column r, row √(1 − μo), end points on
+texel centres; three.js ``ltc_1`` and ``LTC_Uv``), so an engine's existing area-light code reads it unchanged.
 
 The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
 (∫_P D dω) × ∫_Ω f F cos dω, the second factor the split sum Σ_k c_k b̄_k(μo, r) of the basis table: the LTC
@@ -45,16 +47,19 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from basis.parallel import one_blas_thread, worker_count
-from basis.validation import ParameterError, as_float_array
+from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int
 
-from .ggx import ndf, sample_vndf, view_vector, visibility_g2
-from .lut import LutGrid
+from .ggx import VISIBILITIES, g1, ndf, sample_vndf, view_vector, visibility_g2
+from .lut import LTC_LUT
 from .quadrature import directional_albedo
 
 __all__ = [
+    "ALPHA_FLOOR",
     "LTC_CHANNELS",
     "LTC_LUT",
+    "MU_FLOOR",
     "LtcFit",
+    "LtcGrid",
     "fit_ltc",
     "lobe_error",
     "ltc_density",
@@ -63,23 +68,100 @@ __all__ = [
     "polygon_integral",
     "rect_light_integral",
     "shading_frame",
+    "stored_lobe_error",
     "target_lobe",
 ]
 
-LTC_LUT = "ggx_ltc.exr"
-#: The stored entries of M⁻¹ / (M⁻¹)₁₁, in RGBA order.
-LTC_CHANNELS = ("m00", "m02", "m20", "m22")
+#: The stored entries of M⁻¹ / (M⁻¹)₁₁, in RGBA order: the public tables' (three.js ``ltc_1``) order.
+LTC_CHANNELS = ("m00", "m20", "m02", "m22")
 _FIT_GRID = 24  # per axis of each direction grid: 2 × 24² directions per texel for the fit
-_ERROR_GRID = 64  # and 2 × 64² for the lobe error reported
+_ERROR_GRID = 48  # and 2 × 48² for the lobe error reported
 _ITERATIONS_FIRST, _ITERATIONS = 80, 30
+
+
+#: The smallest α and μo a texel is fitted at (the end points r = 0 and μo = 0 are degenerate lobes).
+ALPHA_FLOOR, MU_FLOOR = 1e-4, 1e-3
+
+
+@dataclasses.dataclass(frozen=True)
+class LtcGrid:
+    """The LTC table's axes, those of the public LTC tables (``ltc_code``, three.js ``LTC_Uv``), so that an engine's
+    existing area-light code reads it unchanged: column i ↔ perceptual roughness r = i / (size − 1), row j ↔
+    √(1 − μo) = j / (size − 1), end points on texel centres (u = r (size − 1)/size + 0.5/size, the same for v).
+    Measured against this project's texel-centre axes (μo, r) on random (μo, r): the end-point √(1 − μo) rows
+    reach normal incidence, where narrow lobes move fastest with μo (see ``report/area_lights.md``)."""
+
+    size: int = 64
+    visibility: str = "height-correlated"
+
+    def __post_init__(self):
+        check_positive_int("size", self.size, low=2, high=1024)
+        check_choice("visibility", self.visibility, list(VISIBILITIES))
+
+    @property
+    def roughness(self) -> np.ndarray:
+        """(size,) perceptual roughness of each column."""
+        return np.linspace(0.0, 1.0, self.size)
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """(size,) GGX width fitted at each column (r², at least :data:`ALPHA_FLOOR`)."""
+        return np.maximum(self.roughness**2, ALPHA_FLOOR)
+
+    @property
+    def mu_o(self) -> np.ndarray:
+        """(size,) view cosine fitted at each row: 1 − (j / (size − 1))², at least :data:`MU_FLOOR`."""
+        return np.maximum(1.0 - np.linspace(0.0, 1.0, self.size) ** 2, MU_FLOOR)
+
+    @property
+    def convention(self) -> str:
+        return (
+            "column i <-> perceptual roughness r = i / (size - 1), GGX alpha = max(r^2, 1e-4); row j <-> "
+            "sqrt(1 - mu_o) = j / (size - 1) (mu_o at least 1e-3); row 0 first in the file (top); end points on texel "
+            "centres: u = r * (size - 1) / size + 0.5 / size, v = sqrt(1 - mu_o) * (size - 1) / size + 0.5 / size "
+            "(the axes of the public LTC tables, three.js LTC_Uv); values are (m00, m20, m02, m22) of M^-1 / "
+            "M^-1[1][1], M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]] (GLSL mat3(vec3(m00, 0, m20), vec3(0, 1, 0), "
+            "vec3(m02, 0, m22))), in the frame T1 = tangential part of the view, T2 = N x T1, N, of the linearly "
+            "transformed cosine fitted to rho_GGX(omega_o, omega_i) cos(theta_i) / E (Heitz 2016), GGX with "
+            + VISIBILITIES[self.visibility].header
+        )
+
+    def coordinates(self, mu_o, roughness, sine=None) -> np.ndarray:
+        """(…, 2) texture coordinates (u, v) of (μo, r), as ``fresnelLtcUV`` computes them; with ``sine`` = |N × V|,
+        √(1 − μo) = sine / √(1 + μo) as ``fresnelLtcRect`` computes it (1 − μo cancels in float32 as μo → 1, where
+        this axis is steepest: a float32 N·V moves the lookup by up to 0.016 texels there, the cross product
+        does not)."""
+        scale, bias = (self.size - 1) / self.size, 0.5 / self.size
+        mu_o = np.clip(np.asarray(mu_o, dtype=np.float64), 0.0, 1.0)
+        roughness = np.clip(np.asarray(roughness, dtype=np.float64), 0.0, 1.0)
+        if sine is None:
+            root = np.sqrt(1.0 - mu_o)
+        else:
+            root = np.where(mu_o > 0.0, np.minimum(np.asarray(sine, dtype=np.float64) / np.sqrt(1.0 + mu_o), 1.0), 1.0)
+        return np.stack(np.broadcast_arrays(roughness * scale + bias, root * scale + bias), axis=-1)
+
+    def lookup(self, table, mu_o, roughness, sine=None) -> np.ndarray:
+        """(…, 4) bilinear, clamp-to-edge fetch of the table at (μo, r) (and ``sine``, see :meth:`coordinates`), as a
+        GPU samples it at level 0."""
+        table = np.asarray(table, dtype=np.float64)
+        uv = self.coordinates(mu_o, roughness, sine) * self.size - 0.5
+        uv = np.clip(uv, 0.0, self.size - 1.0)
+        low = np.minimum(np.floor(uv).astype(int), self.size - 2)
+        t = uv - low
+        i, j = low[..., 0], low[..., 1]
+        tu, tv = t[..., 0:1], t[..., 1:2]
+        top = table[j, i] * (1.0 - tu) + table[j, i + 1] * tu
+        bottom = table[j + 1, i] * (1.0 - tu) + table[j + 1, i + 1] * tu
+        return top * (1.0 - tv) + bottom * tv
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class LtcFit:
-    """A fitted table: ``parameters`` (H, W, 4) = (a, b, c, d) of M, ``inverse`` (H, W, 4) = the stored
-    (m00, m02, m20, m22) of M⁻¹ / (M⁻¹)₁₁, ``error`` (H, W) = ½∫|f̂ − D| dω per texel, on ``grid``."""
+    """A fitted table on ``grid`` (rows: view, columns: roughness): ``parameters`` (size, size, 4) = (a, b, c, d) of
+    M, ``inverse`` (size, size, 4) = the stored (m00, m20, m02, m22) of M⁻¹ / (M⁻¹)₁₁, ``error`` (size, size) =
+    ½∫|f̂ − D| dω per texel."""
 
-    grid: LutGrid
+    grid: LtcGrid
     parameters: np.ndarray
     inverse: np.ndarray
     error: np.ndarray
@@ -112,8 +194,6 @@ def target_lobe(omega_i, mu_o, alpha, albedo, visibility: str = "height-correlat
 
 def _lobe_pdf(omega_i, mu_o, alpha) -> np.ndarray:
     """Density of ω_i reflected about a visible normal (Heitz 2018): D(h) G1(μo) / (4 μo)."""
-    from .ggx import g1
-
     omega_o = view_vector(np.asarray(mu_o, dtype=np.float64))
     half = omega_o + omega_i
     length = np.linalg.norm(half, axis=-1)
@@ -228,26 +308,43 @@ def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations):
     return _levenberg_marquardt(guess, directions, weights, target, iterations)
 
 
-def lobe_error(parameters, grid: LutGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
-    """(H, W) half the L1 distance ½∫|f̂ − D| dω between the target lobe and the LTC of ``parameters`` (H, W, 4),
-    on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint)."""
+def lobe_error(parameters, grid: LtcGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
+    """(size, size) half the L1 distance ½∫|f̂ − D| dω between the target lobe and the LTC of ``parameters``
+    (size, size, 4) = (a, b, c, d), on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint)."""
     albedo = _albedo(grid) if albedo is None else albedo
-    errors = np.empty((grid.height, grid.width))
-    for j in range(grid.height):
-        alpha = np.full(grid.width, grid.alpha[j])
-        directions, weights = _directions(grid.mu_o, alpha, count)
-        target = target_lobe(directions, grid.mu_o[:, None], alpha[:, None], albedo[j][:, None], grid.visibility)
-        density = ltc_density(directions, parameters[j])
-        errors[j] = 0.5 * np.sum(weights * np.abs(target - density), axis=-1)
+    errors = np.empty((grid.size, grid.size))
+    for row, mu in enumerate(grid.mu_o):
+        mu_o = np.full(grid.size, mu)
+        directions, weights = _directions(mu_o, grid.alpha, count)
+        target = target_lobe(directions, mu_o[:, None], grid.alpha[:, None], albedo[row][:, None], grid.visibility)
+        errors[row] = 0.5 * np.sum(weights * np.abs(target - ltc_density(directions, parameters[row])), axis=-1)
     return errors
 
 
-def _albedo(grid: LutGrid) -> np.ndarray:
-    """(H, W) E(μo, α) with F = 1, by the project's quadrature (3e-8 against an independent integral)."""
+def stored_lobe_error(stored, mu_o, roughness, visibility: str = "height-correlated", count: int = _ERROR_GRID):
+    """(N,) ½∫|f̂ − D| dω of LTCs given as stored entries (N, 4) = (m00, m20, m02, m22) at (μo, r) (N,): the
+    measure of any table (this project's, the public ones) at any point, for the benchmark and the report."""
+    stored = as_float_array("stored", stored)
+    mu_o = np.maximum(as_float_array("mu_o", mu_o), MU_FLOOR)
+    alpha = np.maximum(as_float_array("roughness", roughness) ** 2, ALPHA_FLOOR)
+    albedo = directional_albedo(lambda x: np.ones(np.shape(x) + (1,)), mu_o, alpha, visibility=visibility, workers=1)
+    directions, weights = _directions(mu_o, alpha, count)
+    target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[..., 0][:, None], visibility)
+    inverse = ltc_inverse(stored)
+    local = np.einsum("nij,nkj->nki", inverse, directions)
+    length2 = np.sum(local * local, axis=-1)
+    determinant = np.abs(np.linalg.det(inverse))
+    density = np.maximum(local[..., 2], 0.0) * determinant[:, None] / (np.pi * length2 * length2)
+    return 0.5 * np.sum(weights * np.abs(target - density), axis=-1)
+
+
+def _albedo(grid: LtcGrid) -> np.ndarray:
+    """(size, size) E(μo, α) with F = 1 at the fitted points, by the project's quadrature (3e-8 against an
+    independent integral)."""
     return directional_albedo(
         lambda x: np.ones(np.shape(x) + (1,)),
-        grid.mu_o[None, :],
-        grid.alpha[:, None],
+        grid.mu_o[:, None],
+        grid.alpha[None, :],
         visibility=grid.visibility,
         workers=1,
     )[..., 0]
@@ -263,51 +360,52 @@ def _aligned_guess(directions, weights, target, spread) -> np.ndarray:
 
 
 def fit_ltc(
-    grid: LutGrid | None = None, progress: Callable[[int, int], None] | None = None, workers: int | None = None
+    grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None, workers: int | None = None
 ) -> LtcFit:
-    """The LTC of every texel of ``grid`` (default 64 × 64, rows at texel centres, height-correlated G2), the rows
-    of each column shared among ``workers`` threads (default: the machine's cores; the result is the same)."""
-    grid = LutGrid(64, 64) if grid is None else grid
-    if not isinstance(grid, LutGrid):
-        raise ParameterError(f"grid must be a LutGrid, got {type(grid).__name__}")
+    """The LTC of every texel of ``grid`` (default 64 × 64, height-correlated G2), row by row from normal to grazing
+    incidence, the roughness columns of a row shared among ``workers`` threads (default: the machine's cores; the
+    result is the same bits)."""
+    grid = LtcGrid() if grid is None else grid
+    if not isinstance(grid, LtcGrid):
+        raise ParameterError(f"grid must be an LtcGrid, got {type(grid).__name__}")
     albedo = _albedo(grid)
     alpha = grid.alpha
-    fitted = np.empty((grid.height, grid.width, 4))
-    chunks = np.array_split(np.arange(grid.height), min(grid.height, 4 * worker_count(workers)))
+    fitted = np.empty((grid.size, grid.size, 4))
+    chunks = np.array_split(np.arange(grid.size), min(grid.size, 4 * worker_count(workers)))
     free = None
     with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
-        for step, column in enumerate(range(grid.width - 1, -1, -1)):  # normal incidence first
-            mu_o = np.full(grid.height, grid.mu_o[column])
-            iterations = _ITERATIONS_FIRST if step == 0 else _ITERATIONS
+        for row, mu in enumerate(grid.mu_o):
+            mu_o = np.full(grid.size, mu)
+            iterations = _ITERATIONS_FIRST if row == 0 else _ITERATIONS
             parts = pool.map(
-                lambda rows: _fit_rows(
-                    mu_o[rows],
-                    alpha[rows],
-                    albedo[rows, column],
+                lambda columns: _fit_rows(
+                    mu_o[columns],
+                    alpha[columns],
+                    albedo[row, columns],
                     grid.visibility,
-                    None if free is None else free[rows],
+                    None if free is None else free[columns],
                     iterations,
                 ),
                 chunks,
             )
             free = np.concatenate(list(parts))
-            fitted[:, column] = _unpack(free)
+            fitted[row] = _unpack(free)
             if progress is not None:
-                progress(step + 1, grid.width + 1)
+                progress(row + 1, grid.size + 1)
     inverse, _ = _matrix_inverse(fitted)
-    stored = np.stack([inverse[..., 0, 0], inverse[..., 0, 2], inverse[..., 2, 0], inverse[..., 2, 2]], axis=-1)
+    stored = np.stack([inverse[..., 0, 0], inverse[..., 2, 0], inverse[..., 0, 2], inverse[..., 2, 2]], axis=-1)
     stored /= inverse[..., 1, 1][..., None]
     error = lobe_error(fitted, grid, albedo)
     if progress is not None:
-        progress(grid.width + 1, grid.width + 1)
+        progress(grid.size + 1, grid.size + 1)
     return LtcFit(grid, fitted, stored, error)
 
 
 def ltc_inverse(stored) -> np.ndarray:
-    """(…, 3, 3) M⁻¹ (up to scale) from the stored (…, 4) = (m00, m02, m20, m22): [[m00, 0, m02], [0, 1, 0],
-    [m20, 0, m22]], as the shaders build it."""
+    """(…, 3, 3) M⁻¹ (up to scale) from the stored (…, 4) = (m00, m20, m02, m22): [[m00, 0, m02], [0, 1, 0],
+    [m20, 0, m22]], as the shaders (and three.js's ``mat3(vec3(t.x, 0, t.y), …)``) build it."""
     stored = as_float_array("stored", stored)
-    m00, m02, m20, m22 = np.moveaxis(stored, -1, 0)
+    m00, m20, m02, m22 = np.moveaxis(stored, -1, 0)
     zero, one = np.zeros_like(m00), np.ones_like(m00)
     return np.stack(
         [np.stack([m00, zero, m02], -1), np.stack([zero, one, zero], -1), np.stack([m20, zero, m22], -1)], -2
@@ -357,14 +455,16 @@ def polygon_integral(vertices) -> np.ndarray:
 
 def shading_frame(normal, view) -> np.ndarray:
     """(…, 3, 3) rows T1, T2, N: the local frame in which the view lies in the xz plane (T1 along the view's
-    tangential part; any tangent where the view is the normal)."""
+    tangential part; a fixed tangent where the view is within 1e-4 rad of the normal, where the LTC is isotropic
+    to float32's resolution and float32's tangent would be rounding noise)."""
     normal = as_float_array("normal", normal)
     view = as_float_array("view", view)
     tangent = view - normal * np.sum(view * normal, axis=-1, keepdims=True)
+    tangent = tangent - normal * np.sum(tangent * normal, axis=-1, keepdims=True)  # as float32 needs it
     length = np.linalg.norm(tangent, axis=-1, keepdims=True)
     fallback = np.cross(normal, np.where(np.abs(normal[..., :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
     fallback /= np.linalg.norm(fallback, axis=-1, keepdims=True)
-    t1 = np.where(length > 1e-7, tangent / np.where(length > 0.0, length, 1.0), fallback)
+    t1 = np.where(length > 1e-4, tangent / np.where(length > 0.0, length, 1.0), fallback)
     t2 = np.cross(normal, t1)
     return np.stack([t1, t2, normal], axis=-2)
 
@@ -381,25 +481,19 @@ def rect_light_integral(stored, normal, view, position, corners) -> np.ndarray:
     return np.maximum(polygon_integral(transformed), 0.0)
 
 
-def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc"):
-    """The :class:`~preintegrate.tables.Table`-ready parts of a fit: values (H, W, 4), channel names, header."""
+def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> tuple[np.ndarray, tuple[str, ...], dict]:
+    """The values (size, size, 4), channel names and header of a fitted table, for :class:`preintegrate.tables.Table`."""
     from .lut import GENERATOR
 
     grid = fit.grid
     header = {
-        "convention": grid.convention.replace(
-            "values are directional albedos Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, "
-            "omega_i) * cos(theta_i) d omega_i",
-            "values are the entries (m00, m02, m20, m22) of M^-1 / M^-1[1][1] of the linearly transformed cosine "
-            "fitted to rho_GGX(omega_o, omega_i) cos(theta_i) / E (Heitz 2016; M^-1 = [[m00, 0, m02], [0, 1, 0], "
-            "[m20, 0, m22]] in the frame T1 = tangential part of the view, T2 = N x T1, N)",
-        ),
-        "width": str(grid.width),
-        "height": str(grid.height),
+        "convention": grid.convention,
+        "width": str(grid.size),
+        "height": str(grid.size),
         "generator": f"{GENERATOR} ({command})",
         "channel_set": "ltc",
         "channels": ",".join(LTC_CHANNELS),
-        "combination": "specular = polygon integral of the LTC x (split sum of the basis table, sum_k c_k b_k)",
+        "combination": "specular = polygon integral of the LTC x split sum of the basis table (sum_k c_k b_k)",
         "ltc_fit": f"L2 by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel",
         "ltc_lobe_error_max": f"{float(np.max(fit.error)):.6g}",
         "ltc_lobe_error_mean": f"{float(np.mean(fit.error)):.6g}",

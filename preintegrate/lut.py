@@ -1,6 +1,6 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
-Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``SHIPPED_LUTS``,
+Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``,
 ``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
 ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
@@ -42,6 +42,7 @@ __all__ = [
     "LUT_METHODS",
     "PIXEL_CONVENTION",
     "SCHLICK_LUT",
+    "LTC_LUT",
     "SHIPPED_LUTS",
     "build_table",
     "LutGrid",
@@ -61,6 +62,8 @@ BASIS_LUT = "ggx_basis_rgba.exr"
 SCHLICK_LUT = "ggx_schlick_rgb.exr"
 #: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
 AVERAGE_LUT = "ggx_albedo_average.exr"
+#: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).
+LTC_LUT = "ggx_ltc.exr"
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 
 

@@ -3,6 +3,7 @@
 Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``shader_includes``,
 ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
+``ltc_coordinates``, ``rect_light_specular``,
 ``linear_model_curve``, ``PER_PIXEL_MODELS``,
 ``CURVE_SEGMENTS``, ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
 
@@ -56,8 +57,10 @@ from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_samples
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models.formulas import F82_MU, adobe_dip_weight, f82_dip_weight, lazanyi_dip, schlick_weight
-from basis.validation import ParameterError, as_float_array, check_choice
+from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int
 
+from .ltc import LtcGrid
+from .ltc import rect_light_integral as ltc_rect_light_integral
 from .lut import LutGrid
 
 __all__ = [
@@ -72,7 +75,9 @@ __all__ = [
     "coefficients_per_pixel_nk",
     "direct_fresnel",
     "linear_model_curve",
+    "ltc_coordinates",
     "lut_coordinates",
+    "rect_light_specular",
     "sanitize_gulbrandsen",
     "sanitize_nk",
     "sanitize_unit",
@@ -127,6 +132,7 @@ class ShaderConstants:
     curve_error: float  # max |polynomial − spline| over the segments' dense grids, float64
     curve_segments: tuple[float, ...] = CURVE_SEGMENTS  # the polynomials' segment edges in μ
     amplification: float = 1.0  # Lebesgue constant of the solve: max over μ of Σ_i |(B(μ) S⁻¹)_i|
+    ltc_size: int = 64  # the LTC table's size (``fresnel-lut build --ltc-size``) that fresnelLtcUV addresses
     grid: LutGrid = LutGrid(128, 128)  # the tables' grid: the include's coordinate function reads them on it
 
     @property
@@ -184,7 +190,7 @@ def _linear_functions(mu: np.ndarray) -> np.ndarray:
     return np.stack([1.0 - fifth, fifth, lazanyi_dip(mu)], axis=-1)
 
 
-def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None) -> ShaderConstants:
+def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, ltc_size: int = 64) -> ShaderConstants:
     """The constants of :func:`shader_includes` for a basis of 2 … 8 terms (default: the shipped one) and the grid of
     its tables (default: the default build's 128 × 128)."""
     basis = resolve_basis(basis)
@@ -206,6 +212,7 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None) ->
         error,
         segments,
         amplification,
+        check_positive_int("ltc_size", ltc_size, low=2, high=1024),
         LutGrid(128, 128) if grid is None else grid,
     )
 
@@ -354,6 +361,32 @@ def lut_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
     u = sanitize_unit(n_dot_v, 1.0)
     v = np.clip(sanitize_unit(roughness, 0.5), low, high) * scale + offset
     return np.stack(np.broadcast_arrays(u, v), axis=-1)
+
+
+def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, 2) texture coordinates of (NdotV, r) on the LTC table, as ``fresnelLtcUV`` computes them."""
+    constants = shader_constants() if constants is None else constants
+    return LtcGrid(constants.ltc_size).coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
+
+
+def rect_light_specular(
+    ltc_table, basis_table, normal, view, position, corners, roughness, coefficients, constants=None
+) -> np.ndarray:
+    """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
+    with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times the
+    split sum Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K) — bilinear fetches as a GPU
+    makes them."""
+    constants = shader_constants() if constants is None else constants
+    normal, view = as_float_array("normal", normal), as_float_array("view", view)
+    n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
+    sine = np.linalg.norm(np.cross(normal, view), axis=-1)
+    roughness = sanitize_unit(roughness, 0.5)
+    integral = ltc_rect_light_integral(
+        LtcGrid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
+    )
+    low, high, _, _ = constants.row_mapping
+    terms = constants.grid.lookup(as_float_array("basis_table", basis_table), n_dot_v, np.clip(roughness, low, high))
+    return integral[..., None] * np.einsum("...ck,...k->...c", as_float_array("coefficients", coefficients), terms)
 
 
 def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:
@@ -895,16 +928,272 @@ void fresnelCoefficientsGulbrandsen3({v3} r, {v3} g, out {T} cR, out {T} cG, out
     )
 
 
+def _area_glsl(constants: ShaderConstants, hlsl: bool = False) -> str:
+    """The rectangular light (linearly transformed cosines, :mod:`preintegrate.ltc`) in GLSL or HLSL."""
+    sp = _Spelling("hlsl" if hlsl else "glsl", constants.n_terms)
+    v2, v3, v4, T = sp.type(2), sp.type(3), sp.four, sp.terms
+    m3 = "float3x3" if hlsl else "mat3"
+    const = "static const" if hlsl else "const"
+    size = constants.ltc_size
+    if hlsl:
+        textures = "Texture2D<float4> ltcLut, Texture2D<float4> lut" + (", Texture2D<float4> lut2" if sp.wide else "")
+        samplers = ", SamplerState linearClamp"
+        fetch_ltc = "ltcLut.SampleLevel(linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0)"
+        matrix = "float3x3(t.x, 0.0, t.z, 0.0, 1.0, 0.0, t.y, 0.0, t.w)"  # HLSL constructors take rows
+        frame = "float3x3(T1, T2, N)"
+        multiply = "mul(m, {x})"
+        split = "fresnelBasisSplitSumUV(lut, " + ("lut2, " if sp.wide else "") + "linearClamp, NdotV, r, cR, cG, cB)"
+        schlick_textures = "Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp"
+        fetch_schlick = "schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0).rg"
+        corners = "float3 corners[4]"
+        arc = "atan2"
+    else:
+        textures = "sampler2D ltcLut, sampler2D lut" + (", sampler2D lut2" if sp.wide else "")
+        samplers = ""
+        fetch_ltc = "textureLod(ltcLut, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0)"
+        matrix = "mat3(vec3(t.x, 0.0, t.y), vec3(0.0, 1.0, 0.0), vec3(t.z, 0.0, t.w))"  # GLSL constructors take columns
+        frame = "transpose(mat3(T1, T2, N))"
+        multiply = "m * {x}"
+        split = "fresnelBasisSplitSumUV(lut, " + ("lut2, " if sp.wide else "") + "NdotV, r, cR, cG, cB)"
+        schlick_textures = "sampler2D ltcLut, sampler2D schlickLut"
+        fetch_schlick = "textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0).rg"
+        corners = "vec3 corners[4]"
+        arc = "atan"
+    return f"""
+// ---- Rectangular lights: linearly transformed cosines (Heitz, Dupuy, Hill, Neubelt 2016) with the same
+// coefficients. The LTC table (ggx_ltc, `fresnel-lut build --ltc`) has the public tables' axes and packing
+// (three.js LTC_Uv and ltc_1): u = r, v = sqrt(1 - NdotV), end points on texel centres, {size} x {size}.
+{const} float FRESNEL_LTC_SIZE = {_number(size)};
+
+{v2} fresnelLtcUV(float NdotV, float perceptualRoughness)
+{{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    return {v2}(r, sqrt(1.0 - mu)) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}}
+
+// The same from sin(theta_v) = |N x V| as well: sqrt(1 - NdotV) = sin / sqrt(1 + NdotV), which float32 holds as
+// NdotV -> 1, where this axis is steepest (1 - NdotV cancels: 0.016 texels of error, 3e-4 in a sharp lobe's light).
+{v2} fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
+{{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    float root = (mu > 0.0) ? min(sinV / sqrt(1.0 + mu), 1.0) : 1.0;
+    return {v2}(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}}
+
+// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan2 keeps short edges in float32.
+float fresnelLtcEdge({v3} p, {v3} q)
+{{
+    {v3} c = cross(p, q);
+    float s = length(c);
+    return c.z * ((s > 1e-7) ? {arc}(s, dot(p, q)) / s : 1.0);
+}}
+
+{v3} fresnelLtcUnit({v3} v)
+{{
+    return v / max(length(v), 1e-30);
+}}
+
+// The integral of the clamped cosine over the quad m * c_i (Heitz 2016 eq. 11), clipped to the upper hemisphere
+// edge by edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its
+// corners turn counter-clockwise seen from the point that it lights, as three.js winds them).
+float fresnelLtcQuad({m3} m, {corners})
+{{
+    {v3} p[4];
+    for (int i = 0; i < 4; ++i)
+    {{
+        p[i] = {multiply.format(x="corners[i]")};
+    }}
+    float sum = 0.0;
+    {v3} exitPoint = {v3}(1.0, 0.0, 0.0), entryPoint = {v3}(0.0, 1.0, 0.0);
+    bool exits = false, enters = false;
+    for (int i = 0; i < 4; ++i)
+    {{
+        {v3} a = p[i], b = p[(i + 1) & 3];
+        bool aboveA = a.z >= 0.0, aboveB = b.z >= 0.0;
+        float denominator = a.z - b.z;
+        {v3} x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
+        if (aboveA || aboveB)
+        {{
+            sum += fresnelLtcEdge(fresnelLtcUnit(aboveA ? a : x), fresnelLtcUnit(aboveB ? b : x));
+        }}
+        if (aboveA && !aboveB)
+        {{
+            exitPoint = x;
+            exits = true;
+        }}
+        if (!aboveA && aboveB)
+        {{
+            entryPoint = x;
+            enters = true;
+        }}
+    }}
+    if (exits && enters)
+    {{
+        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+    }}
+    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+}}
+
+// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V:
+// the frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
+float fresnelLtcRect({"Texture2D<float4> ltcLut, SamplerState linearClamp" if hlsl else "sampler2D ltcLut"}, {v3} N, {v3} V, {v3} P, {corners}, float r)
+{{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    {v4} t = {fetch_ltc};
+    {v3} T1 = V - N * dot(V, N);
+    T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
+    float tangential = length(T1);
+    // a view within 1e-4 rad of the normal: any tangent (the LTC is isotropic there to float32's resolution)
+    T1 = (tangential > 1e-4) ? T1 / tangential
+                             : normalize(cross(N, (abs(N.x) < 0.9) ? {v3}(1.0, 0.0, 0.0) : {v3}(0.0, 1.0, 0.0)));
+    {v3} T2 = cross(N, T1);
+    {m3} m = {"mul(" + matrix + ", " + frame + ")" if hlsl else matrix + " * " + frame};
+    {v3} local[4];
+    for (int i = 0; i < 4; ++i)
+    {{
+        local[i] = corners[i] - P;
+    }}
+    return fresnelLtcQuad(m, local);
+}}
+
+// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
+// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+{v3} fresnelBasisRectLight({textures}{samplers}, {v3} N, {v3} V, {v3} P, {corners}, float r, {T} cR, {T} cG,
+                           {T} cB)
+{{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut{", linearClamp" if hlsl else ""}, N, V, P, corners, r) * {split};
+}}
+
+// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
+{v3} fresnelSchlickRectLight({schlick_textures}, {v3} N, {v3} V, {v3} P, {corners}, float r, {v3} f0)
+{{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    {v2} s = {fetch_schlick};
+    return fresnelLtcRect(ltcLut{", linearClamp" if hlsl else ""}, N, V, P, corners, r) * (f0 * s.x + s.y);
+}}
+"""
+
+
+def _area_wgsl(constants: ShaderConstants) -> str:
+    """The rectangular light in WGSL."""
+    sp = _Spelling("wgsl", constants.n_terms)
+    T = sp.terms
+    size = constants.ltc_size
+    textures = "lut: texture_2d<f32>, " + ("lut2: texture_2d<f32>, " if sp.wide else "")
+    split = "fresnelBasisSplitSumUV(lut, " + ("lut2, " if sp.wide else "") + "linearClamp, NdotV, r, cR, cG, cB)"
+    return f"""
+// Rectangular lights: linearly transformed cosines (Heitz 2016) with the same coefficients; the LTC table
+// (ggx_ltc, `fresnel-lut build --ltc`) on the public tables' axes and packing, {size} x {size}.
+const FRESNEL_LTC_SIZE: f32 = {_number(size)};
+
+fn fresnelLtcUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {{
+    let r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    let mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    return vec2f(r, sqrt(1.0 - mu)) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}}
+
+fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f {{
+    let r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    let mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    let root = select(1.0, min(sinV / sqrt(1.0 + mu), 1.0), mu > 0.0);
+    return vec2f(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}}
+
+fn fresnelLtcEdge(p: vec3f, q: vec3f) -> f32 {{
+    let c = cross(p, q);
+    let s = length(c);
+    return c.z * select(1.0, atan2(s, dot(p, q)) / max(s, 1e-30), s > 1e-7);
+}}
+
+fn fresnelLtcUnit(v: vec3f) -> vec3f {{
+    return v / max(length(v), 1e-30);
+}}
+
+fn fresnelLtcQuad(m: mat3x3f, corners: array<vec3f, 4>) -> f32 {{
+    var p: array<vec3f, 4>;
+    for (var i = 0; i < 4; i = i + 1) {{
+        p[i] = m * corners[i];
+    }}
+    var sum = 0.0;
+    var exitPoint = vec3f(1.0, 0.0, 0.0);
+    var entryPoint = vec3f(0.0, 1.0, 0.0);
+    var exits = false;
+    var enters = false;
+    for (var i = 0; i < 4; i = i + 1) {{
+        let a = p[i];
+        let b = p[(i + 1) & 3];
+        let aboveA = a.z >= 0.0;
+        let aboveB = b.z >= 0.0;
+        let denominator = a.z - b.z;
+        let x = a + (b - a) * (a.z / select(1.0, denominator, denominator != 0.0));
+        if (aboveA || aboveB) {{
+            sum = sum + fresnelLtcEdge(fresnelLtcUnit(select(x, a, aboveA)), fresnelLtcUnit(select(x, b, aboveB)));
+        }}
+        if (aboveA && !aboveB) {{
+            exitPoint = x;
+            exits = true;
+        }}
+        if (!aboveA && aboveB) {{
+            entryPoint = x;
+            enters = true;
+        }}
+    }}
+    if (exits && enters) {{
+        sum = sum + fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+    }}
+    return max(-sum * 0.159154943, 0.0);
+}}
+
+fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f,
+                  corners: array<vec3f, 4>, r: f32) -> f32 {{
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    let t = textureSampleLevel(ltcLut, linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    let first = V - N * dot(V, N);
+    let tangent = first - N * dot(first, N);
+    let tangential = length(tangent);
+    let other = select(vec3f(0.0, 1.0, 0.0), vec3f(1.0, 0.0, 0.0), abs(N.x) < 0.9);
+    let T1 = select(normalize(cross(N, other)), tangent / max(tangential, 1e-30), tangential > 1e-4);
+    let T2 = cross(N, T1);
+    let m = mat3x3f(vec3f(t.x, 0.0, t.y), vec3f(0.0, 1.0, 0.0), vec3f(t.z, 0.0, t.w)) * transpose(mat3x3f(T1, T2, N));
+    var local: array<vec3f, 4>;
+    for (var i = 0; i < 4; i = i + 1) {{
+        local[i] = corners[i] - P;
+    }}
+    return fresnelLtcQuad(m, local);
+}}
+
+fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, {textures}linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f,
+                         corners: array<vec3f, 4>, r: f32, cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * {split};
+}}
+
+fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
+                           V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, f0: vec3f) -> vec3f {{
+    let NdotV = clamp(dot(N, V), 0.0, 1.0);
+    let s = textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0).rg;
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * (f0 * s.x + s.y);
+}}
+"""
+
+
 def glsl_include(constants: ShaderConstants, command: str) -> str:
-    return _glsl(constants, command)
+    return _glsl(constants, command) + _area_glsl(constants)
 
 
 def hlsl_include(constants: ShaderConstants, command: str) -> str:
-    return _glsl(constants, command, hlsl=True)
+    return _glsl(constants, command, hlsl=True) + _area_glsl(constants, hlsl=True)
 
 
 def wgsl_include(constants: ShaderConstants, command: str) -> str:
     """The same functions in WGSL (no NaN test by x != x either: the bits are tested through bitcast)."""
+    return _wgsl_material(constants, command) + _area_wgsl(constants)
+
+
+def _wgsl_material(constants: ShaderConstants, command: str) -> str:
     c, d = constants, constants.curve_degree
     sp = _Spelling("wgsl", c.n_terms)
     T = sp.terms
@@ -1068,8 +1357,9 @@ SHADER_INCLUDES: dict[str, tuple[str, Callable[[ShaderConstants, str], str]]] = 
 
 
 def shader_includes(
-    basis: Basis | None = None, command: str = "fresnel-lut build", grid: LutGrid | None = None
+    basis: Basis | None = None, command: str = "fresnel-lut build", grid: LutGrid | None = None, ltc_size: int = 64
 ) -> list[tuple[str, str]]:
-    """(file name, text) of every generated include for ``basis`` (default: the shipped one) and its tables' grid."""
-    constants = shader_constants(basis, grid)
+    """(file name, text) of every generated include for ``basis`` (default: the shipped one), its tables' grid and
+    the LTC table's size."""
+    constants = shader_constants(basis, grid, ltc_size)
     return [(name, generate(constants, command)) for name, generate in SHADER_INCLUDES.values()]

@@ -1,6 +1,7 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
-Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``, ``table_file_name``,
+Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
+``ltc_build_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
@@ -34,7 +35,18 @@ from .channels import (
     schlick_table_channels,
 )
 from .formats import FORMATS, check_formats, file_family
-from .lut import AVERAGE_LUT, BASIS_LUT, RGBA, SCHLICK_LUT, LutGrid, build_table, lut_attributes, model_lut_name
+from .ltc import LtcGrid, fit_ltc, ltc_table
+from .lut import (
+    AVERAGE_LUT,
+    BASIS_LUT,
+    LTC_LUT,
+    RGBA,
+    SCHLICK_LUT,
+    LutGrid,
+    build_table,
+    lut_attributes,
+    model_lut_name,
+)
 from .multiple_scattering import AVERAGE_NODES, average_albedo
 from .quadrature import DEFAULT_ORDER
 from .shaders import SHADER_INCLUDES, shader_includes
@@ -44,6 +56,7 @@ __all__ = [
     "DEFAULT_SET",
     "Table",
     "default_tables",
+    "ltc_build_table",
     "model_table",
     "rgba_tables",
     "table_file_name",
@@ -69,8 +82,9 @@ def _stem(file_name: str) -> str:
 
 
 #: The stems of the default build's set: the basis table (terms 4 … 7 of a larger basis in ``_2``), Schlick's
-#: table and E_avg. A default build owns these in every format: those it does not write are removed.
-DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
+#: table, E_avg and the area lights' LTC table (``--ltc``). A default build owns these in every format: those it
+#: does not write are removed.
+DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT), _stem(LTC_LUT))
 
 
 #: Every file of a default build of a four-term basis: the tables and the generated shader includes.
@@ -227,15 +241,26 @@ def write_default_build(
     formats=("exr",),
     half: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    ltc: LtcGrid | None = None,
+    ltc_progress: Callable[[int, int], None] | None = None,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`preintegrate.shaders`) in the same
-    transaction, so that tables and per-pixel coefficients always share one basis."""
+    transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
+    area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
-    includes = shader_includes(basis, grid=grid)
+    if ltc is not None and not isinstance(ltc, LtcGrid):
+        raise ParameterError(f"ltc must be an LtcGrid or None, got {type(ltc).__name__}")
+    visibility = (LutGrid(128, 128) if grid is None else grid).visibility
+    if ltc is not None and ltc.visibility != visibility:
+        raise ParameterError(f"the LTC table's visibility {ltc.visibility!r} must be the build's, {visibility!r}")
+    includes = shader_includes(basis, grid=grid, ltc_size=64 if ltc is None else ltc.size)
+    tables = default_tables(basis, grid, order, progress)
+    if ltc is not None:
+        tables.append(ltc_build_table(ltc, ltc_progress))
     return write_tables(
-        default_tables(basis, grid, order, progress),
+        tables,
         out,
         formats,
         half,
@@ -243,6 +268,12 @@ def write_default_build(
         owned=DEFAULT_SET,
         owned_files=[name for name, _ in SHADER_INCLUDES.values()],
     )
+
+
+def ltc_build_table(grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:
+    """The area lights' LTC table (:mod:`preintegrate.ltc`) as a :class:`Table` named after :data:`LTC_LUT`."""
+    values, names, header = ltc_table(fit_ltc(grid, progress))
+    return Table(_stem(LTC_LUT), values, names, header)
 
 
 def write_model_build(

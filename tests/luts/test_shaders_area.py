@@ -1,0 +1,187 @@
+"""The generated includes' rectangular light (``fresnelBasisRectLight``, ``fresnelSchlickRectLight``,
+``fresnelLtcRect``, ``fresnelLtcUV``) run for real with the shipped tables and match their Python mirrors
+(preintegrate/shaders.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
+(the WebGL 2 path: tests/luts/test_shaders_webgl.py).
+
+1024 shading points: normals and views spanning the hemisphere (views at and beyond grazing, along the normal),
+roughness 0 … 1 with its edges, a 2 × 1 light above them that slides across the horizon. Tolerance, float32 against
+float64: 1e-5 on the LTC integral (at most 1), the specular and the table coordinates, nothing NaN or inf.
+``fresnelLtcUV(NdotV, r)``, the public tables' √(1 − N·V), is compared away from the normal only: for a view along
+the normal, float32's N·V (within 6e-8 of 1) moves it by up to 2.4e-4, 0.016 texels, and a sharp lobe's light by
+3e-4; ``fresnelLtcRect`` reads the table through |N × V| (``fresnelLtcUVSine``) and holds 1e-5 there too."""
+
+import numpy as np
+
+from basis.storage import shipped_path
+from preintegrate.exr import read_lut
+from preintegrate.ltc import LtcGrid, rect_light_integral
+from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT, LutGrid
+from preintegrate.shaders import ltc_coordinates, rect_light_specular, shader_includes
+from tests.conftest import gl_draw, wgpu_compute, wgpu_device
+
+INCLUDES = dict(shader_includes())
+COEFFICIENTS = np.array([[0.9, 0.1, -0.02, 0.01], [0.75, 0.25, 0.01, 0.01], [0.42, 0.58, 0.03, 0.0]])
+F0 = np.array([0.95, 0.64, 0.54])
+LIGHT = np.array([[-1.0, -0.5, 2.0], [-1.0, 0.5, 2.0], [1.0, 0.5, 2.0], [1.0, -0.5, 2.0]])  # faces -z, three.js winding
+
+
+def _tables():
+    return [read_lut(shipped_path(name))[0] for name in (LTC_LUT, BASIS_LUT, SCHLICK_LUT)]
+
+
+def _inputs():
+    """(1024, 4) twice: (N, r) and (V, shift of the light along x)."""
+    rng = np.random.default_rng(24)
+    count = 1024
+    normal = rng.normal(size=(count, 3))
+    normal[:, 2] = np.abs(normal[:, 2]) + 0.3
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    view = rng.normal(size=(count, 3))
+    view /= np.linalg.norm(view, axis=-1, keepdims=True)
+    view[:64] = normal[:64]  # along the normal: the frame's fallback
+    roughness = rng.uniform(0.0, 1.0, count)
+    roughness[64:80] = [0.0, 1.0, 1e-4, 0.999, *np.linspace(0.0, 0.05, 12)]
+    shift = rng.uniform(-4.0, 4.0, count)
+    return np.concatenate([normal, roughness[:, None]], -1), np.concatenate([view, shift[:, None]], -1)
+
+
+def _expected(a, b, ltc, basis, schlick):
+    a, b = a.astype(np.float32).astype(np.float64), b.astype(np.float32).astype(np.float64)
+    normal, roughness, view, shift = a[:, :3], a[:, 3], b[:, :3], b[:, 3]
+    corners = LIGHT[None] + np.stack([shift, np.zeros_like(shift), np.zeros_like(shift)], -1)[:, None, :]
+    position = np.zeros((len(a), 3))
+    n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
+    coefficients = np.broadcast_to(COEFFICIENTS, (len(a), 3, 4))
+    specular = rect_light_specular(ltc, basis, normal, view, position, corners, roughness, coefficients)
+    grid = LtcGrid(ltc.shape[0])
+    sine = np.linalg.norm(np.cross(normal, view), axis=-1)
+    integral = rect_light_integral(
+        grid.lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine), normal, view, position, corners
+    )
+    s = LutGrid(schlick.shape[1], schlick.shape[0]).lookup(schlick, n_dot_v, np.clip(roughness, 0, 1))
+    schlick_specular = integral[:, None] * (F0[None] * s[:, :1] + s[:, 1:2])
+    uv = ltc_coordinates(n_dot_v, roughness)
+    uv[:64] = np.nan  # views along the normal: fresnelLtcUV's √(1 − N·V) is float32's N·V rounding (see above)
+    return [
+        np.concatenate([specular, integral[:, None]], -1),
+        np.concatenate([schlick_specular, np.zeros((len(a), 1))], -1),
+        np.concatenate([grid.coordinates(n_dot_v, roughness, sine), uv], -1),
+    ]
+
+
+def _assert(outputs, expected, where):
+    for k, (got, want) in enumerate(zip(outputs, expected)):
+        got = np.asarray(got, dtype=np.float64)
+        assert np.all(np.isfinite(got)), (where, k)
+        error = float(np.nanmax(np.abs(got - want)))
+        assert error <= 1e-5, (where, k, error)
+
+
+GLSL_MAIN = """
+uniform sampler2D ltcLut;
+uniform sampler2D basisLut;
+uniform sampler2D schlickLut;
+uniform sampler2D inputA;
+uniform sampler2D inputB;
+uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec3 f0;
+uniform vec3 light[4];
+layout(location = 0) out vec4 out0;
+layout(location = 1) out vec4 out1;
+layout(location = 2) out vec4 out2;
+void main() {
+    vec4 a = texelFetch(inputA, ivec2(gl_FragCoord.xy), 0), b = texelFetch(inputB, ivec2(gl_FragCoord.xy), 0);
+    vec3 corners[4];
+    for (int i = 0; i < 4; ++i) corners[i] = light[i] + vec3(b.w, 0.0, 0.0);
+    vec3 P = vec3(0.0);
+    out0 = vec4(fresnelBasisRectLight(ltcLut, basisLut, a.xyz, b.xyz, P, corners, a.w, cR, cG, cB),
+                fresnelLtcRect(ltcLut, a.xyz, b.xyz, P, corners, a.w));
+    out1 = vec4(fresnelSchlickRectLight(ltcLut, schlickLut, a.xyz, b.xyz, P, corners, a.w, f0), 0.0);
+    float NdotV = clamp(dot(a.xyz, b.xyz), 0.0, 1.0);
+    out2 = vec4(fresnelLtcUVSine(NdotV, length(cross(a.xyz, b.xyz)), a.w), fresnelLtcUV(NdotV, a.w));
+}
+"""
+
+
+def test_glsl_rect_light_on_mesa_llvmpipe_matches_the_mirrors():
+    ltc, basis, schlick = _tables()
+    a, b = _inputs()
+    uniforms = {"ltcLut": 0, "basisLut": 1, "schlickLut": 2, "inputA": 3, "inputB": 4, "f0": tuple(F0)}
+    uniforms.update({f"c{colour}": tuple(COEFFICIENTS[k]) for k, colour in enumerate("RGB")})
+    uniforms["light"] = [tuple(corner) for corner in LIGHT]
+    outputs = gl_draw(
+        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + GLSL_MAIN,
+        [ltc, basis, schlick, a.reshape(32, 32, 4), b.reshape(32, 32, 4)],
+        uniforms,
+        3,
+    )
+    _assert(outputs, _expected(a, b, ltc, basis, schlick), "llvmpipe")
+
+
+WGSL_MAIN = """
+@group(0) @binding(0) var<storage, read> inputs: array<vec4f>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4f>;
+@group(0) @binding(2) var ltcLut: texture_2d<f32>;
+@group(0) @binding(3) var basisLut: texture_2d<f32>;
+@group(0) @binding(4) var schlickLut: texture_2d<f32>;
+@group(0) @binding(5) var linearClamp: sampler;
+const LIGHT = array<vec3f, 4>(vec3f(-1.0, -0.5, 2.0), vec3f(-1.0, 0.5, 2.0), vec3f(1.0, 0.5, 2.0), vec3f(1.0, -0.5, 2.0));
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if (i >= arrayLength(&inputs) / 2u) { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    var corners: array<vec3f, 4>;
+    for (var k = 0; k < 4; k = k + 1) { corners[k] = LIGHT[k] + vec3f(b.w, 0.0, 0.0); }
+    let P = vec3f(0.0);
+    let cR = vec4f(COEFFICIENTS_R); let cG = vec4f(COEFFICIENTS_G); let cB = vec4f(COEFFICIENTS_B);
+    outputs[3u * i] = vec4f(fresnelBasisRectLight(ltcLut, basisLut, linearClamp, a.xyz, b.xyz, P, corners, a.w, cR, cG, cB),
+                            fresnelLtcRect(ltcLut, linearClamp, a.xyz, b.xyz, P, corners, a.w));
+    outputs[3u * i + 1u] = vec4f(fresnelSchlickRectLight(ltcLut, schlickLut, linearClamp, a.xyz, b.xyz, P, corners, a.w,
+                                                         vec3f(F0)), 0.0);
+    let NdotV = clamp(dot(a.xyz, b.xyz), 0.0, 1.0);
+    outputs[3u * i + 2u] = vec4f(fresnelLtcUVSine(NdotV, length(cross(a.xyz, b.xyz)), a.w), fresnelLtcUV(NdotV, a.w));
+}
+"""
+
+
+def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
+    import wgpu
+
+    ltc, basis, schlick = _tables()
+    a, b = _inputs()
+    device = wgpu_device(monkeypatch, features=("float32-filterable",))
+    usage = wgpu.BufferUsage
+    inputs = np.stack([a, b], axis=1).astype(np.float32)
+    input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
+    output_buffer = device.create_buffer(size=len(a) * 3 * 16, usage=usage.STORAGE | usage.COPY_SRC)
+    views = []
+    for table in (ltc, basis, schlick):
+        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
+        rgba[..., : table.shape[2]] = table
+        texture = device.create_texture(
+            size=(table.shape[1], table.shape[0], 1),
+            format=wgpu.TextureFormat.rgba32float,
+            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+        )
+        device.queue.write_texture(
+            {"texture": texture},
+            rgba.tobytes(),
+            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
+            (table.shape[1], table.shape[0], 1),
+        )
+        views.append(texture.create_view())
+    sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
+    code = INCLUDES["fresnel_basis_material.wgsl"] + WGSL_MAIN
+    for colour, row in zip("RGB", COEFFICIENTS):
+        code = code.replace(f"COEFFICIENTS_{colour}", ", ".join(f"{value:.9g}" for value in row))
+    code = code.replace("vec3f(F0)", "vec3f(" + ", ".join(f"{value:.9g}" for value in F0) + ")")
+    data = wgpu_compute(
+        device,
+        code,
+        [{"buffer": input_buffer}, {"buffer": output_buffer}, *views, sampler],
+        output_buffer,
+        len(a),
+    )
+    output = np.frombuffer(data, np.float32).reshape(len(a), 3, 4)
+    _assert([output[:, k] for k in range(3)], _expected(a, b, ltc, basis, schlick), "lavapipe")
