@@ -1,7 +1,8 @@
 """A small vectorised renderer: spheres under an environment, split sum against Monte Carlo.
 
 Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``,
-``render_split_sum``, ``render_point_light``, ``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
+``render_split_sum``, ``render_point_light``, ``render_rect_light``, ``RECT_LIGHT``, ``rect_light_corners``,
+``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
 
 * **Environment**: a procedural studio made of spherical Gaussians (SGs) — a sky dome, a ground
   bounce, two soft boxes and a rim light — so that both the exact radiance L(ω) and Karis's prefiltered
@@ -15,6 +16,9 @@ Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENE
   the basis' (the shaders' direct-light curves, :func:`preintegrate.shaders.direct_fresnel`, with the
   material's coefficients: one material, one curve for the environment and the lamp) and the exact curve
   (the reference of a punctual light needs no integral).
+* **Rectangular light**: linearly transformed cosines (Heitz 2016; :mod:`preintegrate.ltc`) times F̄ three ways:
+  the exact curve's split sum (the LTC's own error), the basis table (``fresnelBasisRectLight``) and Schlick's; its
+  reference (the exact BRDF and curve over the light's area) is ``tests/references/area_light.py``.
 * **Reference**: Monte Carlo of ∫ F(ωo·h) ρ(ωo, ωi) L(ωi) μi dωi with VNDF sampling (Heitz 2018),
   weight F · G2/G1, the material's exact RGB Fresnel curve, seeded; its standard error is returned.
 
@@ -44,8 +48,10 @@ from basis.parallel import one_blas_thread, worker_count
 from basis.validation import check_choice, check_positive_int, check_range
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
+from preintegrate.ltc import LtcGrid, rect_light_integral
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
+from preintegrate.quadrature import directional_albedo
 from preintegrate.shaders import direct_fresnel
 
 __all__ = [
@@ -53,7 +59,10 @@ __all__ = [
     "STUDIO",
     "Environment",
     "RenderMaterial",
+    "RECT_LIGHT",
+    "rect_light_corners",
     "render_point_light",
+    "render_rect_light",
     "render_reference",
     "render_split_sum",
     "sphere_geometry",
@@ -237,6 +246,67 @@ def render_point_light(
     images = {name: radiance * brdf_cos[..., None] * np.broadcast_to(value, (3,)) for name, value in fresnel.items()}
     for image in images.values():
         image[~mask] = 0.0
+    return images
+
+
+def rect_light_corners(centre=(-1.2, 2.0, 2.6), size=(1.6, 0.8)) -> np.ndarray:
+    """(4, 3) corners of a rectangular light centred at ``centre`` facing the origin (the sphere's centre), wound as
+    three.js winds them: (c1 − c0) × (c3 − c0) points towards the lit side."""
+    centre = np.asarray(centre, dtype=np.float64)
+    towards = -centre / np.linalg.norm(centre)
+    across = _unit(np.cross(towards, [0.0, 1.0, 0.0]))
+    up = np.cross(across, towards)
+    half_w, half_h = 0.5 * size[0] * across, 0.5 * size[1] * up
+    corners = np.array([centre - half_w - half_h, centre - half_w + half_h, centre + half_w + half_h, centre + half_w - half_h])
+    if np.dot(np.cross(corners[1] - corners[0], corners[3] - corners[0]), towards) < 0.0:
+        corners = corners[::-1].copy()
+    return corners
+
+
+#: The report's rectangular light (a soft box above, left and in front of the sphere).
+RECT_LIGHT = rect_light_corners()
+
+
+def render_rect_light(
+    material: RenderMaterial,
+    roughness: float,
+    size: int,
+    ltc_lut: np.ndarray,
+    basis_lut: np.ndarray,
+    schlick_lut: np.ndarray,
+    corners=RECT_LIGHT,
+    radiance: float = 4.0,
+    visibility: str = "height-correlated",
+) -> dict[str, np.ndarray]:
+    """Linear RGB images (S, S, 3) of a rectangular light of ``radiance`` on the unit sphere by linearly transformed
+    cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRect``), its Fresnel three ways: the exact curve's
+    split sum F̄ (what the LTC alone costs), the basis' Σ c_k b̄_k from the table (``fresnelBasisRectLight``) and
+    Schlick's F0 s + b (``fresnelSchlickRectLight``); and the LTC integral itself (``ltc``, one channel)."""
+    roughness = float(check_range("roughness", roughness, 0.0, 1.0))
+    check_choice("visibility", visibility, list(VISIBILITIES))
+    normals, mask = sphere_geometry(size)
+    view = np.broadcast_to([0.0, 0.0, 1.0], normals.shape)
+    mu_o = np.clip(normals[..., 2], 0.0, 1.0)
+    sine = np.linalg.norm(np.cross(normals, view), axis=-1)
+    grid = LtcGrid(ltc_lut.shape[0], visibility)
+    integral = rect_light_integral(grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners)
+    integral = np.where(mask, integral, 0.0)
+    nodes = texel_centres(256)
+    exact_table = directional_albedo(
+        material.curve, nodes, roughness_to_alpha(roughness), visibility=visibility, workers=1
+    )  # (256, 3): F̄ of the exact curve along μo
+    exact = np.stack([np.interp(mu_o, nodes, exact_table[:, c]) for c in range(3)], axis=-1)
+    f0 = material.curve(np.array(1.0))
+    schlick = lut_lookup(schlick_lut, mu_o, roughness)
+    fresnel = {
+        "exact": exact,
+        "basis": lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T,
+        "schlick": schlick[..., :1] * f0 + schlick[..., 1:2],
+    }
+    images = {name: radiance * integral[..., None] * value for name, value in fresnel.items()}
+    for image in images.values():
+        image[~mask] = 0.0
+    images["ltc"] = integral
     return images
 
 

@@ -18,7 +18,7 @@ def _run(*argv, timeout=300):
 
 
 def test_every_benchmark_is_listed_here():
-    assert ENTRIES == ["commands", "fuzz", "quadrature_vs_montecarlo", "shader_cost", "stability_table"]
+    assert ENTRIES == ["area_lights", "commands", "fuzz", "quadrature_vs_montecarlo", "shader_cost", "stability_table"]
 
 
 @pytest.mark.parametrize("entry", ENTRIES)
@@ -46,3 +46,13 @@ def test_shader_cost_runs_small():
     completed = _run("benchmarks.shader_cost", "--width", "64", "--height", "36", "--frames", "1", "--rounds", "1")
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert completed.stdout.count("| basis per pixel") == 3
+
+
+@pytest.mark.slow
+def test_area_lights_runs_small():
+    """The area-light report at 8 x 8 with a 6 x 6 fit and no peers (npm is the benchmark's, not the suite's)."""
+    completed = _run(
+        "benchmarks.area_lights", "--size", "8", "--nodes", "8", "--ltc-size", "6", "--three", "none", timeout=600
+    )
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    assert completed.stdout.count("| Gold |") == 1 and "three.js not measured: not asked for" in completed.stdout

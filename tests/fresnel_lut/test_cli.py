@@ -564,3 +564,34 @@ def test_build_visibility_is_recorded_and_changes_the_table(tmp_path, capsys):
     assert np.all(separable.sum(axis=-1) <= correlated.sum(axis=-1) + 1e-6)
     assert run(["build", "--visibility", "kelemen", "--out", tmp_path / "x"]) == 2
     assert_one_line_error(capsys.readouterr().err)
+
+
+def test_build_ltc_writes_the_area_light_table_with_its_set(tmp_path, capsys):
+    """``build --ltc`` adds ggx_ltc (its size from ``--ltc-size``, its convention and lobe error in the header) to
+    the set, and the generated includes address it at that size; a build without ``--ltc`` removes it (the set is
+    the build's)."""
+    assert run(["build", "--size", "8", "--ltc", "--ltc-size", "6", "--out", tmp_path]) == 0
+    table, header = read_lut(tmp_path / "ggx_ltc.exr")
+    assert table.shape == (6, 6, 4) and np.all(np.isfinite(table))
+    assert header["channels"] == "m00,m20,m02,m22" and "sqrt(1 - mu_o) = j / (size - 1)" in header["convention"]
+    assert float(header["ltc_lobe_error_max"]) < 1.0
+    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    assert run(["build", "--size", "8", "--out", tmp_path]) == 0
+    assert not (tmp_path / "ggx_ltc.exr").exists()
+    assert "const float FRESNEL_LTC_SIZE = 64.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--ltc-size", "8"], "--ltc-size goes with --ltc"),
+        (["--ltc", "--model", "f82"], "--ltc goes with the default build"),
+        (["--ltc", "--ltc-size", "1"], "--ltc-size"),
+    ],
+)
+def test_build_ltc_errors_write_nothing(argv, message, tmp_path, capsys):
+    assert run(["build", "--size", "8", "--out", tmp_path / "out", *argv]) == 2
+    err = capsys.readouterr().err
+    assert_one_line_error(err)
+    assert message in err
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

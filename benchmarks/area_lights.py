@@ -1,0 +1,280 @@
+"""Area lights (issue 24): the LTC fit against the public tables, and a rectangular light's error split by source.
+
+Run: ``.venv/bin/python -m benchmarks.area_lights [--size S] [--nodes N] [--three VERSION] [--out FILE]`` (the
+report: ``--out report/area_lights.md``, which also writes ``report/area_lights.png``). Sections:
+
+1. **Fit**: the wall-clock time of ``fit_ltc()`` (64 × 64, this machine; one run) and its lobe error
+   ½∫|f̂ − D| dω per texel (max, mean).
+2. **Peers**: the same lobe error for three.js's LTC table (npm ``three``, ``examples/jsm/lights/
+   RectAreaLightTexturesLib.js`` ``LTC_MAT_1``, 64 × 64, from the public ``ltc_code`` fit) and for ours, at 3000
+   seeded random (μo, r), each read by bilinear lookup. Both fit the same BRDF (GGX with the height-correlated G2:
+   ``ltc_code``'s ``brdf_ggx.cpp``) on the same axes (u = r, v = √(1 − μo), end points on texel centres) and
+   packing, so the comparison is like for like. ``npm pack`` fetches the package; without npm the section says so.
+3. **Rectangular light**: spheres under the renderer's soft box (``fresnel_lut.render.RECT_LIGHT``), the Figure 2
+   material, gold, chromium and beryllium (ACEScg), the error split into its three sources, as max and mean
+   ΔE2000 over the lit pixels (tone-mapped as the renders are): the **LTC's shape** (LTC × the exact curve's F̄
+   against the reference: the exact BRDF and curve over the light's area, ``tests/references/area_light.py``,
+   Gauss-Legendre), the **basis' Fresnel** (LTC × Σ c_k b̄_k against LTC × exact F̄) and **Schlick's** (LTC × Schlick
+   against LTC × exact F̄). Target: the basis' Fresnel part no larger than its own split-sum error for the material
+   (max |F̄_basis − F̄_exact| over the table at that roughness, the same quantity ΔF̄ read at the lit pixels).
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shutil
+import subprocess
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from basis.colorimetry import delta_E_2000
+from basis.storage import shipped_path, write_together
+from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sphere_geometry, to_srgb8, tone_map
+from preintegrate.exr import read_lut
+from preintegrate.ggx import roughness_to_alpha
+from preintegrate.ltc import LtcGrid, fit_ltc, stored_lobe_error
+from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT, lut_lookup
+from preintegrate.quadrature import directional_albedo
+from tests.references.area_light import rect_light_reference
+
+SPACE = "ACEScg"
+EXPOSURE = 1.0
+RADIANCE = 4.0
+ROUGHNESS = {"figure2": 0.2828, "gold": 0.3, "chromium": 0.3, "beryllium": 0.6}
+THREE_FILE = "package/examples/jsm/lights/RectAreaLightTexturesLib.js"
+
+
+def three_table(version: str) -> np.ndarray | str:
+    """three.js's ``LTC_MAT_1`` (64, 64, 4), rows √(1 − μo), columns r, entries (m00, m20, m02, m22) as its shader's
+    ``mat3(vec3(t.x, 0, t.y), …)`` reads them; or why it could not be had."""
+    npm = shutil.which("npm")
+    if npm is None:
+        return "npm is not installed here"
+    with tempfile.TemporaryDirectory() as folder:
+        packed = subprocess.run(
+            [npm, "pack", f"three@{version}", "--silent"], cwd=folder, capture_output=True, text=True, timeout=300
+        )
+        if packed.returncode != 0:
+            return f"npm pack three@{version} failed: {packed.stderr.strip()[:200]}"
+        with tarfile.open(Path(folder) / packed.stdout.strip().splitlines()[-1]) as archive:
+            text = archive.extractfile(THREE_FILE).read().decode("utf-8")
+    found = re.search(r"const LTC_MAT_1 = \[([^\]]*)\]", text)
+    if found is None:
+        return f"no LTC_MAT_1 in three@{version}'s {THREE_FILE}"
+    return np.array([float(value.replace(" ", "")) for value in found.group(1).split(",")]).reshape(64, 64, 4)
+
+
+def peer_lines(ours: np.ndarray, three, version: str) -> list[str]:
+    grid = LtcGrid(64)
+    rng = np.random.default_rng(24)
+    mu_o, roughness = rng.uniform(0.0, 1.0, 3000), rng.uniform(0.0, 1.0, 3000)
+    tables = {"this project (ggx_ltc)": ours}
+    if isinstance(three, str):
+        return [f"three.js not measured: {three}.", ""]
+    tables[f"three.js {version} (LTC_MAT_1)"] = three
+    lines = [
+        "| table | mean | median | 90th percentile | 99th percentile |",
+        "|---|---|---|---|---|",
+    ]
+    for name, table in tables.items():
+        error = stored_lobe_error(grid.lookup(table, mu_o, roughness), mu_o, roughness)
+        p50, p90, p99 = np.percentile(error, [50, 90, 99])
+        lines.append(f"| {name} | {error.mean():.4f} | {p50:.4f} | {p90:.4f} | {p99:.4f} |")
+    return lines + [""]
+
+
+def _reference(material, roughness: float, size: int, nodes: int) -> np.ndarray:
+    normals, mask = sphere_geometry(size)
+    view = np.broadcast_to([0.0, 0.0, 1.0], normals.shape)
+    image = np.zeros(normals.shape)
+    for row in range(size):
+        image[row] = RADIANCE * rect_light_reference(
+            normals[row], view[row], normals[row], RECT_LIGHT, roughness_to_alpha(roughness), material.curve, nodes
+        )
+    image[~mask] = 0.0
+    return image
+
+
+def light_rows(size: int, nodes: int, three):
+    ltc, basis, schlick = (read_lut(shipped_path(name))[0] for name in (LTC_LUT, BASIS_LUT, SCHLICK_LUT))
+    rows, pictures = [], []
+    for key, make in DEFAULT_SCENES.items():
+        material, roughness = make(SPACE), ROUGHNESS[key]
+        images = render_rect_light(material, roughness, size, ltc, basis, schlick, radiance=RADIANCE)
+        reference = _reference(material, roughness, size, nodes)
+        lit = images["ltc"] > 1e-4
+        shown = {
+            name: tone_map(image, EXPOSURE)
+            for name, image in (("reference", reference), *images.items())
+            if name != "ltc"
+        }
+        maps = {
+            "LTC shape": delta_E_2000(shown["exact"], shown["reference"], SPACE),
+            "basis Fresnel": delta_E_2000(shown["basis"], shown["exact"], SPACE),
+            "Schlick Fresnel": delta_E_2000(shown["schlick"], shown["exact"], SPACE),
+        }
+        probe = None
+        if not isinstance(three, str):  # the public table's LTC under the same light, exact F̄
+            theirs = render_rect_light(material, roughness, size, three, basis, schlick, radiance=RADIANCE)
+            maps["LTC shape, three.js table"] = delta_E_2000(
+                tone_map(theirs["exact"], EXPOSURE), shown["reference"], SPACE
+            )
+            worst = np.unravel_index(np.argmax(np.where(lit, maps["LTC shape"], -1.0)), lit.shape)
+            normals, _ = sphere_geometry(size)
+            probe = (
+                float(normals[worst][2]),
+                float(reference[worst][1]),
+                float(images["exact"][worst][1]),
+                float(theirs["exact"][worst][1]),
+            )
+        integral = np.where(lit, images["ltc"], 1.0)[..., None]
+        at_pixels = float(np.max(np.abs(images["basis"] - images["exact"])[lit] / (RADIANCE * integral[lit])))
+        mu = np.linspace(0.0, 1.0, 129)[1:]
+        exact = directional_albedo(material.curve, mu, roughness_to_alpha(roughness), workers=1)
+        own = float(np.max(np.abs(lut_lookup(basis, mu, roughness) @ material.coefficients.T - exact)))
+        rows.append(
+            (
+                material.name,
+                roughness,
+                {name: (m[lit].max(), m[lit].mean()) for name, m in maps.items()},
+                at_pixels,
+                own,
+                probe,
+            )
+        )
+        pictures.append((material.name, roughness, shown, maps))
+    return rows, pictures
+
+
+def figure(pictures):
+    from fresnel_lut.report.figures import figure_png, pyplot
+
+    plt = pyplot()
+    columns = ["reference", "exact", "basis", "schlick", "LTC shape", "basis Fresnel", "Schlick Fresnel"]
+    titles = [
+        "reference",
+        "LTC x exact Fbar",
+        "LTC x basis",
+        "LTC x Schlick",
+        "dE: LTC shape",
+        "dE: basis Fresnel",
+        "dE: Schlick Fresnel",
+    ]
+    fig, axes = plt.subplots(len(pictures), len(columns), figsize=(2.0 * len(columns), 2.1 * len(pictures)))
+    for line, (name, roughness, shown, maps) in zip(axes, pictures):
+        for axis, column, title in zip(line, columns, titles):
+            if column in maps:
+                image = axis.imshow(maps[column], vmin=0.0, vmax=5.0, cmap="magma")
+            else:
+                axis.imshow(to_srgb8(shown[column]))
+            axis.set_xticks([])
+            axis.set_yticks([])
+            axis.set_title(title, fontsize=7)
+        line[0].set_ylabel(f"{name}\nr = {roughness:.2f}", fontsize=7)
+    fig.colorbar(image, ax=axes, shrink=0.6, label="dE2000 (0-5)")
+    return figure_png(fig)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--size", type=int, default=96, help="sphere image size (default 96)")
+    parser.add_argument(
+        "--nodes", type=int, default=96, help="reference Gauss-Legendre nodes per light axis (default 96)"
+    )
+    parser.add_argument(
+        "--three", default="0.170.0", help="three.js version whose LTC table is compared ('none': skip the peers)"
+    )
+    parser.add_argument("--ltc-size", type=int, default=64, help="size of the timed fit (default 64, the shipped one)")
+    parser.add_argument("--out", type=Path, default=None, help="also write the Markdown (and the PNG beside it) here")
+    arguments = parser.parse_args(argv)
+    started = time.perf_counter()
+    three = "not asked for (--three none)" if arguments.three == "none" else three_table(arguments.three)
+    fit = fit_ltc(LtcGrid(arguments.ltc_size))
+    fit_seconds = time.perf_counter() - started
+    shipped = read_lut(shipped_path(LTC_LUT))[0]
+    lines = [
+        "# Area lights: linearly transformed cosines with the basis Fresnel (issue 24)",
+        "",
+        f"Command: `python -m benchmarks.area_lights --out report/area_lights.md` (sizes {arguments.size}, "
+        f"{arguments.nodes}^2 reference nodes).",
+        "",
+        "## The fit",
+        "",
+        f"`fit_ltc()` ({arguments.ltc_size} x {arguments.ltc_size}, height-correlated GGX): {fit_seconds:.1f} s wall "
+        "clock on this machine, one run (target 60 s for 64 x 64); the shipped table is the same bits: "
+        f"{fit.inverse.shape == shipped.shape and np.array_equal(fit.inverse.astype(np.float32), shipped)}.",
+        f"Lobe error (half the L1 distance between the LTC and the normalised cosine-weighted lobe, 0: the same, 1: "
+        f"disjoint) per texel: max {fit.error.max():.3f}, mean {fit.error.mean():.4f}; it grows towards grazing "
+        "views at mid roughness, where the lobe is least like a transformed cosine.",
+        "",
+        "## Against the public tables",
+        "",
+        "Lobe error at 3000 seeded random (mu_o, r), bilinear lookups, the same BRDF, axes and packing:",
+        "",
+        *peer_lines(shipped.astype(np.float64), three, arguments.three),
+        "## A rectangular light, its error by source",
+        "",
+        "dE2000 over the lit pixels (LTC integral > 1e-4), max / mean. 'own split-sum error' is max |Fbar_basis - "
+        "Fbar_exact| over the table's view angles at that roughness; 'at the lit pixels' the same difference as the "
+        "area light carries it (its Fresnel part divided by the LTC integral): the target is at most the former.",
+        "",
+        "| material | r | LTC shape | basis Fresnel | Schlick Fresnel | LTC shape with three.js's table | basis dFbar at "
+        "the lit pixels | own split-sum error |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    rows, pictures = light_rows(arguments.size, arguments.nodes, three)
+    for name, roughness, errors, at_pixels, own, _ in rows:
+        cells = " | ".join(
+            f"{errors[k][0]:.2f} / {errors[k][1]:.3f}" for k in ("LTC shape", "basis Fresnel", "Schlick Fresnel")
+        )
+        peer = errors.get("LTC shape, three.js table")
+        peer_cell = "not measured" if peer is None else f"{peer[0]:.2f} / {peer[1]:.3f}"
+        lines.append(f"| {name} | {roughness:.2f} | {cells} | {peer_cell} | {at_pixels:.2e} | {own:.2e} |")
+    probes = [(name, probe) for name, _, _, _, _, probe in rows if probe is not None]
+    if probes:
+        lines += [
+            "",
+            "Where this project's LTC errs most (the lit pixel of largest LTC-shape dE, green channel):",
+            "",
+            "| material | mu_o there | reference | this project's LTC | three.js's LTC |",
+            "|---|---|---|---|---|",
+            *(
+                f"| {name} | {mu:.3f} | {want:.4f} | {ours:.4f} | {theirs:.4f} |"
+                for name, (mu, want, ours, theirs) in probes
+            ),
+            "",
+            "At grazing views (the sphere's silhouette, here the upper-left one facing the soft box) this fit spreads "
+            "a thin layer of the LTC over "
+            "the back-scattering half of the hemisphere, where the lobe has almost nothing: cheap in the lobe error "
+            "(which it wins overall) but a faint rim under a light on the viewer's side, which the public table, "
+            "narrower there, does not show. Not yet solved: an L2 fit with the LTC's own samples (MIS, as the public "
+            "fit) and a chi-square weighting left the glossy rows' rim in place.",
+        ]
+    lines += [
+        "",
+        "![spheres under the rectangular light and the dE maps of each error source](area_lights.png)",
+        "",
+        "Left to right: the reference, LTC x the exact curve's Fbar, LTC x the basis, LTC x Schlick, then dE2000 maps "
+        "(0-5) of the LTC's shape, the basis' Fresnel and Schlick's Fresnel.",
+    ]
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if arguments.out is not None:
+        png = figure(pictures)
+        picture = arguments.out.with_suffix(".png")
+        write_together(
+            [
+                (arguments.out, lambda path: path.write_text(text, encoding="utf-8")),
+                (picture, lambda path: path.write_bytes(png)),
+            ]
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
