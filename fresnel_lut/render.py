@@ -257,7 +257,9 @@ def rect_light_corners(centre=(-1.2, 2.0, 2.6), size=(1.6, 0.8)) -> np.ndarray:
     across = _unit(np.cross(towards, [0.0, 1.0, 0.0]))
     up = np.cross(across, towards)
     half_w, half_h = 0.5 * size[0] * across, 0.5 * size[1] * up
-    corners = np.array([centre - half_w - half_h, centre - half_w + half_h, centre + half_w + half_h, centre + half_w - half_h])
+    corners = np.array(
+        [centre - half_w - half_h, centre - half_w + half_h, centre + half_w + half_h, centre + half_w - half_h]
+    )
     if np.dot(np.cross(corners[1] - corners[0], corners[3] - corners[0]), towards) < 0.0:
         corners = corners[::-1].copy()
     return corners

@@ -1,6 +1,6 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
+Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
 ``ltc_table``, ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
 
@@ -13,14 +13,17 @@ point; Heitz 2016 §5.2). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|
 edges where acos does not.
 
 The fit. For an isotropic BRDF seen in the xz plane, M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 §4.2: four
-free entries). Per texel (μo, r) of an :class:`LtcGrid` (α = r²), (a, b, c, d) minimise the L2
-distance ∫ (f̂ − D)² dω to the normalised cosine-weighted GGX lobe f̂(ω_i) = D_GGX(h) G2(μo, μi) / (4 μo E(μo, α))
+entries). As the public fit does, M = R_y(θ) [[s, 0, t], [0, u, 0], [0, 0, 1]] with θ the polar angle of the lobe's
+mean direction: the LTC's support is then the half-space facing that direction, which keeps it off the
+back-scattering half at grazing views (``axis="free"``, a fourth free entry, lowers the lobe error but spreads a
+thin layer there that glows on a glossy silhouette under a light on the viewer's side; ``benchmarks.area_lights``
+measures both). Per texel (μo, r) of an :class:`LtcGrid` (α = r²), (s, t, u)
+minimise the L2 distance ∫ (f̂ − D)² dω to the normalised cosine-weighted GGX lobe f̂(ω_i) = D_GGX(h) G2(μo, μi) / (4 μo E(μo, α))
 (no Fresnel: the split sum supplies it, Heitz 2016 §4.4), on a fixed set of directions, so the fit is
 deterministic: a grid of visible-normal samples of the lobe (Heitz 2018) and a grid of the sphere, weighted by the
-balance heuristic. Levenberg-Marquardt on (log a, b, log c, d), all rows of a column at once, from normal to grazing
-incidence, each row of view angles starting from the one before or from a guess aligned with the lobe's mean
-direction, whichever is closer (the public fit, ``fitLTC.cpp``, starts each texel from its neighbour; it minimises
-an L3 error by Nelder-Mead on random samples).
+balance heuristic. Levenberg-Marquardt on (log s, t, log u), all columns of a row at once, from normal to grazing
+incidence, each row starting from the one before or from the isotropic guess, whichever is closer (the public fit,
+``fitLTC.cpp``, starts each texel from its neighbour; it minimises an L3 error by Nelder-Mead on random samples).
 
 Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m20, m02, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
 so the scale is free) on the axes of the public tables (:class:`LtcGrid`: column r, row √(1 − μo), end points on
@@ -55,6 +58,7 @@ from .quadrature import directional_albedo
 
 __all__ = [
     "ALPHA_FLOOR",
+    "AXES",
     "LTC_CHANNELS",
     "LTC_LUT",
     "MU_FLOOR",
@@ -243,25 +247,39 @@ def ltc_density(omega, parameters) -> np.ndarray:
     return np.maximum(local_z, 0.0) / (np.pi * np.abs(c * pivot) * length2 * length2)
 
 
-def _unpack(free: np.ndarray) -> np.ndarray:
-    return np.stack([np.exp(free[..., 0]), free[..., 1], np.exp(free[..., 2]), free[..., 3]], axis=-1)
+def _unpack(free: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """(…, 4) (a, b, c, d) of M = R_y(θ) [[s, 0, t], [0, u, 0], [0, 0, 1]] normalised to m22 = 1, from the free
+    (log s, t, log u): m22 = cos θ − t sin θ, a = s cos θ / m22, b = (t cos θ + sin θ) / m22, c = u / m22,
+    d = −s sin θ / m22. Four free entries (log a, b, log c, d): M itself (``axis="free"``)."""
+    if free.shape[-1] == 4:
+        return np.stack([np.exp(free[..., 0]), free[..., 1], np.exp(free[..., 2]), free[..., 3]], axis=-1)
+    s, t, u = np.exp(free[..., 0]), free[..., 1], np.exp(free[..., 2])
+    cosine, sine = np.cos(theta), np.sin(theta)
+    m22 = cosine - t * sine
+    return np.stack([s * cosine / m22, (t * cosine + sine) / m22, u / m22, -s * sine / m22], axis=-1)
 
 
-def _residuals(free, directions, weights, target) -> np.ndarray:
-    with np.errstate(over="ignore"):  # a trial step out of range: its residuals are inf and it is refused
-        parameters = _unpack(free)
-    valid = parameters[..., 0] - parameters[..., 1] * parameters[..., 3] > 1e-12 * parameters[..., 0]
+def _residuals(free, theta, directions, weights, target) -> np.ndarray:
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # a step out of range: inf, refused
+        parameters = _unpack(free, theta)
+        if free.shape[-1] == 4:
+            m22 = parameters[..., 0] - parameters[..., 1] * parameters[..., 3] - 1e-12 * parameters[..., 0]
+        else:
+            m22 = np.cos(theta) - free[..., 1] * np.sin(theta) - 1e-9
+    valid = (m22 > 0.0) & np.all(np.isfinite(parameters), axis=-1)
     safe = np.where(valid[..., None], parameters, np.array([1.0, 0.0, 1.0, 0.0]))
     residual = np.sqrt(weights) * (target - ltc_density(directions, safe))
     return np.where(valid[..., None], residual, np.inf)
 
 
-def _levenberg_marquardt(free, directions, weights, target, iterations: int) -> np.ndarray:
-    """Minimise Σ residual² for every texel at once (T, 4) → (T, 4); forward-difference Jacobians. A texel stops
+def _levenberg_marquardt(free, theta, directions, weights, target, iterations: int) -> np.ndarray:
+    """Minimise Σ residual² for every texel at once (T, P) → (T, P); forward-difference Jacobians. A texel stops
     when a step gains less than 1e-10 of its cost or its damping passes 1e10, so each texel's path depends on
-    itself alone (the rows can be split among threads without changing a bit)."""
+    itself alone (the columns can be split among threads without changing a bit)."""
+    count = free.shape[1]
+    unit = np.eye(count)
     damping = np.full(free.shape[0], 1e-3)
-    residual = _residuals(free, directions, weights, target)
+    residual = _residuals(free, theta, directions, weights, target)
     cost = np.sum(residual * residual, axis=-1)
     active = np.isfinite(cost)
     for _ in range(iterations):
@@ -270,20 +288,20 @@ def _levenberg_marquardt(free, directions, weights, target, iterations: int) -> 
         step = 1e-6 * np.maximum(1.0, np.abs(free))
         jacobian = np.stack(
             [
-                (_residuals(free + step[:, k : k + 1] * np.eye(4)[k], directions, weights, target) - residual)
+                (_residuals(free + step[:, k : k + 1] * unit[k], theta, directions, weights, target) - residual)
                 / step[:, k : k + 1]
-                for k in range(4)
+                for k in range(count)
             ],
             axis=-1,
-        )  # (T, N, 4)
+        )  # (T, N, P)
         jacobian = np.where(np.isfinite(jacobian), jacobian, 0.0)
         normal = np.einsum("tni,tnj->tij", jacobian, jacobian)
         gradient = np.einsum("tni,tn->ti", jacobian, residual)
-        damped = normal + damping[:, None, None] * (np.eye(4) * np.diagonal(normal, axis1=1, axis2=2)[:, None, :])
-        damped += 1e-300 * np.eye(4)
+        damped = normal + damping[:, None, None] * (unit * np.diagonal(normal, axis1=1, axis2=2)[:, None, :])
+        damped += 1e-300 * unit
         delta = -np.linalg.solve(damped, gradient[..., None])[..., 0]
         trial = free + delta
-        trial_residual = _residuals(trial, directions, weights, target)
+        trial_residual = _residuals(trial, theta, directions, weights, target)
         trial_cost = np.sum(trial_residual * trial_residual, axis=-1)
         better = active & (trial_cost < cost)
         gain = np.where(better, cost - trial_cost, 0.0)
@@ -295,17 +313,29 @@ def _levenberg_marquardt(free, directions, weights, target, iterations: int) -> 
     return free
 
 
-def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations):
-    """Fit the texels of one column's rows (T,) from ``start`` (T, 4) or the aligned guess."""
+def _mean_angle(directions, weights, target) -> np.ndarray:
+    """(T,) the signed polar angle, in the xz plane, of the target lobe's mean direction."""
+    mean = np.sum((weights * target)[..., None] * directions, axis=1)
+    return np.arctan2(mean[:, 0], np.maximum(mean[:, 2], 1e-9))
+
+
+def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations, axis) -> tuple[np.ndarray, np.ndarray]:
+    """Fit the texels of one row's columns (T,): (free (T, P), (a, b, c, d) (T, 4)), from ``start`` (the previous
+    row's free parameters) or the guess, whichever is closer: s = u = 2α, t = 0 on the lobe's mean axis; for
+    ``axis="free"`` the same matrix in (a, b, c, d)."""
     directions, weights = _directions(mu_o, alpha, _FIT_GRID)
     target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[:, None], visibility)
-    guess = _aligned_guess(directions, weights, target, np.clip(2.0 * alpha, 1e-5, 1.0))
-    if start is not None:  # the previous column's fit where it starts closer (a narrow lobe moves away from it)
-        costs = [
-            np.sum(_residuals(candidate, directions, weights, target) ** 2, axis=-1) for candidate in (start, guess)
-        ]
+    theta = _mean_angle(directions, weights, target)
+    spread = np.log(np.clip(2.0 * alpha, 1e-5, 1.0))
+    guess = np.stack([spread, np.zeros_like(spread), spread], axis=-1)
+    if axis == "free":
+        a, b, c, d = np.moveaxis(_unpack(guess, theta), -1, 0)
+        guess = np.stack([np.log(a), b, np.log(c), d], axis=-1)
+    if start is not None:  # the previous row's shape where it starts closer
+        costs = [np.sum(_residuals(c, theta, directions, weights, target) ** 2, axis=-1) for c in (start, guess)]
         guess = np.where((costs[0] <= costs[1])[:, None], start, guess)
-    return _levenberg_marquardt(guess, directions, weights, target, iterations)
+    free = _levenberg_marquardt(guess, theta, directions, weights, target, iterations)
+    return free, _unpack(free, theta)
 
 
 def lobe_error(parameters, grid: LtcGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
@@ -350,21 +380,20 @@ def _albedo(grid: LtcGrid) -> np.ndarray:
     )[..., 0]
 
 
-def _aligned_guess(directions, weights, target, spread) -> np.ndarray:
-    """(T, 4) free parameters of M = R_y(θ) diag(s, s, 1) normalised to m22 = 1, θ the polar angle (signed, in the
-    xz plane) of the target lobe's mean direction: a = s, b = tan θ, c = s / cos θ, d = −s tan θ."""
-    mean = np.sum((weights * target)[..., None] * directions, axis=1)
-    theta = np.arctan2(mean[:, 0], np.maximum(mean[:, 2], 1e-9))
-    tangent = np.tan(theta)
-    return np.stack([np.log(spread), tangent, np.log(spread / np.cos(theta)), -spread * tangent], axis=-1)
+#: The LTC's axis: the lobe's mean direction (the shipped table, as the public fit), or M's four entries free.
+AXES = ("mean", "free")
 
 
 def fit_ltc(
-    grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None, workers: int | None = None
+    grid: LtcGrid | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
+    axis: str = "mean",
 ) -> LtcFit:
     """The LTC of every texel of ``grid`` (default 64 × 64, height-correlated G2), row by row from normal to grazing
     incidence, the roughness columns of a row shared among ``workers`` threads (default: the machine's cores; the
-    result is the same bits)."""
+    result is the same bits); ``axis`` one of :data:`AXES` (module docstring: the benchmark measures both)."""
+    check_choice("axis", axis, AXES)
     grid = LtcGrid() if grid is None else grid
     if not isinstance(grid, LtcGrid):
         raise ParameterError(f"grid must be an LtcGrid, got {type(grid).__name__}")
@@ -385,11 +414,13 @@ def fit_ltc(
                     grid.visibility,
                     None if free is None else free[columns],
                     iterations,
+                    axis,
                 ),
                 chunks,
             )
-            free = np.concatenate(list(parts))
-            fitted[row] = _unpack(free)
+            parts = list(parts)
+            free = np.concatenate([part[0] for part in parts])
+            fitted[row] = np.concatenate([part[1] for part in parts])
             if progress is not None:
                 progress(row + 1, grid.size + 1)
     inverse, _ = _matrix_inverse(fitted)
