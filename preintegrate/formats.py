@@ -237,18 +237,23 @@ def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False
     return header + index + levels + descriptor + key_values + b"\x00" * (level_offset - end) + texels
 
 
+#: How far past [0, 1] a channel may go and still be stored as it is (offset 0, scale 1): half a 16-bit step.
+PNG16_SLACK = 0.5 / 65535.0
+
 #: PNG colour type by channel count: grey, grey + alpha, RGB, RGBA.
 _COLOUR_TYPE = {1: 0, 2: 4, 3: 2, 4: 6}
 
 
 def png16_encoding(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(offset, scale) per channel: value = offset + scale · texel, texel in [0, 1]; channels that stay in
-    [0, 1] keep offset 0 and scale 1 (a plain unorm read is then the value itself)."""
+    [0, 1] keep offset 0 and scale 1 (a plain unorm read is then the value itself), also when they pass 0 or 1 by
+    less than half a 16-bit step (the quadrature's 2e-8 overshoot of b̄0, Schlick's scale and E near normal
+    incidence: clamping them costs less than the rounding does)."""
     table, _ = _checked_table("a 16-bit PNG", table, {})
     if not np.all(np.isfinite(table)):
         raise ParameterError("table contains NaN or inf; a PNG cannot hold it")
     low, high = table.min(axis=(0, 1)), table.max(axis=(0, 1))
-    inside = (low >= 0.0) & (high <= 1.0)
+    inside = (low >= -PNG16_SLACK) & (high <= 1.0 + PNG16_SLACK)
     offset = np.where(inside, 0.0, low)
     scale = np.where(inside, 1.0, np.maximum(high - low, np.finfo(np.float64).tiny))
     return offset, scale

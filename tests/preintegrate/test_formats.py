@@ -57,6 +57,23 @@ def test_png16_keeps_the_signed_channel(built):
     assert decoded.min() == pytest.approx(table[..., 3].min(), abs=1e-4)
 
 
+def test_png16_stores_unit_channels_as_they_are(built):
+    """Channels in [0, 1] keep offset 0 and scale 1 (README), also b̄0, Schlick's scale and E, which the quadrature
+    takes 2e-8 past 1 at normal incidence (issue 26 item 19: they were given offsets of 0.31 and 0.019)."""
+    from preintegrate.formats import PNG16_SLACK, png16_encoding
+
+    for name, unit in (("ggx_basis_rgba", [0, 1, 2]), ("ggx_schlick_rgb", [0, 1, 2]), ("ggx_albedo_average", [0])):
+        table, _ = read_lut(built / f"{name}.exr")
+        encoding = json.loads(_png16(built / f"{name}.png")[1]["fresnel:encoding"])
+        for channel in unit:
+            assert table[..., channel].min() >= -PNG16_SLACK and table[..., channel].max() <= 1 + PNG16_SLACK
+            assert (encoding["offset"][channel], encoding["scale"][channel]) == (0.0, 1.0), (name, channel)
+    offset, scale = png16_encoding(np.array([[[1.0 + 2e-8, -1e-8], [0.5, 0.5]]]))
+    assert offset.tolist() == [0.0, 0.0] and scale.tolist() == [1.0, 1.0]
+    offset, scale = png16_encoding(np.array([[[1.0 + 1e-4, 0.5]]]))
+    assert scale[0] != 1.0  # beyond the slack: encoded with its own range
+
+
 def test_c_header_compiles_and_holds_the_exr_values(built, tmp_path):
     compiler = shutil.which("gcc") or shutil.which("cc")
     if compiler is None:
