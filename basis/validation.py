@@ -44,10 +44,18 @@ def as_float_array(name: str, value, finite: bool = True) -> np.ndarray:
     name : str
         Parameter name used in the error message.
     value : array_like
-        Scalar or array of real numbers (bool is refused: it is never a physical quantity).
+        Scalar or array of real numbers (bool is refused: it is never a physical quantity; so is a masked array
+        with masked entries).
     """
     if isinstance(value, (str, bytes)) or value is None:
         raise ParameterError(f"{name} must be a real number or array of them, got {value!r}")
+    if isinstance(value, np.ma.MaskedArray):  # np.asarray would drop the mask and use the hidden values
+        if np.any(np.ma.getmaskarray(value)):
+            raise ParameterError(
+                f"{name} has masked entries, which would be computed with the values under the mask: fill them "
+                "(numpy.ma.filled) or leave them out"
+            )
+        value = np.ma.getdata(value)
     try:
         array = np.asarray(value)
     except (TypeError, ValueError) as error:

@@ -1,13 +1,16 @@
 """Fuzz the inputs users and files give the project, and count what happens to each case.
 
 Run from the repository root: ``.venv/bin/python -m benchmarks.fuzz [--cases N] [--seed S] [--out FILE]``.
-Seeded mutations of valid inputs in five categories — scene files, preset files (``materials.json``),
-basis files (``basis.json``), CLI options and API calls — each end as one of:
+Seeded mutations of valid inputs in ten categories — scene files, preset files (``materials.json``),
+basis files (``basis.json``), CLI options and API calls; and (issue 26) crafted journals, stale tables, deeply nested
+files, masked arrays and combinations of options — each end as one of:
 
 * **refused**: a one-line error (exit status 2 and one ``fresnel-lut: error: …`` line, or a
   ``ParameterError`` whose message is one line);
 * **accepted**: exit status 0, or a finite result;
-* **crashed**: anything else — a traceback, another exception, a multi-line error, NaN or inf returned.
+* **crashed**: anything else — a traceback, another exception, a multi-line error, NaN or inf returned; and for
+  the folder categories a broken promise: a reader that changed a file, a file outside the folder touched, a stale
+  table or temporary of the set left beside a finished build, an unrelated file removed (a silent drop).
 
 Crashed must be 0. The table goes to ``report/fuzz.md`` (or ``--out``) with the first cases of every crash.
 """
@@ -22,6 +25,8 @@ import hashlib
 import io
 import json
 import os
+import re
+import shutil
 import sys
 import tempfile
 import traceback
@@ -35,7 +40,7 @@ from basis.presets import material_preset, material_presets, shipped_presets_pat
 from basis.validation import ParameterError
 from fresnel_lut import cli
 from fresnel_lut.scene import read_scene
-from preintegrate import formats, multiple_scattering
+from preintegrate import exr, formats, multiple_scattering
 
 #: Values that break naive readers: every JSON/TOML type, non-finite and extreme numbers, odd text.
 ODD = [
@@ -342,6 +347,221 @@ def fuzz_api(rng, count: int) -> Outcome:
     return outcome
 
 
+def _snapshot(folder: Path) -> dict[str, str]:
+    """name → SHA-256 of every entry of ``folder`` (links by their target)."""
+    found = {}
+    for path in sorted(folder.iterdir()):
+        if path.is_symlink():
+            found[path.name] = "link:" + os.readlink(path)
+        elif path.is_file():
+            found[path.name] = hashlib.sha256(path.read_bytes()).hexdigest()
+        else:
+            found[path.name] = "folder"
+    return found
+
+
+_BUILD = ["build", "--size", "4", "--order", "4"]
+_SET = re.compile(r"ggx_(basis_rgba(_2)?|schlick_rgb|albedo_average|ltc)\.(exr|png|ktx2|h)$")
+
+
+def _journal_document(rng) -> object:
+    """A journal as a killed build leaves it, mutated: names outside the folder, absolute paths, odd values."""
+    names = ["ggx_basis_rgba.exr", "ggx_schlick_rgb.exr", "ggx_albedo_average.exr", "../outside.txt", "/etc/hostname"]
+    renames = []
+    for _ in range(int(rng.integers(0, 4))):
+        target = names[int(rng.integers(len(names)))]
+        temporary = f".{target}.{''.join(rng.choice(list('abcdefgh12345678'), 8))}.tmp"
+        renames.append([temporary if rng.random() < 0.7 else target, target])
+    document = {
+        "format": "fresnel-basis/journal",
+        "version": 2,
+        "renames": renames,
+        "removals": [names[int(rng.integers(len(names)))] for _ in range(int(rng.integers(0, 3)))],
+    }
+    return _mutate(rng, document) if rng.random() < 0.5 else document
+
+
+def fuzz_journals(rng, count: int, folder: Path, base: Path) -> Outcome:
+    """A built folder with a crafted journal (and some of its temporaries): reading a table changes nothing, a
+    build finishes or refuses with one line, and neither touches the file beside the folder."""
+    outcome = Outcome()
+    outside = folder / "outside.txt"
+    for index in range(count):
+        case = folder / f"journal{index}"
+        shutil.copytree(base, case)
+        document = _journal_document(rng)
+        (case / ".fresnel-lut-journal.json").write_text(json.dumps(document), encoding="utf-8")
+        renames = document.get("renames") if isinstance(document, dict) else None
+        for pair in renames if isinstance(renames, list) else []:
+            if (
+                isinstance(pair, list)
+                and pair
+                and isinstance(pair[0], str)
+                and "/" not in pair[0]
+                and rng.random() < 0.6
+            ):
+                with contextlib.suppress(OSError, ValueError):
+                    (case / pair[0]).write_bytes(rng.bytes(32))
+        outside.write_text("keep me", encoding="utf-8")
+        before = _snapshot(case)
+        _api_outcome(outcome, lambda: exr.read_lut(case / "ggx_basis_rgba.exr")[0], f"journal case {index} read")
+        if _snapshot(case) != before:
+            outcome.add("crashed", f"journal case {index}: reading a table changed the folder: {document}")
+        _cli_outcome(outcome, [*_BUILD, "--out", str(case)])
+        if outside.read_text(encoding="utf-8") != "keep me":
+            outcome.add("crashed", f"journal case {index}: a file outside the folder changed: {document}")
+        shutil.rmtree(case)
+    return outcome
+
+
+def fuzz_stale_tables(rng, count: int, folder: Path, base: Path) -> Outcome:
+    """A folder holding the set of other builds (a second basis table, other formats, temporaries) and a file of
+    the user's: a build in some formats leaves exactly its own set and the user's file."""
+    outcome = Outcome()
+    stale = [
+        "ggx_basis_rgba_2.exr",
+        "ggx_basis_rgba_2.png",
+        "ggx_basis_rgba.ktx2",
+        "ggx_ltc.exr",
+        "ggx_schlick_rgb.h",
+        ".ggx_basis_rgba.exr.AbCdEf12.tmp",
+        ".ggx_schlick_rgb.png.zzzzzzzz.tmp",
+    ]
+    choices = ["exr", "exr,ktx2", "png16", "exr,png16,header", "ktx2"]
+    for index in range(count):
+        case = folder / f"stale{index}"
+        shutil.copytree(base, case)
+        for name in rng.choice(stale, size=int(rng.integers(1, len(stale))), replace=False):
+            (case / name).write_bytes(rng.bytes(16))
+        (case / "notes.txt").write_text("mine", encoding="utf-8")
+        formats_asked = choices[int(rng.integers(len(choices)))]
+        _cli_outcome(outcome, [*_BUILD, "--format", formats_asked, "--out", str(case)])
+        names = {path.name for path in case.iterdir()}
+        suffixes = {"exr": ".exr", "ktx2": ".ktx2", "png16": ".png", "header": ".h"}
+        wanted = {suffixes[name] for name in formats_asked.split(",")}
+        leftovers = sorted(
+            name
+            for name in names
+            if (_SET.fullmatch(name) and Path(name).suffix not in wanted) or name.endswith(".tmp")
+        )
+        leftovers += sorted(name for name in names if name.startswith("ggx_basis_rgba_2") or name.startswith("ggx_ltc"))
+        if leftovers or "notes.txt" not in names:
+            outcome.add(
+                "crashed", f"stale case {index} ({formats_asked}): left {leftovers}, notes kept: {'notes.txt' in names}"
+            )
+        shutil.rmtree(case)
+    return outcome
+
+
+def _nested(rng, depth: int):
+    value = 0.5
+    for _ in range(depth):
+        value = [value] if rng.random() < 0.5 else {"a": value}
+    return value
+
+
+def fuzz_nested_files(rng, count: int, folder: Path) -> Outcome:
+    """Basis, preset and scene files nested 2 … 100 000 deep (JSON and TOML): refused with one line, never a
+    RecursionError."""
+    outcome = Outcome()
+    readers = {
+        "basis": lambda path: Basis.read(path),
+        "presets": lambda path: material_presets(path),
+        "scene": lambda path: read_scene(path).tolerance,
+    }
+    for index in range(count):
+        kind = list(readers)[index % len(readers)]
+        depth = int(10 ** rng.uniform(0.3, 5.0))
+        if kind == "scene" and rng.random() < 0.5:
+            path = folder / f"nested{index}.toml"
+            path.write_text("tolerance = " + "[" * depth + "1" + "]" * depth + "\n", encoding="utf-8")
+        else:
+            path = folder / f"nested{index}.json"
+            path.write_text(
+                "[" * depth + "1" + "]" * depth
+                if rng.random() < 0.5
+                else json.dumps({"curves": _nested(rng, min(depth, 900))}),
+                encoding="utf-8",
+            )
+        _api_outcome(outcome, lambda: readers[kind](path), f"nested {kind} case {index} (depth {depth})")
+    return outcome
+
+
+MASKED = {
+    "coefficients_from_nk": lambda eta, other: basis.coefficients_from_nk(eta, other),
+    "fresnel_conductor": lambda eta, other: basis.fresnel_conductor(other, eta, other),
+    "coefficients_from_gulbrandsen": lambda eta, other: basis.coefficients_from_gulbrandsen(other, other),
+    "reconstruct": lambda eta, other: basis.reconstruct(np.ma.stack([eta] * 4, axis=-1), other),
+    "average_albedo": lambda eta, other: multiple_scattering.average_albedo(other),
+}
+
+
+def fuzz_masked_arrays(rng, count: int) -> Outcome:
+    """API calls given numpy masked arrays: refused where an entry is masked (its hidden value would be used), the
+    plain values used where none is."""
+    outcome = Outcome()
+    names = list(MASKED)
+    for index in range(count):
+        name = names[index % len(names)]
+        shape = (int(rng.integers(1, 5)),)
+        mask = rng.random(shape) < (0.0 if rng.random() < 0.3 else 0.5)
+        eta = np.ma.array(rng.uniform(0.5, 3.0, shape), mask=mask)
+        other = np.ma.array(rng.uniform(0.0, 1.0, shape), mask=mask if rng.random() < 0.5 else np.zeros(shape, bool))
+        _api_outcome(outcome, lambda: MASKED[name](eta, other), f"masked {name} case {index} (mask {mask.tolist()})")
+    return outcome
+
+
+COMBINATIONS = {
+    "build": ["--ltc", "--ltc-size", "--format", "--half", "--visibility", "--model", "--basis", "--exponent"],
+    "coeffs": ["--list-materials", "--json", "--material", "--space", "--basis", "--model", "--f0", "--fit"],
+    "report": ["--quick", "--materials", "--fidelity"],
+}
+COMBINATION_VALUES = [
+    "6",
+    "2",
+    "1",
+    "exr,ktx2",
+    "png16",
+    "header",
+    "separable",
+    "height-correlated",
+    "Gold",
+    "sRGB",
+    "f82",
+    "schlick",
+    "least-squares",
+    "nope",
+    "0.5",
+    "-1",
+]
+
+
+def fuzz_option_combinations(rng, count: int, folder: Path) -> Outcome:
+    """Options that go together or do not (``--ltc`` with ``--model``, ``--ltc-size`` alone, ``report --quick
+    --materials``, ``coeffs --list-materials --json`` …): each either runs or is refused with one line, none is
+    ignored without a word (the refusals are the project's own checks, counted as refused)."""
+    outcome = Outcome()
+    for index in range(count):
+        command = list(COMBINATIONS)[int(rng.integers(len(COMBINATIONS)))]
+        argv = [command]
+        for option in rng.choice(COMBINATIONS[command], size=int(rng.integers(1, 4)), replace=False):
+            argv.append(str(option))
+            if option not in ("--ltc", "--half", "--json", "--list-materials", "--quick", "--materials", "--fidelity"):
+                argv.append(COMBINATION_VALUES[int(rng.integers(len(COMBINATION_VALUES)))])
+        if command == "report":
+            if "--materials" not in argv or len(argv) < 3:
+                continue  # a report that would run takes minutes: only the combinations it must refuse
+            argv += ["--out", str(folder / f"report{index}")]
+        if command == "build":
+            argv += ["--size", "4", "--order", "4", "--out", str(folder / f"combination{index}")]
+            if "--ltc-size" in argv:
+                position = argv.index("--ltc-size") + 1
+                if position < len(argv) and argv[position].lstrip("-").isdigit() and int(argv[position]) > 6:
+                    argv[position] = "6"
+        _cli_outcome(outcome, argv)
+    return outcome
+
+
 @contextlib.contextmanager
 def _working_folder(folder: Path):
     """Relative output paths that the mutated options name land in the scratch folder, never in the checkout."""
@@ -358,12 +578,20 @@ def fuzz(cases: int = 1000, seed: int = 17) -> dict[str, Outcome]:
     with tempfile.TemporaryDirectory(prefix="fresnel-fuzz-") as scratch, _working_folder(Path(scratch)):
         folder = Path(scratch)
         (folder / "scene1.json").write_text(json.dumps(SCENE), encoding="utf-8")
+        base = folder / "base"
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            assert cli.main([*_BUILD, "--out", str(base)]) == 0
         return {
             "scene files": fuzz_scenes(rng, cases, folder),
             "preset files": fuzz_presets(rng, cases, folder),
             "basis files": fuzz_bases(rng, cases // 2, folder),
             "CLI options": fuzz_cli(rng, cases, folder),
             "API calls": fuzz_api(rng, 2 * cases),
+            "journals": fuzz_journals(rng, max(1, cases // 10), folder, base),
+            "stale tables": fuzz_stale_tables(rng, max(1, cases // 10), folder, base),
+            "nested files": fuzz_nested_files(rng, max(1, cases // 5), folder),
+            "masked arrays": fuzz_masked_arrays(rng, cases),
+            "option combinations": fuzz_option_combinations(rng, max(1, cases // 5), folder),
         }
 
 

@@ -1,6 +1,7 @@
 """A short run of the fuzz harness (benchmarks/fuzz.py): scene, preset and basis files, CLI options and API
-calls mutated from valid inputs; none may crash (a traceback, another exception, a multi-line error or a
-non-finite result). The full run (5,500 cases) writes report/fuzz.md."""
+calls mutated from valid inputs, crafted journals, stale tables, nested files, masked arrays and option
+combinations; none may crash (a traceback, another exception, a multi-line error, a non-finite result, or a folder
+promise broken). The full run (``python -m benchmarks.fuzz``) writes report/fuzz.md."""
 
 from benchmarks.fuzz import fuzz
 
@@ -10,5 +11,5 @@ def test_no_fuzzed_input_crashes():
     assert {name: outcome.crashed for name, outcome in results.items()} == dict.fromkeys(results, 0), {
         name: outcome.crashes for name, outcome in results.items()
     }
-    for outcome in results.values():
-        assert outcome.tried > 0 and outcome.refused > 0
+    for name, outcome in results.items():  # stale tables and most crafted journals: every build must accept them
+        assert outcome.tried > 0 and (outcome.refused > 0 or name in ("stale tables", "journals")), name

@@ -147,3 +147,17 @@ def test_check_choice_returns_a_valid_name_and_lists_every_choice_otherwise():
             check_choice("visibility", bad, ("height-correlated", "separable"))
     with pytest.raises(ParameterError, match="got 'x{59}…$"):  # a long value is cut, on one line
         check_choice("name", "x" * 200, ("a",))
+
+
+def test_masked_entries_are_refused_not_computed():
+    """A masked array's hidden values were computed as if unmasked (issue 26 item 15); a mask with nothing masked
+    is a plain array."""
+    import numpy as np
+
+    from basis import coefficients_from_nk
+
+    with pytest.raises(ParameterError, match="masked entries"):
+        as_float_array("eta", np.ma.array([1.5, 0.2], mask=[False, True]))
+    with pytest.raises(ParameterError, match="eta has masked entries"):
+        coefficients_from_nk(np.ma.array([1.5, 0.2], mask=[False, True]), 0.0)
+    np.testing.assert_array_equal(as_float_array("eta", np.ma.array([1.5, 0.2])), [1.5, 0.2])
