@@ -99,7 +99,7 @@ def _targets(lut: dict, models: dict, cost: list[dict], quick: bool) -> list[tup
         rows.append(
             (
                 "128×128, 6 channels: max error ≤ 1e-6 in ≤ 2 s",
-                f"{default['max_abs_error']:.1e} in {default['seconds']:.2f} s",
+                f"{default['max_abs_error']:.1e} in {default['seconds']:.2f} s (best of {lut['repeats']} runs)",
                 "yes" if reached else "no",
             )
         )
@@ -150,7 +150,8 @@ def write_report(out="report", quick: bool = False) -> dict:
 
     progress = Progress("study 1: LUT error vs time", "tables")
     begin = time.perf_counter()
-    lut = lut_error_vs_time(quick=quick, progress=progress)
+    # the speed target reads the best of three runs per table: one wall-clock run flips under load (issue 26 item 22)
+    lut = lut_error_vs_time(quick=quick, progress=progress, repeats=1 if quick else 3)
     progress.close()
     timings["study 1"] = time.perf_counter() - begin
 
