@@ -638,6 +638,36 @@ def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, 
     return "\n".join(arrays), statements
 
 
+def _combination_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[list[str], list[str], str, str, str]:
+    """(projection constants, the linear models' sums, averages constant, the direct-light and average
+    expressions) of every language: the three channels' Σ_k c_k x_k of the terms b (or b.lo, b.hi) and of the
+    averages. WGSL's constants go without the comments."""
+    c, sp = constants, spelling
+    comment = sp.language != "wgsl"
+    meanings = ("1 - (1 - mu)^5", "(1 - mu)^5", "mu (1 - mu)^6")
+    projections = [
+        line
+        for name, row, what in zip(("SCALE", "BIAS", "DIP"), c.projections, meanings)
+        for line in sp.constant_terms(f"FRESNEL_PROJECTION_{name}", row, f"coefficients of {what}" if comment else "")
+    ]
+    linear = [
+        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
+        for s in ([""] + (["_HI"] if sp.wide else []))
+    ]
+    averages = "\n".join(
+        sp.constant_terms("FRESNEL_BASIS_AVERAGES", c.averages, "2 * integral of b_k(mu) mu dmu" if comment else "")
+    )
+    terms = ("b", None) if not sp.wide else ("b.lo", "b.hi")
+    channels = ("cR", "cG", "cB")
+    direct = f"{sp.type(3)}(" + ", ".join(sp.dot_terms(channel, *terms) for channel in channels) + ")"
+    average = (
+        f"{sp.type(3)}("
+        + ", ".join(sp.dot_terms(ch, "FRESNEL_BASIS_AVERAGES", "FRESNEL_BASIS_AVERAGES_HI") for ch in channels)
+        + ")"
+    )
+    return projections, linear, averages, direct, average
+
+
 def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
     """(edges constant, statements giving the segment j of μ and its ends lo, hi): three segments as one vec4 and
     selects, more as an array and a count of the edges at or below μ (what ``direct_fresnel`` computes)."""
@@ -728,27 +758,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
         fetch = "textureLod(lut, uv, 0.0)"
         signature = f"sampler2D lut{second if sp.wide else ''}"
     fetch_terms = sp.make_terms(fetch, fetch.replace("lut.", "lut2.").replace("(lut,", "(lut2,")) if sp.wide else fetch
-    projections = [
-        line
-        for name, row, what in zip(
-            ("SCALE", "BIAS", "DIP"), c.projections, ("1 - (1 - mu)^5", "(1 - mu)^5", "mu (1 - mu)^6")
-        )
-        for line in sp.constant_terms(f"FRESNEL_PROJECTION_{name}", row, f"coefficients of {what}")
-    ]
-    linear = [
-        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
-        for s in ([""] + (["_HI"] if sp.wide else []))
-    ]
-    averages = "\n".join(sp.constant_terms("FRESNEL_BASIS_AVERAGES", c.averages, "2 * integral of b_k(mu) mu dmu"))
-    b_terms = ("b", None) if not sp.wide else ("b.lo", "b.hi")
-    direct = f"{v3}(" + ", ".join(sp.dot_terms(ch, *b_terms) for ch in ("cR", "cG", "cB")) + ")"
-    average = (
-        f"{v3}("
-        + ", ".join(
-            sp.dot_terms(ch, "FRESNEL_BASIS_AVERAGES", "FRESNEL_BASIS_AVERAGES_HI") for ch in ("cR", "cG", "cB")
-        )
-        + ")"
-    )
+    projections, linear, averages, direct, average = _combination_parts(c, sp)
     return (
         _header(c, "HLSL" if hlsl else "GLSL 3.30 / 4.50 / ES 3.00", command)
         + f"""
@@ -1200,24 +1210,7 @@ def _wgsl_material(constants: ShaderConstants, command: str) -> str:
     fit_constants, fit_functions, solve = _fit_parts(c, sp)
     curve_arrays, horner = _curve_parts(c, sp)
     edges, segment = _segment_parts(c, sp)
-    projections = [
-        line
-        for name, row in zip(("SCALE", "BIAS", "DIP"), c.projections)
-        for line in sp.constant_terms(f"FRESNEL_PROJECTION_{name}", row)
-    ]
-    linear = [
-        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
-        for s in ([""] + (["_HI"] if sp.wide else []))
-    ]
-    b_terms = ("b", None) if not sp.wide else ("b.lo", "b.hi")
-    direct = "vec3f(" + ", ".join(sp.dot_terms(ch, *b_terms) for ch in ("cR", "cG", "cB")) + ")"
-    average = (
-        "vec3f("
-        + ", ".join(
-            sp.dot_terms(ch, "FRESNEL_BASIS_AVERAGES", "FRESNEL_BASIS_AVERAGES_HI") for ch in ("cR", "cG", "cB")
-        )
-        + ")"
-    )
+    projections, linear, averages, direct, average = _combination_parts(c, sp)
     fetch = "textureSampleLevel(lut, linearClamp, uv, 0.0)"
     fetch_terms = sp.make_terms(fetch, fetch.replace("(lut,", "(lut2,")) if sp.wide else fetch
     textures = "lut: texture_2d<f32>, " + ("lut2: texture_2d<f32>, " if sp.wide else "")
@@ -1227,7 +1220,7 @@ def _wgsl_material(constants: ShaderConstants, command: str) -> str:
 const FRESNEL_BASIS_HASH: u32 = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}
 {sp.record()}{fit_constants}
 {chr(10).join(projections)}
-{chr(10).join(sp.constant_terms("FRESNEL_BASIS_AVERAGES", c.averages))}
+{averages}
 {edges}
 const FRESNEL_CURVE_DEGREE: i32 = {d};
 const FRESNEL_F82_SCHLICK_WEIGHT: f32 = {_number((1.0 - F82_MU) ** 5)};
