@@ -101,15 +101,10 @@ def _browser():
     return sync_playwright, executable
 
 
-def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
+def _render_in_webgl2(fragment: str, texels: list, modes: int) -> dict:
+    """The page's ``run`` of ``fragment`` over a 32 × 32 texture of ``texels`` for ``modes`` draws, in a fresh headless
+    Chromium; no error on the page or its console."""
     sync_playwright, executable = _browser()
-    include = dict(shader_includes())["fresnel_basis_material.glsl"]
-    branches = "\n".join(
-        f"    {'if' if k == 0 else 'else if'} (mode == {k}) result = {call};" for k, call in enumerate(PER_PIXEL_CALLS)
-    )
-    fragment = FRAGMENT.format(include=include, branches=branches)
-    inputs = per_pixel_inputs()
-    texels = inputs.astype(np.float32).ravel().tolist()  # Playwright carries NaN and ±inf
     with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
         browser = playwright.chromium.launch_persistent_context(
             profile, executable_path=executable, args=CHROMIUM_FLAGS, headless=True
@@ -120,13 +115,23 @@ def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
             page.on("console", lambda message: messages.append((message.type, message.text)))
             page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
             page.set_content(PAGE)
-            result = page.evaluate(
-                "([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, len(PER_PIXEL_CALLS)]
-            )
+            result = page.evaluate("([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, modes])
         finally:
             browser.close()
     assert "error" not in result, result.get("error")
     assert not [text for kind, text in messages if kind in ("error", "pageerror")], messages
+    return result
+
+
+def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
+    include = dict(shader_includes())["fresnel_basis_material.glsl"]
+    branches = "\n".join(
+        f"    {'if' if k == 0 else 'else if'} (mode == {k}) result = {call};" for k, call in enumerate(PER_PIXEL_CALLS)
+    )
+    fragment = FRAGMENT.format(include=include, branches=branches)
+    inputs = per_pixel_inputs()
+    texels = inputs.astype(np.float32).ravel().tolist()  # Playwright carries NaN and ±inf
+    result = _render_in_webgl2(fragment, texels, len(PER_PIXEL_CALLS))
     values = [np.array(output, dtype=np.float64).reshape(1024, 4) for output in result["outputs"]]
     assert_per_pixel_outputs(values, inputs, f"WebGL 2 ({result['renderer']})")
 
@@ -159,29 +164,11 @@ def test_glsl_es_area_light_in_webgl2_matches_the_mirror():
     from preintegrate.ltc import ltc_inverse, polygon_integral
     from preintegrate.lut import LTC_LUT
 
-    sync_playwright, executable = _browser()
     include = dict(shader_includes())["fresnel_basis_material.glsl"]
     table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(25)
     stored = table.reshape(-1, 4)[rng.integers(0, table.shape[0] * table.shape[1], 1024)].astype(np.float32)
-    with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
-        browser = playwright.chromium.launch_persistent_context(
-            profile, executable_path=executable, args=CHROMIUM_FLAGS, headless=True
-        )
-        try:
-            page = browser.new_page()
-            messages = []
-            page.on("console", lambda message: messages.append((message.type, message.text)))
-            page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
-            page.set_content(PAGE)
-            result = page.evaluate(
-                "([source, inputs, modes]) => run(source, inputs, modes)",
-                [AREA_FRAGMENT.format(include=include), stored.ravel().tolist(), 1],
-            )
-        finally:
-            browser.close()
-    assert "error" not in result, result.get("error")
-    assert not [text for kind, text in messages if kind in ("error", "pageerror")], messages
+    result = _render_in_webgl2(AREA_FRAGMENT.format(include=include), stored.ravel().tolist(), 1)
     got = np.array(result["outputs"][0], dtype=np.float64).reshape(32, 32, 4)[..., 0]
     y, x = np.mgrid[0:32, 0:32] + 0.5
     shift = np.stack([(x - 16.0) * 0.25, (y - 16.0) * 0.1, np.full_like(x, -1.5)], -1)
