@@ -136,22 +136,12 @@ def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
     assert_per_pixel_outputs(values, inputs, f"WebGL 2 ({result['renderer']})")
 
 
-AREA_FRAGMENT = """#version 300 es
-precision highp float;
-precision highp int;
-precision highp sampler2D;
-{include}
-uniform sampler2D inputs;
-uniform int mode;
-out vec4 result;
-void main() {{
-    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+AREA_BODY = """
     vec3 shift = vec3((gl_FragCoord.x - 16.0) * 0.25, (gl_FragCoord.y - 16.0) * 0.1, -1.5);
     vec3 corners[4] = vec3[4](vec3(-1.0, -0.5, 2.0) + shift, vec3(-1.0, 0.5, 2.0) + shift, vec3(1.0, 0.5, 2.0) + shift,
                               vec3(1.0, -0.5, 2.0) + shift);
     mat3 m = mat3(vec3(q.x, 0.0, q.y), vec3(0.0, 1.0, 0.0), vec3(q.z, 0.0, q.w));
     result = vec4(fresnelLtcQuad(m, corners), 0.0, 0.0, 0.0);
-}}
 """
 
 
@@ -168,7 +158,7 @@ def test_glsl_es_area_light_in_webgl2_matches_the_mirror():
     table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(25)
     stored = table.reshape(-1, 4)[rng.integers(0, table.shape[0] * table.shape[1], 1024)].astype(np.float32)
-    result = _render_in_webgl2(AREA_FRAGMENT.format(include=include), stored.ravel().tolist(), 1)
+    result = _render_in_webgl2(FRAGMENT.format(include=include, branches=AREA_BODY), stored.ravel().tolist(), 1)
     got = np.array(result["outputs"][0], dtype=np.float64).reshape(32, 32, 4)[..., 0]
     y, x = np.mgrid[0:32, 0:32] + 0.5
     shift = np.stack([(x - 16.0) * 0.25, (y - 16.0) * 0.1, np.full_like(x, -1.5)], -1)
