@@ -501,6 +501,25 @@ def command_render(arguments) -> int:
     return 0
 
 
+def command_view(arguments) -> int:
+    import webbrowser
+
+    from .view import serve
+
+    def ready(url: str) -> None:
+        print(f"fresnel-lut view: serving {url} (Ctrl-C stops)", flush=True)
+        if arguments.open:
+            webbrowser.open(url)
+
+    try:
+        serve(
+            arguments.port, arguments.host, arguments.environment, ready=ready, progress=lambda text: print(f"  {text}")
+        )
+    except KeyboardInterrupt:
+        print("\nfresnel-lut view: stopped", file=sys.stderr)
+    return 0
+
+
 def command_report(arguments) -> int:
     if arguments.materials and (arguments.quick or arguments.fidelity):
         raise ParameterError("--materials is a report of its own: give it without --quick or --fidelity")
@@ -737,6 +756,13 @@ def make_parser() -> argparse.ArgumentParser:
         help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)",
     )
     report.set_defaults(run=command_report)
+
+    view = commands.add_parser("view", help="the look-development page: a local server for your browser (WebGL 2)")
+    view.add_argument("--port", type=int, default=8000, help="port to listen on (default 8000; 0: any free port)")
+    view.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
+    view.add_argument("--environment", default=None, help="an equirectangular EXR (2:1) instead of the studio")
+    view.add_argument("--open", action="store_true", help="open the page in the default browser")
+    view.set_defaults(run=command_view)
     return parser
 
 

@@ -4,6 +4,7 @@ from one another; the deliberately independent references are ``tests.references
 
 from __future__ import annotations
 
+import contextlib
 import subprocess
 import sys
 
@@ -54,6 +55,57 @@ def gpu_missing(what: str):
     if os.environ.get("CI") == "true":
         pytest.fail(f"{what} is missing: the project's set-up installs it (make .venv/.installed-stamp as root)")
     pytest.skip(f"{what} is not installed here (the set-up installs it as root)")
+
+
+#: Headless Chromium on SwiftShader (WebGL 2 on the CPU), nothing from the network, a fresh profile each time.
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+
+@contextlib.contextmanager
+def chromium(viewport=(1280, 900)):
+    """Debian's Chromium driven by Playwright for Python (no browser download) in a fresh profile; a missing browser or
+    Playwright skips, or fails under ``CI=true`` (:func:`gpu_missing`)."""
+    import shutil
+    import tempfile
+
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        gpu_missing("Playwright for Python (the 'browser' extra)")
+    executable = shutil.which("chromium") or shutil.which("chromium-browser")
+    if executable is None:
+        gpu_missing("Chromium (Debian chromium)")
+    with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
+        browser = playwright.chromium.launch_persistent_context(
+            profile,
+            executable_path=executable,
+            args=CHROMIUM_FLAGS,
+            headless=True,
+            viewport={"width": viewport[0], "height": viewport[1]},
+        )
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+def browser_page(browser):
+    """(a new page, the list its console errors and page errors go to: (kind, text) pairs)."""
+    page = browser.new_page()
+    messages = []
+    page.on("console", lambda message: messages.append((message.type, message.text)))
+    page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
+    return page, messages
 
 
 GL_VERTEX = """#version 330

@@ -6,25 +6,11 @@ mirrors, as on llvmpipe (tests/luts/test_shaders_per_pixel.py): coefficients wit
 browser or Playwright fails the test (the set-up installs both).
 """
 
-import shutil
-import tempfile
-
 import numpy as np
 
 from preintegrate.shaders import shader_includes
-from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, gpu_missing, per_pixel_inputs
+from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, browser_page, chromium, per_pixel_inputs
 
-CHROMIUM_FLAGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 FRAGMENT = """#version 300 es
 precision highp float;
 precision highp int;
@@ -90,34 +76,13 @@ function run(fragmentSource, inputs, modes) {
 </script></body></html>"""
 
 
-def _browser():
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        gpu_missing("Playwright for Python (the 'browser' extra)")
-    executable = shutil.which("chromium") or shutil.which("chromium-browser")
-    if executable is None:
-        gpu_missing("Chromium (Debian chromium)")
-    return sync_playwright, executable
-
-
 def _render_in_webgl2(fragment: str, texels: list, modes: int) -> dict:
     """The page's ``run`` of ``fragment`` over a 32 × 32 texture of ``texels`` for ``modes`` draws, in a fresh headless
     Chromium; no error on the page or its console."""
-    sync_playwright, executable = _browser()
-    with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
-        browser = playwright.chromium.launch_persistent_context(
-            profile, executable_path=executable, args=CHROMIUM_FLAGS, headless=True
-        )
-        try:
-            page = browser.new_page()
-            messages = []
-            page.on("console", lambda message: messages.append((message.type, message.text)))
-            page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
-            page.set_content(PAGE)
-            result = page.evaluate("([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, modes])
-        finally:
-            browser.close()
+    with chromium() as browser:
+        page, messages = browser_page(browser)
+        page.set_content(PAGE)
+        result = page.evaluate("([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, modes])
     assert "error" not in result, result.get("error")
     assert not [text for kind, text in messages if kind in ("error", "pageerror")], messages
     return result

@@ -1,0 +1,258 @@
+"""The look-development page: a local server for a WebGL 2 page that runs the shipped includes on the shipped tables.
+
+Public objects: ``page_files``, ``make_server``, ``serve``, ``read_environment``, ``PAGE_SIZE``.
+
+The server (Python's standard library, bound to 127.0.0.1 unless told otherwise) answers GET and HEAD for a fixed set
+of names built once at start, in memory, and nothing else: no path of a request is ever joined to a folder, so no file
+outside that set can be read (``..``, encoded or not, is simply not one of the names). What it serves:
+
+* ``/`` — ``fresnel_lut/page/index.html`` with ``view.js``, ``view.css`` and ``view.glsl`` (the page's own shaders:
+  the sphere, the studio, the reference, ΔE2000 and the tone map);
+* ``/shaders/fresnel_basis.glsl`` and ``/shaders/fresnel_basis_material.glsl`` — the shipped includes, verbatim;
+* ``/tables/NAME.ktx2`` — the shipped tables as half-float KTX2 (:func:`preintegrate.formats.ktx2_bytes`, the bytes
+  ``fresnel-lut build --format ktx2 --half`` writes), which WebGL 2 filters without any extension;
+* ``/config.json`` — what the page needs from Python: the presets (sRGB coefficients and their exact curves sampled
+  at 1024 values of μ, since a preset's curve is spectral), the studio's spherical Gaussians, the lights of
+  :mod:`fresnel_lut.render`, the colorimetry of ΔE2000 and the basis hash;
+* ``/environment.f32`` — with ``environment``: the user's equirectangular EXR as float32 RGBA, rows top first,
+  which the page prefilters on the GPU.
+
+The Content-Security-Policy header allows nothing but these names: the page loads nothing from the internet.
+"""
+
+from __future__ import annotations
+
+import http.server
+import json
+import threading
+from collections.abc import Callable
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import numpy as np
+import OpenEXR
+
+from basis.colorimetry import working_space
+from basis.eigenbasis import default_basis
+from basis.materials import material_from_mapping
+from basis.presets import material_presets
+from basis.storage import shipped_path
+from basis.validation import ParameterError, check_positive_int
+from preintegrate.exr import read_lut
+from preintegrate.formats import ktx2_bytes
+from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT
+
+from .render import RECT_LIGHT, STUDIO
+
+__all__ = ["PAGE_SIZE", "make_server", "page_files", "read_environment", "serve"]
+
+PAGE = Path(__file__).resolve().parent / "page"
+#: The page's files and their types.
+_PAGE_FILES = {
+    "index.html": "text/html; charset=utf-8",
+    "view.js": "text/javascript; charset=utf-8",
+    "view.css": "text/css; charset=utf-8",
+    "view.glsl": "text/plain; charset=utf-8",
+}
+#: The shipped includes the page compiles, verbatim.
+_INCLUDES = ("shaders/fresnel_basis.glsl", "fresnel_basis_material.glsl")
+#: Samples of each preset's exact curve over μ = cos θ in [0, 1] (linear interpolation: < 2e-5 from the curve).
+CURVE_SAMPLES = 1024
+#: The sphere's size in pixels (the canvas shows four of them side by side in the gallery view).
+PAGE_SIZE = 384
+#: An environment is stored at most this wide (larger files are halved by 2 × 2 averages until they fit).
+ENVIRONMENT_WIDTH = 2048
+#: Point light of the page, as :func:`fresnel_lut.render.render_point_light`'s defaults.
+POINT_LIGHT = {"direction": [0.5, 0.6, 0.62], "radiance": 3.0}
+#: Radiance of the rectangular light, as :func:`fresnel_lut.render.render_rect_light`'s default.
+RECT_RADIANCE = 4.0
+#: The page's figure 2 material (the talk's, as :data:`fresnel_lut.render.DEFAULT_SCENES`).
+FIGURE2 = {"reflectivity": [0.44, 0.44, 0.44], "edge_tint": [0.0, 1.0, 0.0], "roughness": float(np.sqrt(0.08))}
+_CONTENT_SECURITY_POLICY = (
+    "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'; img-src 'self' data:; "
+    "base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
+)
+
+
+def _ktx2_of(name: str) -> bytes:
+    table, header = read_lut(shipped_path(name))
+    attributes = {key: value for key, value in header.items() if key not in ("content_hash", "pixel_type")}
+    return ktx2_bytes(table, attributes, half=True)
+
+
+def _presets() -> list[dict]:
+    """Each preset's sRGB coefficients (3, 4) and exact curve (1024, 3) over μ (the page's reference)."""
+    mu = np.linspace(0.0, 1.0, CURVE_SAMPLES)
+    presets = []
+    for name, entry in material_presets()["materials"].items():
+        material = material_from_mapping({"preset": name}, "sRGB")
+        curve = material.curve(mu)  # as it is: sRGB gold's red F0 is 1.038, out of the gamut (README, Known limits)
+        presets.append(
+            {
+                "name": name,
+                "kind": entry["kind"],
+                "coefficients": np.round(material.coefficients(), 9).tolist(),
+                "curve": np.round(curve, 7).ravel().tolist(),
+            }
+        )
+    return presets
+
+
+def _colorimetry() -> dict:
+    """sRGB → XYZ and the white of ΔE2000 as :func:`basis.colorimetry.rgb_to_Lab` takes them (the published matrix,
+    white = its rows' sums), so that the page's ΔE is the report's."""
+    matrix = working_space("sRGB").rgb_colourspace.matrix_RGB_to_XYZ
+    return {"rgb_to_xyz": np.asarray(matrix).tolist(), "white": np.asarray(matrix).sum(axis=1).tolist()}
+
+
+def read_environment(path) -> np.ndarray:
+    """(H, W, 4) float32 RGBA of an equirectangular EXR (rows top first; R, G, B or Y; A = 1), at most
+    :data:`ENVIRONMENT_WIDTH` wide, or an error naming what is wrong (not 2:1, not finite, negative)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError(f"environment {path} is not a file")
+    try:
+        with OpenEXR.File(str(path)) as file:
+            channels = {name: np.asarray(channel.pixels) for name, channel in file.parts[0].channels.items()}
+    except Exception as error:  # OpenEXR raises bare exceptions for anything that is not an EXR
+        raise ParameterError(f"environment {path} is not a readable EXR ({error})") from error
+    if "RGB" in channels:
+        rgb = channels["RGB"][..., :3]
+    elif {"R", "G", "B"} <= set(channels):
+        rgb = np.stack([channels[name] for name in ("R", "G", "B")], axis=-1)
+    elif "Y" in channels:
+        rgb = np.repeat(channels["Y"][..., None], 3, axis=-1)
+    else:
+        raise ParameterError(f"environment {path} has no R, G, B or Y channels (it has {sorted(channels)})")
+    rgb = np.asarray(rgb, dtype=np.float64)
+    height, width = rgb.shape[:2]
+    if width != 2 * height or height < 2:
+        raise ParameterError(f"environment {path} must be equirectangular, 2:1, got {width} x {height}")
+    bad = ~np.isfinite(rgb)
+    if bad.any():
+        raise ParameterError(f"environment {path} holds {int(bad.sum())} NaN or infinite values")
+    if (rgb < 0.0).any():
+        raise ParameterError(f"environment {path} holds {int((rgb < 0.0).sum())} negative values")
+    while rgb.shape[1] > ENVIRONMENT_WIDTH and rgb.shape[0] % 2 == 0 and rgb.shape[1] % 2 == 0:
+        rgb = 0.25 * (rgb[0::2, 0::2] + rgb[1::2, 0::2] + rgb[0::2, 1::2] + rgb[1::2, 1::2])
+    if rgb.shape[1] > ENVIRONMENT_WIDTH:
+        raise ParameterError(f"environment {path} is {width} wide; at most {ENVIRONMENT_WIDTH} (or an even size)")
+    rgba = np.concatenate([rgb, np.ones(rgb.shape[:2] + (1,))], axis=-1)
+    return np.ascontiguousarray(rgba, dtype="<f4")
+
+
+def page_files(environment=None, progress: Callable[[str], None] | None = None) -> dict[str, tuple[bytes, str]]:
+    """Every name the server answers (a path such as ``/tables/ggx_basis_rgba.ktx2``) → (bytes, content type)."""
+    say = progress or (lambda text: None)
+    files = {}
+    for name, kind in _PAGE_FILES.items():
+        files[f"/{name}"] = ((PAGE / name).read_bytes(), kind)
+    files["/"] = files["/index.html"]
+    for include in _INCLUDES:
+        files[f"/shaders/{Path(include).name}"] = (shipped_path(include).read_bytes(), "text/plain; charset=utf-8")
+    for table in (BASIS_LUT, SCHLICK_LUT, LTC_LUT):
+        files[f"/tables/{Path(table).stem}.ktx2"] = (_ktx2_of(table), "image/ktx2")
+    say("sampling the presets' spectral curves")
+    config = {
+        "basis_hash": default_basis().content_hash,
+        "size": PAGE_SIZE,
+        "presets": _presets(),
+        "figure2": FIGURE2,
+        "studio": {
+            "axes": STUDIO.axes.tolist(),
+            "sharpness": STUDIO.sharpness.tolist(),
+            "amplitudes": STUDIO.amplitudes.tolist(),
+        },
+        "point_light": POINT_LIGHT,
+        "rect_light": {"corners": RECT_LIGHT.tolist(), "radiance": RECT_RADIANCE},
+        "colorimetry": _colorimetry(),
+        "environment": None,
+    }
+    if environment is not None:
+        say(f"reading {environment}")
+        pixels = read_environment(environment)
+        files["/environment.f32"] = (pixels.tobytes(), "application/octet-stream")
+        config["environment"] = {"name": Path(environment).name, "width": pixels.shape[1], "height": pixels.shape[0]}
+    files["/config.json"] = (json.dumps(config, separators=(",", ":")).encode("utf-8"), "application/json")
+    return files
+
+
+class _Handler(http.server.BaseHTTPRequestHandler):
+    """GET and HEAD of the server's names; 404 for every other path, 405 for every other method."""
+
+    files: dict[str, tuple[bytes, str]] = {}
+    server_version = "fresnel-lut-view"
+    sys_version = ""
+
+    def _answer(self, body: bool) -> None:
+        path = unquote(urlsplit(self.path).path)
+        found = self.files.get(path)
+        if found is None:
+            self.send_error(404, "not one of the page's files")
+            return
+        data, kind = found
+        self.send_response(200)
+        self.send_header("Content-Type", kind)
+        self.send_header("Content-Length", str(len(data)))
+        self.send_header("Cache-Control", "no-store")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        self.send_header("Content-Security-Policy", _CONTENT_SECURITY_POLICY)
+        self.end_headers()
+        if body:
+            self.wfile.write(data)
+
+    def do_GET(self) -> None:  # noqa: N802 (the standard library's name)
+        self._answer(True)
+
+    def do_HEAD(self) -> None:  # noqa: N802
+        self._answer(False)
+
+    def _refuse(self) -> None:
+        self.send_error(405, "the page's server only reads")
+
+    do_POST = do_PUT = do_DELETE = do_PATCH = _refuse  # noqa: N815
+
+    def log_message(self, format, *args) -> None:  # noqa: A002 (the standard library's signature)
+        pass  # one line per request would bury the URL; errors reach the page's console
+
+
+def make_server(
+    files: dict[str, tuple[bytes, str]], port: int = 8000, host: str = "127.0.0.1"
+) -> http.server.ThreadingHTTPServer:
+    """A server of ``files`` (:func:`page_files`) on ``host``:``port`` (0: any free port), not yet serving."""
+    port = check_positive_int("port", port, low=0, high=65535)
+    if not isinstance(host, str) or not host:
+        raise ParameterError(f"host must be a host name or address, got {host!r}")
+    handler = type("Handler", (_Handler,), {"files": dict(files)})
+    try:
+        server = http.server.ThreadingHTTPServer((host, port), handler)
+    except OSError as error:
+        raise OSError(error.errno, f"cannot listen on {host}:{port}: {error.strerror}") from error
+    server.daemon_threads = True
+    return server
+
+
+def serve(
+    port: int = 8000,
+    host: str = "127.0.0.1",
+    environment=None,
+    ready: Callable[[str], None] | None = None,
+    progress: Callable[[str], None] | None = None,
+    stop: threading.Event | None = None,
+) -> None:
+    """Serve the page until interrupted (or until ``stop`` is set); ``ready`` gets its URL once it listens."""
+    server = make_server(page_files(environment, progress), port, host)
+    try:
+        address, bound = server.server_address[:2]
+        shown = f"[{address}]" if ":" in str(address) else address
+        if ready is not None:
+            ready(f"http://{shown}:{bound}/")
+        if stop is None:
+            server.serve_forever(poll_interval=0.2)
+        else:
+            worker = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
+            worker.start()
+            stop.wait()
+            server.shutdown()
+    finally:
+        server.server_close()
