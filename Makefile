@@ -4,13 +4,14 @@
 #   make report error against run time (report/README.md and plots, about 70 s; installs the plot extra)
 #   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
 #   make render     pictures: report/render/ (about 45 s)
+#   make view       the look-development page in your browser (fresnel-lut view --open; Ctrl-C stops it)
 #   make fidelity   basis fidelity: report/fidelity.md and its plot (validation groups, frontier, bounds, error vs K; about 2 minutes)
 PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 TEST_STAMP := $(VENV)/.test-installed-stamp
 
-.PHONY: luts test basis report materials render fidelity clean-venv
+.PHONY: luts test basis report materials render fidelity view clean-venv
 
 # what the shader tests run on (only the test set-up installs them; building needs none): the GLSL/HLSL reference
 # compiler, Mesa's software OpenGL with headless EGL and its software Vulkan driver (WebGPU's backend here), and
@@ -55,6 +56,9 @@ fidelity: $(STAMP)
 
 render: $(STAMP)
 	$(VENV)/bin/fresnel-lut render --out report/render
+
+view: $(STAMP)
+	$(VENV)/bin/fresnel-lut view --open
 
 test: $(TEST_STAMP)
 	$(VENV)/bin/python -m pytest
