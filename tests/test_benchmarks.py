@@ -69,7 +69,9 @@ def test_area_lights_runs_small():
 @pytest.mark.slow
 def test_the_look_development_page_benchmark_writes_its_screenshot(tmp_path):
     """README's screenshot of the page is this benchmark's (``--out report``); small, into a temporary folder."""
-    completed = _run("benchmarks.view_page", "--size", "48", "--samples", "32", "--repeats", "2", "--out", str(tmp_path))
+    completed = _run(
+        "benchmarks.view_page", "--size", "48", "--samples", "32", "--repeats", "2", "--out", str(tmp_path)
+    )
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert (tmp_path / "view.png").read_bytes().startswith(b"\x89PNG") and "Console errors: 0" in completed.stdout
     assert "| basis split sum |" in (tmp_path / "view.md").read_text(encoding="utf-8")
