@@ -15,7 +15,10 @@ Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats`
   A, b̄3 from −0.64 to 1) survives where a unorm texture would clip it. The engine recovers
   value = offset + scale · texel (texel in [0, 1] as a unorm read returns it); the file states offset and
   scale in a ``tEXt`` chunk (``fresnel:encoding``), beside the convention and the content description.
-  Precision: scale / 65535 / 2, 1.5e-5 for the basis table.
+  Precision: scale / 65535 / 2, 1.5e-5 for the basis table. The image is **greyscale**, the K channels stacked
+  top to bottom (channel c in rows c·H … (c + 1)·H − 1 of a W × K·H image): no alpha for a reader to premultiply by
+  (OpenImageIO's default does), and a 16-bit grey image is what Pillow and imageio decode at 16 bits (they reduce
+  16-bit RGB and RGBA to 8).
 * **C/C++ header** (``header``): ``static const float`` arrays in file order (row 0 first, channels
   interleaved), the size, the channel names and the convention in a comment: a table compiled into the
   binary, exact in float32.
@@ -31,7 +34,7 @@ References
     index), 3.10 (key/value data, sorted keys, 4-byte padding), 3.9 (level alignment lcm(texel size, 4)).
 :cite:`KDFS` Khronos, "Data Format Specification 1.3", Section 5 (basic descriptor block, sample words).
 :cite:`PNG2003` W3C, "Portable Network Graphics (PNG) Specification (Second Edition)", 2003: chunks
-    IHDR (bit depth 16, colour types 0, 4, 2, 6), IDAT (zlib), tEXt, IEND; CRC-32 over type and data.
+    IHDR (bit depth 16, colour type 0), IDAT (zlib), tEXt, IEND; CRC-32 over type and data.
 """
 
 from __future__ import annotations
@@ -240,9 +243,6 @@ def ktx2_bytes(table: np.ndarray, attributes: dict[str, str], half: bool = False
 #: How far past [0, 1] a channel may go and still be stored as it is (offset 0, scale 1): half a 16-bit step.
 PNG16_SLACK = 0.5 / 65535.0
 
-#: PNG colour type by channel count: grey, grey + alpha, RGB, RGBA.
-_COLOUR_TYPE = {1: 0, 2: 4, 3: 2, 4: 6}
-
 
 def png16_encoding(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(offset, scale) per channel: value = offset + scale · texel, texel in [0, 1]; channels that stay in
@@ -264,22 +264,27 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
 
 
 def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
-    """A 16-bit PNG of a table (H, W, K ≤ 4), rows in file order, with its encoding and attributes in tEXt."""
+    """A 16-bit greyscale PNG of a table (H, W, K ≤ 4): channel c in rows c·H … (c + 1)·H − 1, each channel's rows in
+    file order (module docstring), with its encoding and attributes in tEXt."""
     table, attributes = _checked_table("a 16-bit PNG", table, attributes)
     if not np.all(np.isfinite(table)):
         raise ParameterError("table contains NaN or inf; refusing to write it")
     height, width, channels = table.shape
     offset, scale = png16_encoding(table)
     texels = np.round(np.clip((table - offset) / scale, 0.0, 1.0) * 65535.0).astype(">u2")
-    attributes = _sealed(attributes, "uint16", texels.tobytes())
-    rows = b"".join(b"\x00" + row.tobytes() for row in texels.reshape(height, width * channels))  # filter 0
+    stacked = np.ascontiguousarray(np.moveaxis(texels, 2, 0).reshape(channels * height, width))
+    attributes = _sealed(attributes, "uint16", stacked.tobytes())
+    rows = b"".join(b"\x00" + row.tobytes() for row in stacked)  # filter 0
     encoding = {
         "offset": offset.tolist(),
         "scale": scale.tolist(),
         "rule": "value = offset[c] + scale[c] * texel / 65535 for channel c",
+        "layout": f"greyscale, the {channels} channels stacked: channel c in image rows c * {height} to "
+        f"c * {height} + {height - 1}",
+        "rows_per_channel": height,
     }
     text = {**{f"fresnel:{key}": value for key, value in attributes.items()}, "fresnel:encoding": json.dumps(encoding)}
-    chunks = [_chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 16, _COLOUR_TYPE[channels], 0, 0, 0))]
+    chunks = [_chunk(b"IHDR", struct.pack(">IIBBBBB", width, channels * height, 16, 0, 0, 0, 0))]
     chunks += [
         _chunk(b"tEXt", key.encode("latin-1") + b"\x00" + value.encode("latin-1", "replace"))
         for key, value in text.items()

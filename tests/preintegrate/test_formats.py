@@ -7,6 +7,7 @@ half EXR)."""
 import json
 import shutil
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import png
@@ -24,15 +25,19 @@ def built(tmp_path_factory):
 
 
 def _png16(path):
+    """(texels (H, W, K) in [0, 1], the tEXt chunks) of a png16 table: a 16-bit greyscale image, the K channels
+    stacked top to bottom, read by pypng."""
     width, height, rows, info = png.Reader(filename=str(path)).read()
-    texels = np.array([np.asarray(row, dtype=np.float64) for row in rows]).reshape(height, width, info["planes"])
+    samples = np.array([np.asarray(row, dtype=np.float64) for row in rows])
     reader = png.Reader(filename=str(path))
     text = {}
     for kind, data in reader.chunks():
         if kind == b"tEXt":
             key, value = data.split(b"\x00", 1)
             text[key.decode("latin-1")] = value.decode("latin-1")
-    assert info["bitdepth"] == 16
+    assert info["bitdepth"] == 16 and info["planes"] == 1 and not info["alpha"]
+    rows_per_channel = json.loads(text["fresnel:encoding"])["rows_per_channel"]
+    texels = samples.reshape(height // rows_per_channel, rows_per_channel, width).transpose(1, 2, 0)
     return texels / 65535.0, text
 
 
@@ -55,6 +60,35 @@ def test_png16_keeps_the_signed_channel(built):
     encoding = json.loads(text["fresnel:encoding"])
     decoded = encoding["offset"][3] + encoding["scale"][3] * texels[..., 3]
     assert decoded.min() == pytest.approx(table[..., 3].min(), abs=1e-4)
+
+
+def _default_read(reader: str, path: Path) -> np.ndarray:
+    """The 16-bit samples (rows, columns) of a greyscale PNG as each library's plain, default call returns them."""
+    if reader == "openimageio":
+        import OpenImageIO
+
+        return np.round(OpenImageIO.ImageBuf(str(path)).get_pixels()[..., 0].astype(np.float64) * 65535.0)
+    if reader == "pillow":
+        from PIL import Image
+
+        with Image.open(path) as image:
+            return np.asarray(image).astype(np.float64)
+    import imageio.v3
+
+    return np.asarray(imageio.v3.imread(path)).astype(np.float64)
+
+
+@pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_albedo_average"])
+@pytest.mark.parametrize("reader", ["openimageio", "pillow", "imageio"])
+def test_png16_reads_the_same_in_the_loaders_engines_use(built, name, reader):
+    """Issue 26 item 19: an RGBA PNG was premultiplied by its alpha (b̄3) in OpenImageIO's default read (errors 0.69,
+    1.34), and Pillow and imageio decode 16-bit RGB(A) to 8 bits. The greyscale layout, channels stacked, reads as
+    the same 16-bit samples in each library's default call as in pypng (the reference reader here)."""
+    texels, _ = _png16(built / f"{name}.png")
+    height, width, channels = texels.shape
+    want = np.round(texels * 65535.0).transpose(2, 0, 1).reshape(channels * height, width)
+    got = _default_read(reader, built / f"{name}.png")
+    assert got.shape == want.shape and np.array_equal(got, want), (reader, got.shape, np.abs(got - want).max())
 
 
 def test_png16_stores_unit_channels_as_they_are(built):
