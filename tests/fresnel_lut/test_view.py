@@ -383,7 +383,18 @@ def test_the_rectangular_light_reference_is_the_area_integral(server, browser):
     pick = np.arange(0, rows.size, 7)
     normal = normals[rows[pick], columns[pick]]
     view = np.broadcast_to([0.0, 0.0, 1.0], normal.shape)
-    want = 4.0 * rect_light_reference(normal, view, normal, render.RECT_LIGHT, roughness_to_alpha(0.5), figure2.curve)
+    alpha = roughness_to_alpha(0.5)
+    want = (
+        4.0
+        * np.concatenate(  # 16 pixels at a time: the reference holds (pixels, 96², 3) arrays
+            [
+                rect_light_reference(
+                    normal[i : i + 16], view[i : i + 16], normal[i : i + 16], render.RECT_LIGHT, alpha, figure2.curve
+                )
+                for i in range(0, len(normal), 16)
+            ]
+        )
+    )
     got, sigma = mean[rows[pick], columns[pick]], spread[rows[pick], columns[pick]]
     # where the light lies in the lobe's tail, 2048 samples may never meet it (the estimate 0, its spread 0): one
     # hit's worth, L / N, stands for the spread there
