@@ -321,7 +321,11 @@
       state.a = state.kind === "nk" ? triple("eta") : state.kind === "gulbrandsen" ? triple("reflectivity") : triple("f0");
       state.b = state.kind === "nk" ? triple("kappa") : state.kind === "gulbrandsen" ? triple("edge-tint") : triple("tint");
       state.lights = { environment: $("light-environment").checked, point: $("light-point").checked, rect: $("light-rect").checked };
-      state.view = VIEWS.includes($("view").value) ? $("view").value : "gallery";
+      const view = VIEWS.includes($("view").value) ? $("view").value : "gallery";
+      if (view !== state.view && (view === "difference" || view === "delta-e")) {
+        $("difference-scale").value = view === "difference" ? "0.2" : "5"; // linear radiance, or ΔE2000
+      }
+      state.view = view;
       state.main = MODES.indexOf($("main").value);
       state.compare = MODES.indexOf($("compare").value);
       state.differenceScale = Math.max(fieldValue($("difference-scale")), 1e-3);
@@ -633,6 +637,13 @@
         const { mean, spread, samples } = readReference();
         return { mean: Array.from(mean), spread: Array.from(spread), samples };
       },
+      // the canvas as shown (8-bit sRGB RGBA, rows bottom first), after the next frame
+      readCanvas: () => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(() => {
+        const pixels = new Uint8Array(canvas.width * canvas.height * 4);
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        gl.readPixels(0, 0, canvas.width, canvas.height, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+        resolve({ width: canvas.width, height: canvas.height, pixels: Array.from(pixels) });
+      }))),
       statistics,
       timeModes,
       // resolves once the reference holds `samples` samples per pixel for the current controls, where it stays

@@ -49,6 +49,7 @@ from tests.references.area_light import rect_light_reference
 ROOT = Path(__file__).resolve().parents[2]
 SIZE = 48  # the sphere's pixels in these tests (the page's default is 384)
 RELATIVE, ABSOLUTE = 3e-3, 1e-5
+MODES = ("schlick", "basis", "multiple")
 #: The smallest normal half float: SwiftShader flushes half subnormals to 0 when it filters, so a table value below
 #: this (Schlick's bias near normal incidence, 2.4e-5 at mu_o = 1) reads as 0 there.
 SUBNORMAL = 2.0**-14
@@ -330,6 +331,44 @@ def test_every_kind_of_material_through_the_page_controls(server, browser, half_
     for mode, key in (("schlick", "schlick"), ("basis", "basis"), ("multiple", "basis_multiple_scattering")):
         light = point["basis" if mode != "schlick" else "schlick"]
         _close(_picture(page, mode), want[key] + light, f"{kind} {mode}", _prefiltered(0.45))
+    _no_errors(messages)
+    page.close()
+
+
+def _canvas(page) -> np.ndarray:
+    shown = page.evaluate("() => fresnelView.readCanvas()")
+    return np.array(shown["pixels"], dtype=np.float64).reshape(shown["height"], shown["width"], 4)[::-1, :, :3]
+
+
+@pytest.mark.slow
+def test_the_views_show_the_pictures_as_the_renderer_would(server, browser):
+    """Each view of the canvas against the float pictures read back: one picture and the split are the renderer's
+    tone map and sRGB encoding (:func:`fresnel_lut.render.to_srgb8`) of them, within one 8-bit step; the gallery holds
+    the four side by side; the difference views are black outside the sphere and where the pictures agree."""
+    page, messages = _open(browser, _url(server))
+    shown = {mode: render.to_srgb8(render.tone_map(_picture(page, mode))).astype(np.float64) for mode in MODES}
+    gallery = _canvas(page)
+    assert gallery.shape == (SIZE, 4 * SIZE, 3)
+    for k, mode in enumerate(("schlick", "basis", "multiple")):
+        assert np.abs(gallery[:, k * SIZE : (k + 1) * SIZE] - shown[mode]).max() <= 1.0, mode
+    page.select_option("#view", "single")
+    page.select_option("#main", "schlick")
+    assert np.abs(_canvas(page) - shown["schlick"]).max() <= 1.0
+    page.select_option("#view", "split")
+    page.select_option("#compare", "basis")
+    split = _canvas(page)
+    half = SIZE // 2
+    assert np.abs(split[:, :half] - shown["schlick"][:, :half]).max() <= 1.0
+    assert np.abs(split[:, half + 1 :] - shown["basis"][:, half + 1 :]).max() <= 1.0
+    assert np.all(split[:, half] == 255.0)  # the divider
+    outside = ~render.sphere_geometry(SIZE)[1]
+    for view in ("difference", "delta-e"):
+        page.select_option("#view", view)
+        page.select_option("#compare", "schlick")
+        assert np.all(_canvas(page) == 0.0), f"{view} of a picture with itself"
+        page.select_option("#compare", "basis")
+        heat = _canvas(page)
+        assert np.all(heat[outside] == 0.0) and heat[~outside].max() > 50.0, view
     _no_errors(messages)
     page.close()
 
