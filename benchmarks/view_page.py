@@ -59,7 +59,9 @@ def measure(size: int, samples: int, repeats: int) -> dict:
         for name in ("ggx_basis_rgba", "ggx_schlick_rgb")
     }
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
-    want = render.render_split_sum(figure2, float(np.sqrt(0.08)), size, half["ggx_basis_rgba"], half["ggx_schlick_rgb"])
+    want = render.render_split_sum(
+        figure2, render.FIGURE2_ROUGHNESS, size, half["ggx_basis_rgba"], half["ggx_schlick_rgb"]
+    )
     mask = render.sphere_geometry(size)[1]
     agreement = {}
     for mode, key in zip(MODES, ("schlick", "basis", "basis_multiple_scattering")):

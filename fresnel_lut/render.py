@@ -1,8 +1,9 @@
 """A small vectorised renderer: spheres under an environment, split sum against Monte Carlo.
 
-Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``,
-``render_split_sum``, ``render_point_light``, ``render_rect_light``, ``RECT_LIGHT``, ``rect_light_corners``,
-``render_reference``, ``sphere_geometry``, ``tone_map``, ``to_srgb8``.
+Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENES``, ``FIGURE2``, ``FIGURE2_ROUGHNESS``,
+``render_split_sum``, ``render_point_light``, ``POINT_LIGHT_DIRECTION``, ``POINT_LIGHT_RADIANCE``, ``render_rect_light``,
+``RECT_LIGHT``, ``RECT_LIGHT_RADIANCE``, ``rect_light_corners``, ``render_reference``, ``sphere_geometry``, ``tone_map``,
+``to_srgb8``.
 
 * **Environment**: a procedural studio made of spherical Gaussians (SGs) — a sky dome, a ground
   bounce, two soft boxes and a rim light — so that both the exact radiance L(ω) and Karis's prefiltered
@@ -56,6 +57,11 @@ from preintegrate.shaders import direct_fresnel
 
 __all__ = [
     "DEFAULT_SCENES",
+    "FIGURE2",
+    "FIGURE2_ROUGHNESS",
+    "POINT_LIGHT_DIRECTION",
+    "POINT_LIGHT_RADIANCE",
+    "RECT_LIGHT_RADIANCE",
     "STUDIO",
     "Environment",
     "RenderMaterial",
@@ -133,13 +139,13 @@ def _render_material(name: str, mapping: dict, space: str, roughness: tuple[floa
     return RenderMaterial(name, curve, material.coefficients(), roughness)
 
 
+#: The talk's Figure 2 material (Gulbrandsen's reflectivity and edge tint) and its roughness there (α = 0.08).
+FIGURE2 = {"reflectivity": 0.44, "edge_tint": [0.0, 1.0, 0.0]}
+FIGURE2_ROUGHNESS = float(np.sqrt(0.08))
+
+
 def _figure2(space: str) -> RenderMaterial:
-    return _render_material(
-        "Figure 2 (r 0.44, g (0, 1, 0))",
-        {"reflectivity": 0.44, "edge_tint": [0.0, 1.0, 0.0]},
-        space,
-        (float(np.sqrt(0.08)), 0.5),
-    )
+    return _render_material("Figure 2 (r 0.44, g (0, 1, 0))", FIGURE2, space, (FIGURE2_ROUGHNESS, 0.5))
 
 
 def _tabulated(curve: Callable[[np.ndarray], np.ndarray], samples: int = 8193) -> Callable[[np.ndarray], np.ndarray]:
@@ -214,12 +220,17 @@ def render_split_sum(
     return images
 
 
+#: The renderer's punctual light: from above, right and in front, of this radiance (a directional light).
+POINT_LIGHT_DIRECTION = (0.5, 0.6, 0.62)
+POINT_LIGHT_RADIANCE = 3.0
+
+
 def render_point_light(
     material: RenderMaterial,
     roughness: float,
     size: int,
-    direction=(0.5, 0.6, 0.62),
-    radiance: float = 3.0,
+    direction=POINT_LIGHT_DIRECTION,
+    radiance: float = POINT_LIGHT_RADIANCE,
     visibility: str = "height-correlated",
 ) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of a directional (punctual) light of ``radiance`` from ``direction`` on the
@@ -265,8 +276,9 @@ def rect_light_corners(centre=(-1.2, 2.0, 2.6), size=(1.6, 0.8)) -> np.ndarray:
     return corners
 
 
-#: The report's rectangular light (a soft box above, left and in front of the sphere).
+#: The report's rectangular light (a soft box above, left and in front of the sphere) and its radiance.
 RECT_LIGHT = rect_light_corners()
+RECT_LIGHT_RADIANCE = 4.0
 
 
 def render_rect_light(
@@ -277,7 +289,7 @@ def render_rect_light(
     basis_lut: np.ndarray,
     schlick_lut: np.ndarray,
     corners=RECT_LIGHT,
-    radiance: float = 4.0,
+    radiance: float = RECT_LIGHT_RADIANCE,
     visibility: str = "height-correlated",
 ) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of a rectangular light of ``radiance`` on the unit sphere by linearly transformed

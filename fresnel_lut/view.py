@@ -42,7 +42,15 @@ from preintegrate.exr import read_lut
 from preintegrate.formats import ktx2_bytes
 from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 
-from .render import RECT_LIGHT, STUDIO
+from .render import (
+    FIGURE2,
+    FIGURE2_ROUGHNESS,
+    POINT_LIGHT_DIRECTION,
+    POINT_LIGHT_RADIANCE,
+    RECT_LIGHT,
+    RECT_LIGHT_RADIANCE,
+    STUDIO,
+)
 
 __all__ = ["PAGE_SIZE", "make_server", "page_files", "read_environment", "serve"]
 
@@ -62,12 +70,6 @@ CURVE_SAMPLES = 1024
 PAGE_SIZE = 384
 #: An environment is stored at most this wide (larger files are halved by 2 × 2 averages until they fit).
 ENVIRONMENT_WIDTH = 2048
-#: Point light of the page, as :func:`fresnel_lut.render.render_point_light`'s defaults.
-POINT_LIGHT = {"direction": [0.5, 0.6, 0.62], "radiance": 3.0}
-#: Radiance of the rectangular light, as :func:`fresnel_lut.render.render_rect_light`'s default.
-RECT_RADIANCE = 4.0
-#: The page's figure 2 material (the talk's, as :data:`fresnel_lut.render.DEFAULT_SCENES`).
-FIGURE2 = {"reflectivity": [0.44, 0.44, 0.44], "edge_tint": [0.0, 1.0, 0.0], "roughness": float(np.sqrt(0.08))}
 _CONTENT_SECURITY_POLICY = (
     "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'; img-src 'self' data:; "
     "base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
@@ -157,14 +159,18 @@ def page_files(environment=None, progress: Callable[[str], None] | None = None) 
         "basis_hash": default_basis().content_hash,
         "size": PAGE_SIZE,
         "presets": _presets(),
-        "figure2": FIGURE2,
+        "figure2": {
+            "reflectivity": np.broadcast_to(FIGURE2["reflectivity"], 3).tolist(),
+            "edge_tint": np.broadcast_to(FIGURE2["edge_tint"], 3).tolist(),
+            "roughness": FIGURE2_ROUGHNESS,
+        },
         "studio": {
             "axes": STUDIO.axes.tolist(),
             "sharpness": STUDIO.sharpness.tolist(),
             "amplitudes": STUDIO.amplitudes.tolist(),
         },
-        "point_light": POINT_LIGHT,
-        "rect_light": {"corners": RECT_LIGHT.tolist(), "radiance": RECT_RADIANCE},
+        "point_light": {"direction": list(POINT_LIGHT_DIRECTION), "radiance": POINT_LIGHT_RADIANCE},
+        "rect_light": {"corners": RECT_LIGHT.tolist(), "radiance": RECT_LIGHT_RADIANCE},
         "colorimetry": _colorimetry(),
         "environment": None,
     }

@@ -262,7 +262,7 @@ def test_the_page_renders_figure_2_as_the_python_renderer(server, browser, half_
     page, messages = _open(browser, _url(server))
     assert page.inner_text("#error") == ""
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
-    roughness = float(np.sqrt(0.08))
+    roughness = render.FIGURE2_ROUGHNESS
     basis, schlick, ltc = (half_tables[name] for name in ("ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"))
     want = render.render_split_sum(figure2, roughness, SIZE, basis, schlick)
     for mode, key in (("schlick", "schlick"), ("basis", "basis"), ("multiple", "basis_multiple_scattering")):
@@ -285,7 +285,7 @@ def test_the_page_renders_figure_2_as_the_python_renderer(server, browser, half_
     page.evaluate("() => fresnelView.settle(1)")
     rect = render.render_rect_light(figure2, roughness, SIZE, ltc, basis, schlick)
     for mode in ("schlick", "basis"):
-        _close(_picture(page, mode), rect[mode], f"rectangular light {mode}", 4.0 * rect["ltc"])
+        _close(_picture(page, mode), rect[mode], f"rectangular light {mode}", render.RECT_LIGHT_RADIANCE * rect["ltc"])
     _no_errors(messages)
     page.close()
 
@@ -380,7 +380,7 @@ def test_the_progressive_reference_converges_to_the_python_monte_carlo(server, b
     samples = 1024
     mean, spread = _reference(page, samples)
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
-    roughness = float(np.sqrt(0.08))
+    roughness = render.FIGURE2_ROUGHNESS
     want, want_spread, _ = render.render_reference(figure2, roughness, SIZE, samples, seed=7)
     want = want + render.render_point_light(figure2, roughness, SIZE)["exact"]
     mask = render.sphere_geometry(SIZE)[1]
@@ -437,7 +437,7 @@ def test_the_rectangular_light_reference_is_the_area_integral(server, browser):
     got, sigma = mean[rows[pick], columns[pick]], spread[rows[pick], columns[pick]]
     # where the light lies in the lobe's tail, 2048 samples may never meet it (the estimate 0, its spread 0): one
     # hit's worth, L / N, stands for the spread there
-    z = (got - want) / np.maximum(sigma, 4.0 / 2048)
+    z = (got - want) / np.maximum(sigma, render.RECT_LIGHT_RADIANCE / 2048)
     assert np.mean(np.abs(z) > 4.0) <= 5e-3 and abs(z.mean()) <= 0.15, (np.abs(z).max(), z.mean())
     _no_errors(messages)
     page.close()
