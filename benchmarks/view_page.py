@@ -8,7 +8,7 @@ Run: ``.venv/bin/python -m benchmarks.view_page [--size S] [--samples N] [--repe
    four pictures side by side once the reference holds ``--samples`` samples per pixel (the page's frame-time line
    is masked: it is the only thing that changes from run to run).
 2. **Agreement**: each split-sum picture read back from its float target against :func:`fresnel_lut.render.
-   render_split_sum` on the same tables rounded to half floats (max |Δ| / value over the sphere), and the page's
+   render_split_sum` on the same half-float tables (max |Δ| / value over the sphere), and the page's
    ΔE2000 numbers of each mode against its reference.
 3. **Frame time**: ``fresnelView.timeModes(R)``: each picture drawn R times, the batch ended by a one-texel
    ``readPixels`` (which waits for the draws), five rounds with the modes alternated, each mode's fastest round; ms
@@ -26,7 +26,7 @@ import numpy as np
 from basis.storage import shipped_path, write_together
 from fresnel_lut import render
 from fresnel_lut.view import make_server, page_files
-from preintegrate.exr import read_lut
+from preintegrate.exr import read_lut, stored_values
 from tests.conftest import browser_page, chromium
 
 MODES = {"schlick": "Schlick split sum", "basis": "basis split sum", "multiple": "basis + multiple scattering"}
@@ -55,7 +55,7 @@ def measure(size: int, samples: int, repeats: int) -> dict:
         server.shutdown()
         server.server_close()
     half = {
-        name: read_lut(shipped_path(f"{name}.exr"))[0].astype(np.float16).astype(np.float64)
+        name: stored_values(read_lut(shipped_path(f"{name}.exr"))[0], half=True).astype(np.float64)
         for name in ("ggx_basis_rgba", "ggx_schlick_rgb")
     }
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
@@ -106,10 +106,10 @@ def markdown(result: dict) -> str:
         f"| reference (1 sample per pixel) | | | | {timings['reference']:.2f} | "
         f"{timings['reference'] / timings['schlick']:.2f}x |",
         "",
-        "The Python side is `fresnel_lut.render.render_split_sum` on the shipped tables rounded to half floats (what the "
-        "page's KTX2 holds); the differences are float32 and the GPU's bilinear weights (tests/fresnel_lut/"
-        "test_view.py holds them to 3e-3 of the value, and to 2^-14 of the light where SwiftShader flushes a half "
-        "subnormal to 0). The ΔE2000 numbers are the report's measure (tone-mapped linear sRGB, "
+        "The Python side is `fresnel_lut.render.render_split_sum` on the shipped tables as the page's KTX2 stores them "
+        "(half floats, subnormal halves written as 0: `preintegrate.exr.stored_values`); the differences are float32 "
+        "and the GPU's bilinear weights (tests/fresnel_lut/test_view.py holds them to 3e-3 of the value). "
+        "The ΔE2000 numbers are the report's measure (tone-mapped linear sRGB, "
         "`fresnel_lut.render.tone_map`) against the page's own Monte-Carlo reference, which still carries its noise "
         "at this sample count. Frame times are SwiftShader's (a CPU, 2 shared cores), fastest of five alternated rounds; "
         "every picture runs the same shader with all of its lights, so they differ by their Fresnel only.",
