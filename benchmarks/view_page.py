@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python -m benchmarks.view_page [--size S] [--samples N] [--repeats R] [--out FOLDER]`` (the report:
 ``--out report``, which writes ``report/view.md`` and README's screenshot ``report/view.png``). In headless Chromium
-(Debian's, WebGL 2 on SwiftShader, the CPU; no GPU here), the page served by :func:`fresnel_lut.view.make_server`:
+(Debian's, WebGL 2 on SwiftShader, the CPU; no GPU here), the page served by :func:`fresnel_lut.view.serving`:
 
 1. **Screenshot**: the talk's Figure 2 material (Gulbrandsen r 0.44, g (0, 1, 0), r = √0.08) under the studio, the
    four pictures side by side once the reference holds ``--samples`` samples per pixel (the page's frame-time line
@@ -18,14 +18,13 @@ Run: ``.venv/bin/python -m benchmarks.view_page [--size S] [--samples N] [--repe
 from __future__ import annotations
 
 import argparse
-import threading
 from pathlib import Path
 
 import numpy as np
 
 from basis.storage import shipped_path, write_together
 from fresnel_lut import render
-from fresnel_lut.view import make_server, page_files
+from fresnel_lut.view import page_files, serving
 from preintegrate.exr import read_lut, stored_values
 from tests.conftest import browser_page, chromium
 
@@ -34,26 +33,20 @@ MODES = {"schlick": "Schlick split sum", "basis": "basis split sum", "multiple":
 
 def measure(size: int, samples: int, repeats: int) -> dict:
     """The page's screenshot (PNG bytes), its pictures' agreement with the renderer, its ΔE numbers and frame times."""
-    server = make_server(page_files(), 0)
-    threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True).start()
-    url = f"http://127.0.0.1:{server.server_address[1]}/?size={size}&spp=16"
-    try:
-        with chromium(viewport=(1400, 1000)) as browser:
-            page, messages = browser_page(browser)
-            page.goto(url)
-            page.evaluate(f"() => fresnelView.ready.then(() => fresnelView.settle({samples}))")
-            numbers = page.evaluate("() => fresnelView.statistics()")
-            pictures = {
-                mode: np.array(page.evaluate(f"() => fresnelView.readImage('{mode}')")).reshape(size, size, 4)[::-1]
-                for mode in MODES
-            }
-            renderer = page.evaluate("() => fresnelView.renderer")
-            screenshot = page.screenshot(full_page=True, mask=[page.locator("#timing")], mask_color="#1b1b1d")
-            timings = page.evaluate(f"() => fresnelView.timeModes({repeats})")
-            errors = [text for kind, text in messages if kind in ("error", "pageerror")]
-    finally:
-        server.shutdown()
-        server.server_close()
+    with serving(page_files()) as server, chromium(viewport=(1400, 1000)) as browser:
+        url = f"http://127.0.0.1:{server.server_address[1]}/?size={size}&spp=16"
+        page, messages = browser_page(browser)
+        page.goto(url)
+        page.evaluate(f"() => fresnelView.ready.then(() => fresnelView.settle({samples}))")
+        numbers = page.evaluate("() => fresnelView.statistics()")
+        pictures = {
+            mode: np.array(page.evaluate(f"() => fresnelView.readImage('{mode}')")).reshape(size, size, 4)[::-1]
+            for mode in MODES
+        }
+        renderer = page.evaluate("() => fresnelView.renderer")
+        screenshot = page.screenshot(full_page=True, mask=[page.locator("#timing")], mask_color="#1b1b1d")
+        timings = page.evaluate(f"() => fresnelView.timeModes({repeats})")
+        errors = [text for kind, text in messages if kind in ("error", "pageerror")]
     half = {
         name: stored_values(read_lut(shipped_path(f"{name}.exr"))[0], half=True).astype(np.float64)
         for name in ("ggx_basis_rgba", "ggx_schlick_rgb")

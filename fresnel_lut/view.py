@@ -1,6 +1,6 @@
 """The look-development page: a local server for a WebGL 2 page that runs the shipped includes on the shipped tables.
 
-Public objects: ``page_files``, ``make_server``, ``serve``, ``read_environment``, ``PAGE_SIZE``.
+Public objects: ``page_files``, ``make_server``, ``serving``, ``serve``, ``read_environment``, ``PAGE_SIZE``.
 
 The server (Python's standard library, bound to 127.0.0.1 unless told otherwise) answers GET and HEAD for a fixed set
 of names built once at start, in memory, and nothing else: no path of a request is ever joined to a folder, so no file
@@ -22,6 +22,7 @@ The Content-Security-Policy header allows nothing but these names: the page load
 
 from __future__ import annotations
 
+import contextlib
 import http.server
 import json
 import threading
@@ -52,7 +53,7 @@ from .render import (
     STUDIO,
 )
 
-__all__ = ["PAGE_SIZE", "make_server", "page_files", "read_environment", "serve"]
+__all__ = ["PAGE_SIZE", "make_server", "page_files", "read_environment", "serve", "serving"]
 
 PAGE = Path(__file__).resolve().parent / "page"
 #: The page's files and their types.
@@ -238,27 +239,32 @@ def make_server(
     return server
 
 
+@contextlib.contextmanager
+def serving(files: dict[str, tuple[bytes, str]], port: int = 0, host: str = "127.0.0.1"):
+    """:func:`make_server` answering in a background thread for the ``with`` block, then shut down and closed."""
+    server = make_server(files, port, host)
+    threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True).start()
+    try:
+        yield server
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
 def serve(
     port: int = 8000,
     host: str = "127.0.0.1",
     environment=None,
     ready: Callable[[str], None] | None = None,
     progress: Callable[[str], None] | None = None,
-    stop: threading.Event | None = None,
 ) -> None:
-    """Serve the page until interrupted (or until ``stop`` is set); ``ready`` gets its URL once it listens."""
+    """Serve the page until interrupted; ``ready`` gets its URL once it listens."""
     server = make_server(page_files(environment, progress), port, host)
     try:
         address, bound = server.server_address[:2]
         shown = f"[{address}]" if ":" in str(address) else address
         if ready is not None:
             ready(f"http://{shown}:{bound}/")
-        if stop is None:
-            server.serve_forever(poll_interval=0.2)
-        else:
-            worker = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
-            worker.start()
-            stop.wait()
-            server.shutdown()
+        server.serve_forever(poll_interval=0.2)
     finally:
         server.server_close()

@@ -28,7 +28,6 @@ import http.client
 import signal
 import subprocess
 import sys
-import threading
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +38,7 @@ from basis.colorimetry import delta_E_2000
 from basis.materials import material_from_mapping
 from basis.storage import shipped_path
 from fresnel_lut import render
-from fresnel_lut.view import make_server, page_files, read_environment
+from fresnel_lut.view import page_files, read_environment, serving
 from preintegrate.exr import read_lut, stored_values
 from preintegrate.formats import ktx2_bytes
 from preintegrate.ggx import roughness_to_alpha
@@ -59,12 +58,8 @@ def files():
 
 @pytest.fixture(scope="module")
 def server(files):
-    server = make_server(files, 0)
-    thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
-    thread.start()
-    yield server
-    server.shutdown()
-    server.server_close()
+    with serving(files) as server:
+        yield server
 
 
 @pytest.fixture(scope="module")
@@ -453,9 +448,7 @@ def test_a_users_environment_map_is_prefiltered_on_the_gpu(tmp_path, browser, ha
     }
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
     for name, (pixels, environment, tolerance) in cases.items():
-        server = make_server(page_files(_write_exr(tmp_path / name, pixels)), 0)
-        threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True).start()
-        try:
+        with serving(page_files(_write_exr(tmp_path / name, pixels))) as server:
             page, messages = _open(browser, _url(server))
             for roughness in (0.3, 0.6):
                 _set(page, "#roughness", roughness)
@@ -474,9 +467,6 @@ def test_a_users_environment_map_is_prefiltered_on_the_gpu(tmp_path, browser, ha
                 )
             _no_errors(messages)
             page.close()
-        finally:
-            server.shutdown()
-            server.server_close()
 
 
 @pytest.mark.slow
