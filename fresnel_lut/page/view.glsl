@@ -418,13 +418,7 @@ out vec4 o_value;
 vec3 atlasLevel(int level, vec2 uv)
 {
     int l = clamp(level, 0, u_levels - 1);
-    ivec2 size = max(u_mapSize >> l, ivec2(1));
-    int row = 0;
-    for (int k = 0; k < 16; ++k)
-    {
-        if (k == l) row = u_levelRow[k];
-    }
-    return mapBilinear(u_atlas, ivec2(0, row), size, uv);
+    return mapBilinear(u_atlas, ivec2(0, u_levelRow[l]), max(u_mapSize >> l, ivec2(1)), uv);
 }
 
 vec3 atlasLod(float lod, vec2 uv)

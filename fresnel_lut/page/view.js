@@ -271,9 +271,10 @@
         const next = new Float32Array((w >> 1) * (h >> 1) * 4);
         for (let y = 0; y < h >> 1; ++y) {
           for (let x = 0; x < w >> 1; ++x) {
+            const top = (2 * y * w + 2 * x) * 4, bottom = top + w * 4; // the 2 x 2 texels' first channels
             for (let c = 0; c < 4; ++c) {
-              const at = (yy, xx) => level[(yy * w + xx) * 4 + c];
-              next[(y * (w >> 1) + x) * 4 + c] = 0.25 * (at(2 * y, 2 * x) + at(2 * y, 2 * x + 1) + at(2 * y + 1, 2 * x) + at(2 * y + 1, 2 * x + 1));
+              next[(y * (w >> 1) + x) * 4 + c] =
+                0.25 * (level[top + c] + level[top + 4 + c] + level[bottom + c] + level[bottom + 4 + c]);
             }
           }
         }
