@@ -61,7 +61,8 @@ view: $(STAMP)
 	$(VENV)/bin/fresnel-lut view --open
 
 # the suite in three processes, the shader tests (Mesa in the process), the application's and the rest, so that none
-# holds every part's memory at once: the largest process 0.78 GB instead of 1.29 GB in one (issue 26 item 17);
+# holds every part's memory at once: the largest process 0.81 GB instead of 1.29 GB in one (issue 26 item 17;
+# /usr/bin/time -v bash .ci/run);
 # every part runs even when an earlier one fails, and the target fails if any did
 TEST_PARTS := tests/luts tests/fresnel_lut --ignore=tests/luts,--ignore=tests/fresnel_lut
 
