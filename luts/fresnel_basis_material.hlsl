@@ -192,16 +192,17 @@ float4 fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
 float4 fresnelBasisCurves(float mu)
 {
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
-    int j = (mu < FRESNEL_CURVE_EDGES.y) ? 0 : ((mu < FRESNEL_CURVE_EDGES.z) ? 1 : 2);
-    float lo = (j == 0) ? FRESNEL_CURVE_EDGES.x : ((j == 1) ? FRESNEL_CURVE_EDGES.y : FRESNEL_CURVE_EDGES.z);
-    float hi = (j == 0) ? FRESNEL_CURVE_EDGES.y : ((j == 1) ? FRESNEL_CURVE_EDGES.z : FRESNEL_CURVE_EDGES.w);
-    float s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
-    int base = j * 9;
-    float4 b = FRESNEL_CURVES[base + 8];
-    for (int p = 7; p >= 0; --p)
-    {
-        b = b * s + FRESNEL_CURVES[base + p];
-    }
+    bool below1 = mu < FRESNEL_CURVE_EDGES.y, below2 = mu < FRESNEL_CURVE_EDGES.z;
+    float s = mu * (below1 ? 25.0 : (below2 ? 9.09090909 : 2.85714286)) + (below1 ? -1.0 : (below2 ? -1.72727273 : -1.85714286));
+    float4 b = (below1 ? FRESNEL_CURVES[8] : (below2 ? FRESNEL_CURVES[17] : FRESNEL_CURVES[26]));
+    b = b * s + (below1 ? FRESNEL_CURVES[7] : (below2 ? FRESNEL_CURVES[16] : FRESNEL_CURVES[25]));
+    b = b * s + (below1 ? FRESNEL_CURVES[6] : (below2 ? FRESNEL_CURVES[15] : FRESNEL_CURVES[24]));
+    b = b * s + (below1 ? FRESNEL_CURVES[5] : (below2 ? FRESNEL_CURVES[14] : FRESNEL_CURVES[23]));
+    b = b * s + (below1 ? FRESNEL_CURVES[4] : (below2 ? FRESNEL_CURVES[13] : FRESNEL_CURVES[22]));
+    b = b * s + (below1 ? FRESNEL_CURVES[3] : (below2 ? FRESNEL_CURVES[12] : FRESNEL_CURVES[21]));
+    b = b * s + (below1 ? FRESNEL_CURVES[2] : (below2 ? FRESNEL_CURVES[11] : FRESNEL_CURVES[20]));
+    b = b * s + (below1 ? FRESNEL_CURVES[1] : (below2 ? FRESNEL_CURVES[10] : FRESNEL_CURVES[19]));
+    b = b * s + (below1 ? FRESNEL_CURVES[0] : (below2 ? FRESNEL_CURVES[9] : FRESNEL_CURVES[18]));
     return b;
 }
 

@@ -161,15 +161,18 @@ fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> ve
 
 fn fresnelBasisCurves(muIn: f32) -> vec4f {
     let mu = fresnelSanitize(muIn, 1.0, 0.0, 1.0);
-    let j = select(select(2, 1, mu < FRESNEL_CURVE_EDGES.z), 0, mu < FRESNEL_CURVE_EDGES.y);
-    let lo = select(select(FRESNEL_CURVE_EDGES.z, FRESNEL_CURVE_EDGES.y, j == 1), FRESNEL_CURVE_EDGES.x, j == 0);
-    let hi = select(select(FRESNEL_CURVE_EDGES.w, FRESNEL_CURVE_EDGES.z, j == 1), FRESNEL_CURVE_EDGES.y, j == 0);
-    let s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
-    let base = j * 9;
-    var b = FRESNEL_CURVES[base + 8];
-    for (var p: i32 = 7; p >= 0; p = p - 1) {
-        b = b * s + FRESNEL_CURVES[base + p];
-    }
+    let below1 = mu < FRESNEL_CURVE_EDGES.y;
+    let below2 = mu < FRESNEL_CURVE_EDGES.z;
+    let s = mu * select(select(2.85714286, 9.09090909, below2), 25.0, below1) + select(select(-1.85714286, -1.72727273, below2), -1.0, below1);
+    var b = select(select(FRESNEL_CURVES[26], FRESNEL_CURVES[17], below2), FRESNEL_CURVES[8], below1);
+    b = b * s + select(select(FRESNEL_CURVES[25], FRESNEL_CURVES[16], below2), FRESNEL_CURVES[7], below1);
+    b = b * s + select(select(FRESNEL_CURVES[24], FRESNEL_CURVES[15], below2), FRESNEL_CURVES[6], below1);
+    b = b * s + select(select(FRESNEL_CURVES[23], FRESNEL_CURVES[14], below2), FRESNEL_CURVES[5], below1);
+    b = b * s + select(select(FRESNEL_CURVES[22], FRESNEL_CURVES[13], below2), FRESNEL_CURVES[4], below1);
+    b = b * s + select(select(FRESNEL_CURVES[21], FRESNEL_CURVES[12], below2), FRESNEL_CURVES[3], below1);
+    b = b * s + select(select(FRESNEL_CURVES[20], FRESNEL_CURVES[11], below2), FRESNEL_CURVES[2], below1);
+    b = b * s + select(select(FRESNEL_CURVES[19], FRESNEL_CURVES[10], below2), FRESNEL_CURVES[1], below1);
+    b = b * s + select(select(FRESNEL_CURVES[18], FRESNEL_CURVES[9], below2), FRESNEL_CURVES[0], below1);
     return b;
 }
 

@@ -405,8 +405,8 @@ def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = No
     mu = sanitize_unit(v_dot_h, 1.0)
     edges = np.asarray(constants.curve_segments)
     segment = np.clip(np.searchsorted(edges, mu, side="right") - 1, 0, len(edges) - 2)
-    low, high = edges[segment], edges[segment + 1]
-    s = 2.0 * (mu - low) / (high - low) - 1.0
+    scale, offset = _segment_map(edges)
+    s = mu * scale[segment] + offset[segment]
     polynomials = constants.curve_polynomials[segment]  # (…, degree + 1, K)
     curves = polynomials[..., -1, :]
     for power in range(constants.curve_degree - 1, -1, -1):  # Horner, as the shaders
@@ -603,9 +603,22 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
     return "\n".join(lines), "\n".join(functions), statements
 
 
+def _choose(spelling: _Spelling, conditions: list[str], values: list[str]) -> str:
+    """The value of the first true condition, else the last value: nested selects (values[i] where conditions[i]
+    is the first that holds), branch-free and with every index a literal."""
+    if len(values) == 1:
+        return values[0]
+    rest = _choose(spelling, conditions[1:], values[1:])
+    if spelling.language == "wgsl":
+        return f"select({rest}, {values[0]}, {conditions[0]})"
+    return f"({conditions[0]} ? {values[0]} : {rest})"
+
+
 def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
     """(arrays, Horner statements) of the direct-light polynomials: b_0 … b_3 in FRESNEL_CURVES, b_4 … b_7 in
-    FRESNEL_CURVES_HI."""
+    FRESNEL_CURVES_HI. Unrolled, each power's coefficients chosen among the segments by selects on literal indices:
+    an index that varies per pixel into a constant array is an indirect load per lane (llvmpipe measured it at half
+    the cost of Schlick's whole pass; divergent constant-memory reads on GPUs) where selects are a few ALU ops."""
     c, sp, d = constants, spelling, constants.curve_degree
     lanes = 8 if sp.wide else 4
     polynomial = np.zeros(c.curve_polynomials.shape[:2] + (lanes,))
@@ -624,18 +637,25 @@ def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, 
         else:
             arrays.append(f"const vec4 FRESNEL_CURVES{suffix}[{count}] = vec4[{count}](\n{body}\n);")
     names = {"b": ""} if not sp.wide else {"bLo": "", "bHi": "_HI"}  # variable → its array's suffix
-    wgsl = sp.language == "wgsl"
-    start = "".join(
-        f"    {'var ' if wgsl else v4 + ' '}{name} = FRESNEL_CURVES{suffix}[base + {d}];\n"
-        for name, suffix in names.items()
-    )
-    step = "".join(
-        f"        {name} = {name} * s + FRESNEL_CURVES{suffix}[base + p];\n" for name, suffix in names.items()
-    )
-    loop = f"for (var p: i32 = {d - 1}; p >= 0; p = p - 1)" if wgsl else f"for (int p = {d - 1}; p >= 0; --p)"
-    brace = " {\n" if wgsl else "\n    {\n"
-    statements = start + f"    {loop}{brace}{step}    }}\n    return {sp.make_terms(*names) if sp.wide else 'b'};\n"
-    return "\n".join(arrays), statements
+    segments = len(c.curve_segments) - 1
+    conditions = [f"below{i}" for i in range(1, segments)]
+
+    def coefficient(suffix: str, power: int) -> str:
+        return _choose(sp, conditions, [f"FRESNEL_CURVES{suffix}[{j * (d + 1) + power}]" for j in range(segments)])
+
+    declare = "var " if sp.language == "wgsl" else v4 + " "
+    statements = "".join(f"    {declare}{name} = {coefficient(suffix, d)};\n" for name, suffix in names.items())
+    for power in range(d - 1, -1, -1):
+        statements += "".join(
+            f"    {name} = {name} * s + {coefficient(suffix, power)};\n" for name, suffix in names.items()
+        )
+    return "\n".join(arrays), statements + f"    return {sp.make_terms(*names) if sp.wide else 'b'};\n"
+
+
+def _segment_map(edges) -> tuple[np.ndarray, np.ndarray]:
+    """(scale, offset) per segment: s = μ · scale + offset maps [lo, hi] onto [−1, 1] without a division."""
+    low, high = np.asarray(edges[:-1], dtype=np.float64), np.asarray(edges[1:], dtype=np.float64)
+    return 2.0 / (high - low), -(high + low) / (high - low)
 
 
 def _combination_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[list[str], list[str], str, str, str]:
@@ -669,45 +689,39 @@ def _combination_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple
 
 
 def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
-    """(edges constant, statements giving the segment j of μ and its ends lo, hi): three segments as one vec4 and
-    selects, more as an array and a count of the edges at or below μ (what ``direct_fresnel`` computes)."""
+    """(edges constant, statements giving the conditions below1 … of μ's segment and s on it): μ < edge_i for the
+    inner edges, then s = μ · scale + offset of the segment, the first whose upper edge lies above μ (what
+    ``direct_fresnel`` computes)."""
     edges, sp = constants.curve_segments, spelling
     wgsl, hlsl = sp.language == "wgsl", sp.language == "hlsl"
-    if len(edges) == 4:
-        if wgsl:
-            return (
-                f"const FRESNEL_CURVE_EDGES = {_vector(edges, 'vec4f')};",
-                "    let j = select(select(2, 1, mu < FRESNEL_CURVE_EDGES.z), 0, mu < FRESNEL_CURVE_EDGES.y);\n"
-                "    let lo = select(select(FRESNEL_CURVE_EDGES.z, FRESNEL_CURVE_EDGES.y, j == 1), FRESNEL_CURVE_EDGES.x, "
-                "j == 0);\n"
-                "    let hi = select(select(FRESNEL_CURVE_EDGES.w, FRESNEL_CURVE_EDGES.z, j == 1), FRESNEL_CURVE_EDGES.y, "
-                "j == 0);\n",
-            )
-        return (
-            f"{'static const' if hlsl else 'const'} {sp.four} FRESNEL_CURVE_EDGES = {_vector(edges, sp.four)};",
-            "    int j = (mu < FRESNEL_CURVE_EDGES.y) ? 0 : ((mu < FRESNEL_CURVE_EDGES.z) ? 1 : 2);\n"
-            "    float lo = (j == 0) ? FRESNEL_CURVE_EDGES.x : ((j == 1) ? FRESNEL_CURVE_EDGES.y : FRESNEL_CURVE_EDGES.z);\n"
-            "    float hi = (j == 0) ? FRESNEL_CURVE_EDGES.y : ((j == 1) ? FRESNEL_CURVE_EDGES.z : FRESNEL_CURVE_EDGES.w);\n",
+    count = len(edges)
+    if count == 4:
+        kind = "vec4f" if wgsl else sp.four
+        declaration = (
+            f"const FRESNEL_CURVE_EDGES = {_vector(edges, kind)};"
+            if wgsl
+            else f"{'static const' if hlsl else 'const'} {kind} FRESNEL_CURVE_EDGES = {_vector(edges, kind)};"
         )
-    count, values = len(edges), ", ".join(_number(edge) for edge in edges)
+        inner = [f"FRESNEL_CURVE_EDGES.{axis}" for axis in "yz"]
+    else:
+        values = ", ".join(_number(edge) for edge in edges)
+        declaration = {
+            "wgsl": f"const FRESNEL_CURVE_EDGES = array<f32, {count}>({values});",
+            "hlsl": f"static const float FRESNEL_CURVE_EDGES[{count}] = {{{values}}};",
+            "glsl": f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});",
+        }[sp.language]
+        inner = [f"FRESNEL_CURVE_EDGES[{i}]" for i in range(1, count - 1)]
+    conditions = [f"below{i}" for i in range(1, count - 1)]
+    scale, offset = _segment_map(edges)
+    s = (
+        f"mu * {_choose(sp, conditions, [_number(x) for x in scale])} "
+        f"+ {_choose(sp, conditions, [_number(x) for x in offset])}"
+    )
     if wgsl:
-        return (
-            f"var<private> FRESNEL_CURVE_EDGES: array<f32, {count}> = array<f32, {count}>({values});",
-            f"    var j: i32 = 0;\n    for (var i: i32 = 1; i < {count - 1}; i = i + 1) {{\n"
-            "        j = j + select(0, 1, mu >= FRESNEL_CURVE_EDGES[i]);\n    }\n"
-            "    let lo = FRESNEL_CURVE_EDGES[j];\n    let hi = FRESNEL_CURVE_EDGES[j + 1];\n",
-        )
-    declaration = (
-        f"static const float FRESNEL_CURVE_EDGES[{count}] = {{{values}}};"
-        if hlsl
-        else f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});"
-    )
-    return (
-        declaration,
-        f"    int j = 0;\n    for (int i = 1; i < {count - 1}; ++i)\n    {{\n"
-        "        j += (mu >= FRESNEL_CURVE_EDGES[i]) ? 1 : 0;\n    }\n"
-        "    float lo = FRESNEL_CURVE_EDGES[j];\n    float hi = FRESNEL_CURVE_EDGES[j + 1];\n",
-    )
+        tests = "".join(f"    let {name} = mu < {edge};\n" for name, edge in zip(conditions, inner))
+        return declaration, tests + f"    let s = {s};\n"
+    tests = "    bool " + ", ".join(f"{name} = mu < {edge}" for name, edge in zip(conditions, inner)) + ";\n"
+    return declaration, tests + f"    float s = {s};\n"
 
 
 def _header(constants: ShaderConstants, language: str, command: str) -> str:
@@ -885,9 +899,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 {T} fresnelBasisCurves({f} mu)
 {{
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
-{segment}    {f} s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
-    int base = j * {d + 1};
-{horner}}}
+{segment}{horner}}}
 
 // Fresnel of a punctual light for each colour channel: F(V.H) = sum_k c_k b_k(theta_h).
 {v3} fresnelBasisDirect({f} VdotH, {T} cR, {T} cG, {T} cB)
@@ -1310,9 +1322,7 @@ fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> {T
 
 fn fresnelBasisCurves(muIn: f32) -> {T} {{
     let mu = fresnelSanitize(muIn, 1.0, 0.0, 1.0);
-{segment}    let s = 2.0 * (mu - lo) / (hi - lo) - 1.0;
-    let base = j * {d + 1};
-{horner}}}
+{segment}{horner}}}
 
 fn fresnelBasisDirect(VdotH: f32, cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
     let b = fresnelBasisCurves(VdotH);
