@@ -1,7 +1,9 @@
 """Shader-side Fresnel: error against shader cost, per parametrisation (issue 23).
 
 Cost: one full-screen pass at 1280 × 720 on Mesa's llvmpipe (or the GPU the EGL context finds), a sphere's normals
-per fragment, the image-based split sum and one point light (GGX, height-correlated G2), six variants alternated
+per fragment seen from an eye and lit by a point light at finite distances (V, L and so V·H vary per pixel: with a
+constant light direction and view the compiler folds the direct-light Fresnel into a constant, which hid its cost
+until 2026-12), the image-based split sum and the point light (GGX, height-correlated G2), seven variants alternated
 round by round in one run, the median frame time of each as a ratio to Schlick's (which reads its F0 from a texture,
 as a textured material would):
 
@@ -9,6 +11,8 @@ as a textured material would):
 * ``basis uniform``: coefficients as uniforms, the basis table, the basis' direct-light curves;
 * ``basis per pixel (eta, kappa)``, ``(r, g)``, ``(F0, F82 tint)``: the generated include's per-pixel solves from
   texture reads, then the same as above;
+* ``schlick, two textures``: Schlick reading as many textures as the per-pixel variants (its F0 the product of
+  two): what a second texture costs, apart from any Fresnel;
 * ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light.
 
 Error, on the materials each parametrisation is for (max over θ of |ΔF|; max over the 128 × 128 table of |ΔF̄|,
@@ -51,7 +55,7 @@ COMMON = """
 uniform sampler2D basisLut; uniform sampler2D schlickLut; uniform sampler2D mapA; uniform sampler2D mapB;
 uniform vec2 size; uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform float roughness;
 out vec4 colour;
-const vec3 L = vec3(0.48, 0.6, 0.64);
+const vec3 EYE = vec3(0.0, 0.0, 4.0), LIGHT = vec3(1.5, 2.0, 3.0);  // per-pixel V and L: nothing folds to a constant
 float ggx(float NdotH, float a) { float a2 = a * a; float d = NdotH * NdotH * (a2 - 1.0) + 1.0; return a2 / (3.14159265 * d * d); }
 float smithV(float NdotV, float NdotL, float a) {
     float a2 = a * a;
@@ -62,7 +66,7 @@ void main() {
     vec2 q = uv * 2.0 - 1.0;
     float z2 = 1.0 - dot(q, q);
     vec3 N = normalize(vec3(q, sqrt(max(z2, 1e-4))));
-    vec3 V = vec3(0.0, 0.0, 1.0), H = normalize(V + L);
+    vec3 V = normalize(EYE - N), L = normalize(LIGHT - N), H = normalize(V + L);  // N: the unit sphere's point
     float NdotV = max(N.z, 1e-4), NdotL = max(dot(N, L), 0.0), NdotH = max(dot(N, H), 0.0), VdotH = max(dot(V, H), 0.0);
     vec3 prefiltered = 0.5 + 0.5 * N;
     vec3 Fbar, F;
@@ -91,6 +95,10 @@ VARIANTS = {
     vec4 pB = fresnelCoefficientsF82Tint(f0.b, tint.b);
     Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
     F = fresnelBasisDirect(VdotH, pR, pG, pB);""",
+    "schlick, two textures": """vec3 F0 = texture(mapA, uv).rgb * texture(mapB, uv).rgb;
+    vec2 sb = textureLod(schlickLut, vec2(NdotV, roughness), 0.0).rg;
+    Fbar = F0 * sb.x + sb.y;
+    F = F0 + (1.0 - F0) * pow(1.0 - VdotH, 5.0);""",
     "exact x E": """vec3 eta = texture(mapA, uv).rgb, kappa = texture(mapB, uv).rgb;
     float E = textureLod(schlickLut, vec2(NdotV, roughness), 0.0).b;
     Fbar = E * vec3(fresnelExact(NdotV, eta.r, kappa.r), fresnelExact(NdotV, eta.g, kappa.g), fresnelExact(NdotV, eta.b, kappa.b));
@@ -203,6 +211,7 @@ def errors() -> dict[str, tuple[float, float]]:
         "basis per pixel (F0, F82 tint)": measure(
             tint_curves, coefficients_per_pixel_model("f82-tint", f0=f0, tint=tint)
         ),
+        "schlick, two textures": (schlick_f, schlick_fbar),
         "exact x E": (0.0, exact_e),
     }
 
