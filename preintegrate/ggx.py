@@ -1,6 +1,6 @@
 """The GGX (Trowbridge–Reitz) microfacet distribution with height-correlated Smith masking-shadowing.
 
-Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g2_denominator``, ``g2_height_correlated``, ``g2_separable``,
+Public objects: ``ndf``, ``smith_lambda``, ``g1``, ``g1_over_mu``, ``g2_denominator``, ``g2_height_correlated``, ``g2_separable``,
 ``VISIBILITIES``, ``Visibility``, ``visibility_g2``,
 ``ndf_inverse_cdf``, ``sample_vndf``, ``view_vector``, ``roughness_to_alpha``.
 
@@ -28,6 +28,7 @@ from basis.validation import choose
 
 __all__ = [
     "g1",
+    "g1_over_mu",
     "g2_denominator",
     "g2_height_correlated",
     "g2_separable",
@@ -72,11 +73,23 @@ def smith_lambda(mu, alpha):
 def g1(mu, alpha):
     """Smith masking G1 = 1 / (1 + Λ) = 2μ / (μ + √(μ² + α²(1 − μ²))); 0 at and below the horizon."""
     mu = np.asarray(mu, dtype=np.float64)
-    alpha = np.asarray(alpha, dtype=np.float64)
-    mu_pos = np.maximum(mu, 0.0)
-    denominator = mu_pos + _slope_root(mu_pos, alpha)
+    mu_pos, denominator = _g1_denominator(mu, alpha)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(mu > 0.0, 2.0 * mu_pos / np.where(denominator > 0, denominator, 1.0), 0.0)
+
+
+def g1_over_mu(mu, alpha):
+    """G1(μ)/μ = 2 / (μ + √(μ² + α²(1 − μ²))) for μ ≥ 0 (μ < 0 is read as 0): finite at the horizon, 2/α there,
+    where the separable BRDF's G1(μo)/μo is needed; 0 for μ = α = 0 (the mirror at grazing, a zero-measure case)."""
+    _, denominator = _g1_denominator(mu, alpha)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(denominator > 0, 2.0 / np.where(denominator > 0, denominator, 1.0), 0.0)
+
+
+def _g1_denominator(mu, alpha):
+    """(max(μ, 0), max(μ, 0) + √(μ² + α²(1 − μ²))): G1 = 2μ / the second."""
+    mu_pos = np.maximum(np.asarray(mu, dtype=np.float64), 0.0)
+    return mu_pos, mu_pos + _slope_root(mu_pos, np.asarray(alpha, dtype=np.float64))
 
 
 def g2_denominator(mu_o, mu_i, alpha):

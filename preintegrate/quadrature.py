@@ -55,7 +55,7 @@ from basis.angles import check_theta_grid
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 
-from .ggx import VISIBILITIES, g2_denominator
+from .ggx import VISIBILITIES, g1, g1_over_mu, g2_denominator
 
 __all__ = [
     "DEFAULT_ORDER",
@@ -232,12 +232,13 @@ def _texel_pieces(mu_o: np.ndarray, alpha: np.ndarray, order: QuadratureOrder):
 
 def _kernel(mu_o: np.ndarray, alpha: np.ndarray, x: np.ndarray, mu_i: np.ndarray, visibility: str) -> np.ndarray:
     """x G2 / μo: the BRDF part of the integrand, 0 where μ_i ≤ 0 (arrays (T, …)); height-correlated as
-    2 μ_i x / (μ_i Ro + μo Ri), finite at grazing."""
+    2 μ_i x / (μ_i Ro + μo Ri), separable as x G1(μi) G1(μo)/μo: both finite at μo = 0."""
     alpha = alpha.reshape((-1,) + (1,) * (x.ndim - 1))
     mu_i = np.maximum(mu_i, 0.0)
+    if visibility == "separable":
+        return x * g1(mu_i, alpha) * g1_over_mu(mu_o.reshape(alpha.shape), alpha)
     if visibility != "height-correlated":
-        cos_o = mu_o.reshape(alpha.shape)
-        return np.where(mu_i > 0.0, x * VISIBILITIES[visibility].g2(cos_o, mu_i, alpha) / cos_o, 0.0)
+        raise ParameterError(f"visibility {visibility!r} has no kernel here; known: {sorted(VISIBILITIES)}")
     denominator = g2_denominator(mu_o.reshape(alpha.shape), mu_i, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(denominator > 0.0, 2.0 * mu_i * x / np.where(denominator > 0.0, denominator, 1.0), 0.0)
