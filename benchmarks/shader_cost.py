@@ -37,7 +37,7 @@ from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
 from basis.training import holdout_materials
-from preintegrate.lut import lut_lookup, lut_texel_weights
+from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 from preintegrate.multiple_scattering import shipped_tables
 from preintegrate.shaders import (
     coefficients_per_pixel_gulbrandsen,
@@ -174,9 +174,9 @@ def errors() -> dict[str, tuple[float, float]]:
     mu = np.cos(theta)
     weights = lut_texel_weights(theta, SIZE)  # (SIZE², M): the exact split sum of any curve on theta
     basis_table, schlick_table = shipped_tables()
-    grid_mu = (np.arange(SIZE) + 0.5) / SIZE
-    nv, rr = np.meshgrid(grid_mu, grid_mu)
-    basis_fbar = basis_table.reshape(-1, 4)  # at texel centres the lookup is the texel
+    grid = LutGrid(SIZE, SIZE)  # the shipped tables' grid
+    nv, rr = np.meshgrid(grid.mu_o, grid.roughness)
+    basis_fbar = basis_table.reshape(-1, 4)  # at a texel the lookup is the texel
     schlick_fbar = schlick_table.reshape(-1, 3)
 
     def measure(curves: np.ndarray, coefficients: np.ndarray) -> tuple[float, float]:

@@ -11,7 +11,7 @@ Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENE
   direction with n = v = r (Karis 2013; Wang et al. 2009: D(h) ≈ exp(2/α² (h·n − 1)) / (πα²), a lobe of
   sharpness 1/(2α²) around r), and the SG inner product in closed form.
 * **Split sum**: pixel = prefiltered L(r, α) × F̄(μo, α), F̄ from the shipped LUTs by bilinear lookup
-  (texel centres, clamp to edge, as a GPU): Schlick's two channels with F0 = F(0°), or the basis'
+  (the default grid's coordinates, clamp to edge, as a GPU): Schlick's two channels with F0 = F(0°), or the basis'
   four with the material's coefficients.
 * **Point light**: L ρ(ωo, ωl) μl with the GGX BRDF ρ = D G2 F / (4 μo μl), F(ωo·h) three ways: Schlick's,
   the basis' (the shaders' direct-light curves, :func:`preintegrate.shaders.direct_fresnel`, with the

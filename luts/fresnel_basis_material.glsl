@@ -213,13 +213,16 @@ vec3 fresnelBasisDirect(float VdotH, vec4 cR, vec4 cG, vec4 cB)
     return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
-// The tables' coordinates (the grid of the build that wrote this include: 128 x 128, rows at
-// centres): u = NdotV, v = clamp(r, lo, hi) * scale + offset, so that a change of grid is these constants.
-const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 1.0, 0.0);  // lo, hi, scale, offset
+// The tables' coordinates (the grid of the build that wrote this include: 128 x 128, columns at
+// root-endpoints, rows at endpoints): u = sqrt(NdotV) * scale + offset, v = clamp(r, lo, hi) * scale + offset
+// (the half-texel remap of end-point texels), so that a change of grid is these constants.
+const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
+const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 vec2 fresnelBasisLutUV(float NdotV, float perceptualRoughness)
 {
     float r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    return vec2(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    float x = sqrt(fresnelSanitize(NdotV, 1.0, 0.0, 1.0));
+    return vec2(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 // The split sum of the basis table at level 0, read through fresnelBasisLutUV.

@@ -213,13 +213,16 @@ float3 fresnelBasisDirect(float VdotH, float4 cR, float4 cG, float4 cB)
     return float3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
-// The tables' coordinates (the grid of the build that wrote this include: 128 x 128, rows at
-// centres): u = NdotV, v = clamp(r, lo, hi) * scale + offset, so that a change of grid is these constants.
-static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 1.0, 0.0);  // lo, hi, scale, offset
+// The tables' coordinates (the grid of the build that wrote this include: 128 x 128, columns at
+// root-endpoints, rows at endpoints): u = sqrt(NdotV) * scale + offset, v = clamp(r, lo, hi) * scale + offset
+// (the half-texel remap of end-point texels), so that a change of grid is these constants.
+static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // scale, offset
+static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 float2 fresnelBasisLutUV(float NdotV, float perceptualRoughness)
 {
     float r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    return float2(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    float x = sqrt(fresnelSanitize(NdotV, 1.0, 0.0, 1.0));
+    return float2(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 // The split sum of the basis table at level 0, read through fresnelBasisLutUV.

@@ -181,11 +181,14 @@ fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {
     return vec3f(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
-const FRESNEL_LUT_ROWS = vec4f(0.0, 1.0, 1.0, 0.0);  // lo, hi, scale, offset (128 x 128, rows at centres)
+// 128 x 128, columns at root-endpoints, rows at endpoints: u = sqrt(NdotV) * scale + offset, v = clamp(r, lo, hi) * scale + offset
+const FRESNEL_LUT_COLUMNS = vec2f(0.9921875, 0.00390625);  // scale, offset
+const FRESNEL_LUT_ROWS = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 
 fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {
     let r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    return vec2f(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    let x = sqrt(fresnelSanitize(NdotV, 1.0, 0.0, 1.0));
+    return vec2f(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 fn fresnelBasisSplitSumUV(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, cR: vec4f, cG: vec4f,

@@ -1,14 +1,14 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
-Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``,
+Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``,
 ``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
 ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
-Column i ↔ μo = (i + 0.5)/W; row j ↔ perceptual roughness r = (j + 0.5)/H with α = r² (or, for a scene's
-tables, rows at the end points of a roughness range: :class:`LutGrid`); row 0 is first in the file. Texel
-centres never touch μo = 0 or r = 0. A GPU reads a table with linear
-interpolation between texel centres and clamps to the edge texels outside them; :func:`lut_lookup`
-and :func:`interpolation_weights` are that rule, once.
+Column i ↔ √μo = i/(W − 1), row j ↔ perceptual roughness r = j/(H − 1) with α = r² (the default build; a scene's
+rows span its materials' roughness range; other placements for comparison: :class:`LutGrid`); row 0 is first in the
+file. Both ends of both axes stand on a texel, which a GPU reads through the half-texel remap
+u = (x (W − 1) + 0.5)/W (the include's coordinate function), with linear interpolation between texels;
+:meth:`LutGrid.lookup`, :func:`lut_lookup` and :meth:`LutGrid.column_weights` are that rule, once.
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from .quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
 __all__ = [
     "AVERAGE_LUT",
     "BASIS_LUT",
+    "COLUMN_PLACEMENTS",
     "RGBA",
     "LUT_METHODS",
     "PIXEL_CONVENTION",
@@ -80,9 +81,15 @@ RGBA = ("R", "G", "B", "A")
 #: Written into every header: what produced the file.
 GENERATOR = "fresnel-basis 0.1.0"
 
-#: How a table's rows sample perceptual roughness: at texel centres over [0, 1] (the default build) or at the
-#: end points of a range (a scene's tables, which must reach both ends of what their materials use).
-ROW_PLACEMENTS = ("centres", "endpoints")
+#: How a table's rows sample perceptual roughness: at the end points of a range (the default build over 0–1, and a
+#: scene's tables over what their materials use: a lookup at either end reads its own row) or at texel centres over
+#: [0, 1] (the builds before 2026-12, kept to measure against: a lookup at r = 0 or 1 reads the row half a texel in).
+ROW_PLACEMENTS = ("endpoints", "centres")
+#: How a table's columns sample μo: ``root-endpoints``, column i at √μo = i/(W − 1) (the default build: both ends
+#: on a texel, and the columns crowd where the split sum steepens, at grazing views of smooth surfaces),
+#: ``endpoints`` (μo = i/(W − 1)) or ``centres`` (μo = (i + 0.5)/W: the engines' usual table, and this project's
+#: before 2026-12).
+COLUMN_PLACEMENTS = ("root-endpoints", "endpoints", "centres")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -90,26 +97,32 @@ class LutGrid:
     """The texel grid of a table and the BRDF it integrates: the one place that knows the axes, α = r², the
     convention text of the header and the bilinear lookup.
 
-    Columns: μo = (i + 0.5) / width (texel centres, never μo = 0). Rows: perceptual roughness r = (j + 0.5) / height
-    over [0, 1] (``rows="centres"``), or r = low + j (high − low) / (height − 1) over ``roughness_range``
-    (``rows="endpoints"``; one row stands at ``low``). GGX α = r² (Burley 2012, Karis 2013).
+    Columns (:data:`COLUMN_PLACEMENTS`): by default √μo = i/(W − 1), i = 0 … W − 1. Rows (:data:`ROW_PLACEMENTS`): by
+    default r = low + j (high − low)/(H − 1) over ``roughness_range`` (0–1; one row stands at ``low``). A GPU reads
+    end-point texels through the half-texel remap u = (x (W − 1) + 0.5)/W of the axis' coordinate x ∈ [0, 1]
+    (x = √μo, x = (r − low)/(high − low)): every lookup in [0, 1]² interpolates between texels, none is clamped to
+    an edge texel half a texel away. GGX α = r² (Burley 2012, Karis 2013).
 
     Examples
     --------
-    >>> grid = LutGrid(4, 3, rows="endpoints", roughness_range=(0.2, 0.6))
-    >>> grid.roughness.tolist(), grid.alpha.round(2).tolist()
-    ([0.2, 0.4, 0.6], [0.04, 0.16, 0.36])
+    >>> grid = LutGrid(4, 3, roughness_range=(0.2, 0.6))
+    >>> grid.roughness.tolist(), grid.alpha.round(2).tolist(), grid.mu_o.round(3).tolist()
+    ([0.2, 0.4, 0.6], [0.04, 0.16, 0.36], [0.0, 0.111, 0.444, 1.0])
+    >>> grid.texture_coordinates(1.0, 0.2).tolist()
+    [0.875, 0.16666666666666666]
     """
 
     width: int
     height: int
-    rows: str = "centres"
+    rows: str = "endpoints"
     roughness_range: tuple[float, float] = (0.0, 1.0)
     visibility: str = "height-correlated"
+    columns: str = "root-endpoints"
 
     def __post_init__(self):
         check_positive_int("width", self.width, low=2, high=8192)
         check_choice("rows", self.rows, ROW_PLACEMENTS)
+        check_choice("columns", self.columns, COLUMN_PLACEMENTS)
         check_choice("visibility", self.visibility, list(VISIBILITIES))
         low, high = (float(value) for value in check_range("roughness_range", self.roughness_range, 0.0, 1.0))
         if self.rows == "centres":
@@ -125,10 +138,19 @@ class LutGrid:
                 )
         object.__setattr__(self, "roughness_range", (low, high))
 
+    @classmethod
+    def centred(cls, width: int, height: int | None = None, visibility: str = "height-correlated") -> "LutGrid":
+        """The engines' grid: both axes at texel centres over 0–1 (μo = (i + 0.5)/W, r = (j + 0.5)/H), where their
+        Monte-Carlo estimate is defined (μo > 0, α > 0) and where this project's tables stood before 2026-12."""
+        return cls(width, width if height is None else height, rows="centres", visibility=visibility, columns="centres")
+
     @property
     def mu_o(self) -> np.ndarray:
         """(W,) view cosine of each column."""
-        return texel_centres(self.width)
+        if self.columns == "centres":
+            return texel_centres(self.width)
+        steps = np.linspace(0.0, 1.0, self.width)
+        return steps * steps if self.columns == "root-endpoints" else steps
 
     @property
     def roughness(self) -> np.ndarray:
@@ -143,11 +165,51 @@ class LutGrid:
         """(H,) GGX width of each row."""
         return roughness_to_alpha(self.roughness)
 
+    def column_position(self, mu_o) -> np.ndarray:
+        """Fractional column index in [0, W − 1] of view cosines (clamped to [0, 1], as a GPU clamps NdotV)."""
+        mu_o = np.clip(as_float_array("mu_o", mu_o), 0.0, 1.0)
+        if self.columns == "centres":
+            return np.clip(mu_o * self.width - 0.5, 0.0, self.width - 1.0)
+        return (np.sqrt(mu_o) if self.columns == "root-endpoints" else mu_o) * (self.width - 1.0)
+
+    def row_position(self, roughness) -> np.ndarray:
+        """Fractional row index in [0, H − 1] of perceptual roughnesses (clamped to the rows' range)."""
+        roughness = np.clip(as_float_array("roughness", roughness), 0.0, 1.0)
+        if self.rows == "centres":
+            return np.clip(roughness * self.height - 0.5, 0.0, self.height - 1.0)
+        low, high = self.roughness_range
+        if self.height == 1:
+            return np.zeros(roughness.shape)
+        return np.clip((roughness - low) / (high - low), 0.0, 1.0) * (self.height - 1.0)
+
+    def texture_coordinates(self, mu_o, roughness) -> np.ndarray:
+        """(…, 2) the (u, v) at which a GPU samples this grid's table for (μo, r): (position + 0.5)/size per axis,
+        what the generated include's ``fresnelBasisLutUV`` computes."""
+        mu_o, roughness = np.broadcast_arrays(as_float_array("mu_o", mu_o), as_float_array("roughness", roughness))
+        u = (self.column_position(mu_o) + 0.5) / self.width
+        v = (self.row_position(roughness) + 0.5) / self.height
+        return np.stack([u, v], axis=-1)
+
+    def column_weights(self, mu_o) -> np.ndarray:
+        """(P, W) weights of the linear interpolation a GPU makes along a row at the view cosines ``mu_o``."""
+        return _position_weights(self.column_position(np.ravel(mu_o)), self.width)
+
+    def row_weights(self, roughness) -> np.ndarray:
+        """(P, H) weights of the linear interpolation a GPU makes along a column at the roughnesses ``roughness``."""
+        return _position_weights(self.row_position(np.ravel(roughness)), self.height)
+
     @property
     def convention(self) -> str:
         """The header's ``convention`` text: axes, α, order in the file, what a texel holds, the BRDF's G2."""
+        columns = {
+            "centres": "column i <-> mu_o = cos(theta_o) = (i + 0.5) / width (texel centres; engine: u = mu_o)",
+            "endpoints": "column i <-> mu_o = cos(theta_o) = i / (width - 1) (engine: u = (mu_o * (width - 1) + "
+            "0.5) / width)",
+            "root-endpoints": "column i <-> sqrt(mu_o) = i / (width - 1), mu_o = cos(theta_o) (engine: u = "
+            "(sqrt(mu_o) * (width - 1) + 0.5) / width)",
+        }[self.columns]
         if self.rows == "centres":
-            rows = "row j <-> perceptual roughness r = (j + 0.5) / height"
+            rows = "row j <-> perceptual roughness r = (j + 0.5) / height (texel centres; engine: v = r)"
         elif self.height > 1:
             low, high = (f"{value:.6g}" for value in self.roughness_range)
             rows = (
@@ -157,9 +219,8 @@ class LutGrid:
         else:
             rows = f"one row, at perceptual roughness r = {self.roughness_range[0]:.6g} (engine: v = 0.5)"
         return (
-            f"column i <-> mu_o = cos(theta_o) = (i + 0.5) / width; {rows}, GGX alpha = r^2; row 0 first in the "
-            "file (top); texel centres; values are directional albedos Fbar_k(mu_o, alpha) = integral of "
-            "f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
+            f"{columns}; {rows}, GGX alpha = r^2; row 0 first in the file (top); values are directional albedos "
+            "Fbar_k(mu_o, alpha) = integral of f_k(omega_o . h) * rho_GGX(omega_o, omega_i) * cos(theta_i) d omega_i, "
             f"GGX with {VISIBILITIES[self.visibility].header}"
         )
 
@@ -170,10 +231,14 @@ class LutGrid:
             raise ParameterError(
                 f"table must have this grid's {self.height} x {self.width} texels, got {table.shape[:2]}"
             )
-        return _bilinear(table, mu_o, roughness, self.mu_o, self.roughness)
+        mu_o, roughness = as_float_array("mu_o", mu_o), as_float_array("roughness", roughness)
+        check_broadcast(mu_o=mu_o, roughness=roughness)
+        mu_o, roughness = np.broadcast_arrays(mu_o, roughness)
+        return _bilinear(table, self.column_position(mu_o), self.row_position(roughness))
 
 
-#: The default build's convention (rows at texel centres, height-correlated G2), as every shipped header states it.
+#: The default build's convention (root end-point columns, end-point rows over 0–1, height-correlated G2), as every
+#: shipped header states it.
 PIXEL_CONVENTION = LutGrid(2, 2).convention
 
 
@@ -188,7 +253,7 @@ def texel_centres(count: int) -> np.ndarray:
 
 
 def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(μo of each column, perceptual roughness of each row) of the default grid (rows at texel centres)."""
+    """(μo of each column, perceptual roughness of each row) of the default grid."""
     grid = LutGrid(width, width if height is None else height)
     return grid.mu_o, grid.roughness
 
@@ -232,7 +297,10 @@ def build_table(
     Examples
     --------
     >>> from preintegrate.channels import schlick_channels
-    >>> build_table(schlick_channels(), 4, method="hammersley", samples=64).shape
+    >>> build_table(schlick_channels(), 4).shape
+    (4, 4, 2)
+    >>> engines = LutGrid.centred(4)  # the engines' estimate needs μo, α > 0
+    >>> build_table(schlick_channels(), engines, method="hammersley", samples=64).shape
     (4, 4, 2)
     """
     if not isinstance(channels, ChannelSet):
@@ -243,6 +311,11 @@ def build_table(
         grid = LutGrid(grid, grid if height is None else height, visibility=visibility)
     elif height is not None or "visibility" in options:
         raise ParameterError("a LutGrid carries its own height and visibility; pass neither beside it")
+    if method == "hammersley" and (grid.mu_o[0] == 0.0 or grid.alpha[0] == 0.0):
+        raise ParameterError(
+            "the engines' Monte-Carlo estimate (method 'hammersley') divides by mu_o and needs alpha > 0, and this "
+            "grid has texels at mu_o = 0 or r = 0: give it the engines' grid at texel centres, LutGrid.centred(width, height)"
+        )
     accepted = [name for name in inspect.signature(compute).parameters if name not in _TEXELS]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
@@ -290,11 +363,12 @@ def interpolation_weights(points, centres) -> np.ndarray:
 
 
 def lut_lookup(table: np.ndarray, mu_o, roughness) -> np.ndarray:
-    """Bilinear, clamp-to-edge fetch of a LUT (H, W, K) with rows at texel centres at (μo, r), as a GPU samples
-    it at level 0 (:meth:`LutGrid.lookup` for any grid). μo and r are clamped to [0, 1] as a GPU clamps."""
+    """Bilinear, clamp-to-edge fetch at (μo, r) of a table (H, W, K) on the default build's grid of its size
+    (:class:`LutGrid` ``(W, H)``), as a GPU samples it at level 0 through the include's coordinates
+    (:meth:`LutGrid.lookup` for any other grid). μo and r are clamped to [0, 1] as a GPU clamps."""
     table = _checked_lookup_table(table, rows_at_least=2)
     height, width = table.shape[:2]
-    return _bilinear(table, mu_o, roughness, texel_centres(width), texel_centres(height))
+    return LutGrid(width, height).lookup(table, mu_o, roughness)
 
 
 def _checked_lookup_table(table, rows_at_least: int) -> np.ndarray:
@@ -304,18 +378,31 @@ def _checked_lookup_table(table, rows_at_least: int) -> np.ndarray:
     return table
 
 
-def _bilinear(table: np.ndarray, mu_o, roughness, columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    mu_o, roughness = as_float_array("mu_o", mu_o), as_float_array("roughness", roughness)
-    check_broadcast(mu_o=mu_o, roughness=roughness)
-    mu_o, roughness = np.broadcast_arrays(mu_o, roughness)
-    x0, fx = _clamped_position(mu_o, columns)
-    if rows.size == 1:
-        y0, fy = np.zeros(mu_o.shape, dtype=int), np.zeros(mu_o.shape)
-        y1 = y0
-    else:
-        y0, fy = _clamped_position(roughness, rows)
-        y1 = y0 + 1
+def _bilinear(table: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Linear interpolation of ``table`` (H, W, K) at fractional texel positions x ∈ [0, W − 1], y ∈ [0, H − 1]."""
+    x0, fx = _split_position(x, table.shape[1])
+    y0, fy = _split_position(y, table.shape[0])
+    x1, y1 = np.minimum(x0 + 1, table.shape[1] - 1), np.minimum(y0 + 1, table.shape[0] - 1)
     fx, fy = fx[..., None], fy[..., None]
-    return (1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1]) + fy * (
-        (1 - fx) * table[y1, x0] + fx * table[y1, x0 + 1]
+    return (1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x1]) + fy * (
+        (1 - fx) * table[y1, x0] + fx * table[y1, x1]
     )
+
+
+def _split_position(position: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lower index, fraction) of fractional texel positions in [0, count − 1]."""
+    low = np.clip(np.floor(position).astype(int), 0, max(count - 2, 0))
+    return low, position - low
+
+
+def _position_weights(position: np.ndarray, count: int) -> np.ndarray:
+    """(P, count) linear-interpolation weights of fractional texel positions in [0, count − 1]."""
+    weights = np.zeros((position.size, count))
+    if count == 1:
+        weights[:, 0] = 1.0
+        return weights
+    low, fraction = _split_position(position, count)
+    rows = np.arange(position.size)
+    weights[rows, low] = 1.0 - fraction
+    weights[rows, low + 1] += fraction
+    return weights

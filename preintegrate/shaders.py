@@ -174,6 +174,15 @@ class ShaderConstants:
         scale = (height - 1) / ((high - low) * height)
         return low, high, scale, 0.5 / height - low * scale
 
+    @property
+    def column_mapping(self) -> tuple[float, float]:
+        """(scale, offset): the table's u = x · scale + offset of x = √NdotV (root end-point columns, the default),
+        x = NdotV otherwise (end points: scale (W − 1)/W, offset 0.5/W, read exactly at both ends; centres: u = x)."""
+        if self.grid.columns == "centres":
+            return 1.0, 0.0
+        width = self.grid.width
+        return (width - 1) / width, 0.5 / width
+
 
 def _round_up(value: float) -> float:
     """The smallest of 1, 2, 5 × 10^n at or above ``value``."""
@@ -357,10 +366,7 @@ def coefficients_per_pixel_model(model: str, constants: ShaderConstants | None =
 def lut_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
     """(…, 2) texture coordinates (u, v) of (NdotV, r) on the tables' grid, as ``fresnelBasisLutUV`` computes them."""
     constants = shader_constants() if constants is None else constants
-    low, high, scale, offset = constants.row_mapping
-    u = sanitize_unit(n_dot_v, 1.0)
-    v = np.clip(sanitize_unit(roughness, 0.5), low, high) * scale + offset
-    return np.stack(np.broadcast_arrays(u, v), axis=-1)
+    return constants.grid.texture_coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
 
 
 def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
@@ -724,6 +730,13 @@ def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str
     return declaration, tests + f"    float s = {s};\n"
 
 
+def _column_coordinate(constants: ShaderConstants) -> tuple[str, str]:
+    """(what the comment calls it, the expression of ``{mu}``) of the table's column coordinate x."""
+    if constants.grid.columns == "root-endpoints":
+        return "sqrt(NdotV)", "sqrt({mu})"
+    return "NdotV", "{mu}"
+
+
 def _header(constants: ShaderConstants, language: str, command: str) -> str:
     k, m = constants.n_terms, constants.n_terms - 2
     solve = (
@@ -764,6 +777,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     fit_constants, fit_functions, solve = _fit_parts(c, sp)
     curve_arrays, horner = _curve_parts(c, sp)
     edges, segment = _segment_parts(c, sp)
+    column_x, column_x_code = _column_coordinate(c)
     second = ", sampler2D lut2" if not hlsl else ", Texture2D<float4> lut2"
     if hlsl:
         fetch = "lut.SampleLevel(linearClamp, uv, 0)"
@@ -908,13 +922,16 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
     return {direct};
 }}
 
-// The tables' coordinates (the grid of the build that wrote this include: {c.grid.width} x {c.grid.height}, rows at
-// {c.grid.rows}): u = NdotV, v = clamp(r, lo, hi) * scale + offset, so that a change of grid is these constants.
+// The tables' coordinates (the grid of the build that wrote this include: {c.grid.width} x {c.grid.height}, columns at
+// {c.grid.columns}, rows at {c.grid.rows}): u = {column_x} * scale + offset, v = clamp(r, lo, hi) * scale + offset
+// (the half-texel remap of end-point texels), so that a change of grid is these constants.
+{const} {v2} FRESNEL_LUT_COLUMNS = {_vector(c.column_mapping, v2)};  // scale, offset
 {const} {v4} FRESNEL_LUT_ROWS = {_vector(c.row_mapping, v4)};  // lo, hi, scale, offset
 {v2} fresnelBasisLutUV({f} NdotV, {f} perceptualRoughness)
 {{
     {f} r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    return {v2}(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    {f} x = {column_x_code.format(mu="fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")};
+    return {v2}(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
 // The split sum of the basis table{"s two textures" if sp.wide else ""} at level 0, read through fresnelBasisLutUV.
@@ -1222,6 +1239,7 @@ def _wgsl_material(constants: ShaderConstants, command: str) -> str:
     fit_constants, fit_functions, solve = _fit_parts(c, sp)
     curve_arrays, horner = _curve_parts(c, sp)
     edges, segment = _segment_parts(c, sp)
+    column_x, column_x_code = _column_coordinate(c)
     projections, linear, averages, direct, average = _combination_parts(c, sp)
     fetch = "textureSampleLevel(lut, linearClamp, uv, 0.0)"
     fetch_terms = sp.make_terms(fetch, fetch.replace("(lut,", "(lut2,")) if sp.wide else fetch
@@ -1329,11 +1347,14 @@ fn fresnelBasisDirect(VdotH: f32, cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
     return {direct};
 }}
 
-const FRESNEL_LUT_ROWS = {_vector(c.row_mapping, "vec4f")};  // lo, hi, scale, offset ({c.grid.width} x {c.grid.height}, rows at {c.grid.rows})
+// {c.grid.width} x {c.grid.height}, columns at {c.grid.columns}, rows at {c.grid.rows}: u = {column_x} * scale + offset, v = clamp(r, lo, hi) * scale + offset
+const FRESNEL_LUT_COLUMNS = {_vector(c.column_mapping, "vec2f")};  // scale, offset
+const FRESNEL_LUT_ROWS = {_vector(c.row_mapping, "vec4f")};  // lo, hi, scale, offset
 
 fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {{
     let r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    return vec2f(fresnelSanitize(NdotV, 1.0, 0.0, 1.0), r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    let x = {column_x_code.format(mu="fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")};
+    return vec2f(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
 fn fresnelBasisSplitSumUV({textures}linearClamp: sampler, NdotV: f32, r: f32, cR: {T}, cG: {T},

@@ -123,8 +123,11 @@ def default_tables(
     channels integrated in one pass, then E_avg(r) at the grid's rows (Kulla and Conty 2017)."""
     basis = resolve_basis(basis)
     grid = LutGrid(128, 128) if grid is None else grid
-    if grid.rows != "centres":
-        raise ParameterError("the default build's tables have rows at texel centres over roughness 0-1")
+    if (grid.rows, grid.columns, grid.roughness_range) != ("endpoints", "root-endpoints", (0.0, 1.0)):
+        raise ParameterError(
+            "the default build's tables are on the default grid: columns at sqrt(mu_o) end points, rows at the end "
+            "points of roughness 0-1 (LutGrid(width, height))"
+        )
     basis_set, schlick_set, average_set = basis_channels(basis), schlick_table_channels(), average_albedo_channels()
     values = build_table(combine(basis_set, schlick_set), grid, order=order, progress=progress)
     k, quadrature, convention = basis_set.n_channels, order.describe(), grid.convention

@@ -22,6 +22,7 @@ def test_every_benchmark_is_listed_here():
         "area_lights",
         "commands",
         "fuzz",
+        "lut_edges",
         "quadrature_vs_montecarlo",
         "shader_cost",
         "stability_table",
@@ -40,6 +41,17 @@ def test_the_stability_table_regenerates():
     completed = _run("benchmarks.stability_table")
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert "## Extreme regimes, API fuzz, CLI fuzz" in completed.stdout and "| FAIL |" not in completed.stdout
+
+
+@pytest.mark.slow
+def test_lut_edges_runs_small():
+    """The edge study at 32 x 32: the default placement beats texel centres on every edge and at the issue's points."""
+    completed = _run("benchmarks.lut_edges", "--size", "32", "--points", "200")
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    for region in ("mu_o = 0 ", "mu_o = 1 ", "r = 1 ", "the issue's points"):
+        row = next(line for line in completed.stdout.splitlines() if line.startswith(f"| {region}"))
+        centres, _, default = (float(cell.split()[0]) for cell in row.strip("|").split("|")[1:])
+        assert default < centres, row
 
 
 @pytest.mark.slow

@@ -20,7 +20,7 @@ def test_readme_python_example_runs(monkeypatch, capsys, tmp_path):
     from preintegrate.channels import basis_channels
     from preintegrate.quadrature import directional_albedo
 
-    mu_o, roughness = (90 + 0.5) / 128, (40 + 0.5) / 128
+    mu_o, roughness = (90 / 127) ** 2, 40 / 127  # the texel (j, i) = (40, 90) of the default grid
     channels = directional_albedo(basis_channels().functions, mu_o, roughness**2)
     expected = material_coefficients("Gold") @ channels
     printed = np.array([float(v) for v in re.findall(r"[-+]?\d*\.\d+(?:e[-+]?\d+)?", capsys.readouterr().out)])

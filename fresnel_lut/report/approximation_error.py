@@ -31,7 +31,7 @@ from basis.coefficients import (
 )
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import FRESNEL_MODELS
-from preintegrate.lut import lut_texel_weights
+from preintegrate.lut import LutGrid, lut_texel_weights
 
 __all__ = ["approximation_markdown", "approximation_table"]
 
@@ -59,7 +59,7 @@ def approximation_table(basis: Basis | None = None, size: int = 32, names=None) 
     """Rows (one per model) of the projection error on the model's sweep; see the module docstring."""
     basis = resolve_basis(basis)
     started = time.perf_counter()
-    weights = lut_texel_weights(basis.theta, size)
+    weights = lut_texel_weights(basis.theta, LutGrid.centred(size))
     mu_grid, mu_fit = cos_theta(basis.theta), cos_theta(basis.fit_angles)
     curves = basis.curves  # (K, M) on basis.theta
     rows = []

@@ -50,7 +50,7 @@ from basis.training import (
     validation_groups,
 )
 from basis.validation import ParameterError
-from preintegrate.lut import lut_axes, lut_texel_weights
+from preintegrate.lut import LutGrid, lut_texel_weights
 from preintegrate.quadrature import texel_weights
 
 from .figures import pyplot, save_figure
@@ -177,7 +177,7 @@ def bound_basis(tolerances: dict[str, float], start: Basis, size: int = 64, iter
     unknown = set(tolerances) - set(TARGETS)
     if unknown:
         raise ParameterError(f"tolerances name groups without a target {sorted(unknown)}; known: {sorted(TARGETS)}")
-    weights = lut_texel_weights(_REFINEMENT_GRID, size)
+    weights = lut_texel_weights(_REFINEMENT_GRID, LutGrid.centred(size))
     groups = validation_groups()
     training = {
         name: (groups[name](cos_theta(_REFINEMENT_GRID)), bound)
@@ -232,7 +232,7 @@ def group_errors(
 def _figure_2_at_its_roughness(basis: Basis, theta: np.ndarray) -> float:
     """max over μo of |ΔF̄| at the talk's α = 0.08 (four-point), 128 texel centres."""
     group = validation_groups()["figure 2"]
-    weights = texel_weights(theta, lut_axes(128)[0], FIGURE_2["alpha"])
+    weights = texel_weights(theta, LutGrid.centred(128).mu_o, FIGURE_2["alpha"])
     difference = _coefficients(basis, group, "four-point") @ basis.evaluate(theta).T - group(cos_theta(theta))
     return float(np.max(np.abs(difference @ weights.T)))
 
@@ -252,7 +252,7 @@ def terms_sweep(terms, groups, theta, weights, count: int, progress=None, column
             progress(f"K = {k}: generic basis")
     scene = read_scene(Path(__file__).resolve().parents[2] / "examples" / "showcase.toml")
     shipped = default_basis()
-    operators = training_operators(scene, shipped, lut_axes(columns)[0])
+    operators = training_operators(scene, shipped, LutGrid.centred(columns).mu_o)
     scene_errors, plain_errors = {}, {}
     curves = np.concatenate([material.curve.T for material in scene.materials])
     for k in terms:
@@ -296,7 +296,7 @@ def fidelity_study(quick: bool = False, progress: Callable[[str], None] | None =
     settings = QUICK if quick else _FULL
     say = progress or (lambda text: None)
     theta = np.linspace(0.0, 0.5 * np.pi, settings["theta"])
-    weights = lut_texel_weights(theta, settings["size"])
+    weights = lut_texel_weights(theta, LutGrid.centred(settings["size"]))
     groups = validation_groups()
     bases = {
         "notebook-style": notebook_basis(settings["count"]),

@@ -3,7 +3,8 @@
 Public objects: ``lut_error_vs_time``, ``plot_lut_error``, ``lut_error_table_markdown``, ``QUICK``.
 
 For one table of the six channels an engine ships (4 basis + 2 Schlick,
-``combine(basis_channels(), schlick_channels())``) on the texel grid of :func:`preintegrate.lut.lut_axes`:
+``combine(basis_channels(), schlick_channels())``) on the engines' texel grid, :meth:`preintegrate.lut.LutGrid.centred`
+(texel centres: their estimate divides by μo and needs α > 0, which the default grid's edge texels are not):
 
 * our deterministic quadrature (:func:`preintegrate.lut.build_table`): the shipped schedule scaled by
   several factors (``method="quadrature-schedule"``, setting = factor, 1 = what ``fresnel-lut build``
@@ -38,7 +39,7 @@ import numpy as np
 
 from basis.validation import ParameterError, check_positive_int, check_range
 from preintegrate.channels import basis_channels, combine, schlick_channels
-from preintegrate.lut import build_table
+from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 
 from .figures import pyplot, save_figure
@@ -167,9 +168,9 @@ def lut_error_vs_time(
 
     channels = combine(basis_channels(), schlick_channels())
     # Warm-up: first calls (spline set-up, lazy imports) stay out of the timings.
-    build_table(channels, 2, order=QuadratureOrder.uniform(2))
+    build_table(channels, LutGrid.centred(2), order=QuadratureOrder.uniform(2))
     for sampling in _SAMPLING.values():
-        build_table(channels, 2, method="hammersley", samples=4, sampling=sampling)
+        build_table(channels, LutGrid.centred(2), method="hammersley", samples=4, sampling=sampling)
 
     total_tables = 1 + len(scales) + len(orders) + len(_SAMPLING) * len(samples)
     done = 0
@@ -182,7 +183,8 @@ def lut_error_vs_time(
 
     study_start = time.perf_counter()
     start = time.perf_counter()
-    reference = build_table(channels, size, order=QuadratureOrder.uniform(reference_order))
+    grid = LutGrid.centred(size)
+    reference = build_table(channels, grid, order=QuadratureOrder.uniform(reference_order))
     reference_seconds = time.perf_counter() - start
     step()
 
@@ -196,18 +198,18 @@ def lut_error_vs_time(
 
     rows = []
     for scale in scales:
-        table, seconds = timed(build_table, channels, size, order=DEFAULT_ORDER.scaled(scale))
+        table, seconds = timed(build_table, channels, grid, order=DEFAULT_ORDER.scaled(scale))
         rows.append(
             {"method": "quadrature-schedule", "setting": scale, "seconds": seconds, **_row_errors(table, reference)}
         )
         step()
     for order in orders:
-        table, seconds = timed(build_table, channels, size, order=QuadratureOrder.uniform(order))
+        table, seconds = timed(build_table, channels, grid, order=QuadratureOrder.uniform(order))
         rows.append({"method": "quadrature", "setting": order, "seconds": seconds, **_row_errors(table, reference)})
         step()
     for method, sampling in _SAMPLING.items():
         for count in samples:
-            table, seconds = timed(build_table, channels, size, method="hammersley", samples=count, sampling=sampling)
+            table, seconds = timed(build_table, channels, grid, method="hammersley", samples=count, sampling=sampling)
             rows.append({"method": method, "setting": count, "seconds": seconds, **_row_errors(table, reference)})
             step()
     return {

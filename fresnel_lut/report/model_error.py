@@ -16,7 +16,7 @@ Schlick with F0 = F(0), and the eigen-basis with four-point, L2 least-squares an
   runs over ``evaluations`` evaluations, ``time.perf_counter``); the per-material set-up (parameters);
   and the LUT channels a shader fetches for F̄.
 * **Study 3, preintegrated error** (:func:`preintegrated_error`): max over the texel grid of
-  :func:`preintegrate.lut.lut_axes` (μo, r; α = r²) of |F̄_model − F̄_exact|, per material, then
+  :meth:`preintegrate.lut.LutGrid.centred` (μo, r; α = r²) of |F̄_model − F̄_exact|, per material, then
   worst and mean over the group and the number of materials above 1/255 (one 8-bit step).
 
 Every model is a function of x = ω_o·h alone, so each texel is a linear functional of the curve
@@ -55,7 +55,7 @@ from basis.training import holdout_materials
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import build_table, lut_axes, lut_texel_weights
+from preintegrate.lut import LutGrid, build_table, lut_texel_weights
 from preintegrate.quadrature import DEFAULT_ORDER, directional_albedo
 
 from .figures import pyplot, save_figure
@@ -378,7 +378,7 @@ def preintegrated_error(
     groups, models, basis
         As in :func:`curve_error_vs_cost`; the ``exact`` model, the reference, is skipped.
     size : int
-        Table width = height on the LUT texel grid (:func:`preintegrate.lut.lut_axes`), in [2, 1024].
+        Table width = height on the LUT texel grid (:meth:`preintegrate.lut.LutGrid.centred`), in [2, 1024].
     order : QuadratureOrder, optional
         Integrator node counts (default: the LUT build's).
     theta_grid : array_like, optional
@@ -409,17 +409,18 @@ def preintegrated_error(
     basis = resolve_basis(basis)
     theta_grid = basis.theta if theta_grid is None else check_theta_grid("theta_grid", theta_grid)
     mu_grid = cos_theta(theta_grid)
-    mu_o, roughness = lut_axes(size)
+    grid = LutGrid.centred(size)
+    mu_o, roughness = grid.mu_o, grid.roughness
     alpha = roughness_to_alpha(roughness)
 
     start = time.perf_counter()
-    weights = lut_texel_weights(theta_grid, size, order)
+    weights = lut_texel_weights(theta_grid, grid, order)
     weights_seconds = time.perf_counter() - start
 
     # W against the engine's channel tables: the same functionals through the LUT builder.
     start = time.perf_counter()
     channels = combine(basis_channels(basis), schlick_channels())
-    table = build_table(channels, size, order=order).reshape(size * size, -1)
+    table = build_table(channels, grid, order=order).reshape(size * size, -1)
     lut_check = {
         "channels": f"{channels.name} ({', '.join(channels.channel_names)})",
         "max_abs_difference": float(np.max(np.abs(weights @ channels.functions(mu_grid) - table))),

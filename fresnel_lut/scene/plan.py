@@ -63,6 +63,7 @@ class ScenePlan:
             rows="endpoints",
             roughness_range=self.roughness_range,
             visibility=self.scene.visibility,
+            columns="centres",
         )
 
 
@@ -207,19 +208,19 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
             result[material.name] = float(np.max(np.abs(approx - exact_of[material.name][:, views])))
         return result
 
-    # the full default build (basis RGBA + Schlick RG, scene.size × scene.size texels over 0–1), for comparison,
-    # measured from its own first texel centre up, as the scene's tables are from theirs
-    default_r = texel_centres(scene.size)
+    # the full default build (basis RGBA + Schlick RG on the default grid of scene.size × scene.size texels over
+    # 0–1, its ends on texels), for comparison, read at the same error grid
+    default_grid = LutGrid(scene.size, scene.size, visibility=visibility)
+    default_r = default_grid.roughness
     # only the rows a lookup at the error grid's roughnesses reads: the two around each (one at an edge)
     above = np.searchsorted(default_r, all_r)
     near = np.unique(np.clip(np.concatenate([above - 1, above]), 0, scene.size - 1))
     w_default = texel_weights(
-        theta, default_r[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility
+        theta, default_grid.mu_o[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility
     )
-    views = mu_eval >= default_r[0] - 1e-12
-    interp_default = interpolation_weights(mu_eval[views], default_r)
+    interp_default = default_grid.column_weights(mu_eval)
     default_errors = {
-        layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]), default_r[near], views)
+        layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]), default_r[near])
         for layout in ("schlick", "basis-4")
     }
     del w_default

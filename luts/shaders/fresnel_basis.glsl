@@ -4,9 +4,10 @@
 //                                                                                 5 to 8 terms, two)
 // Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
 //
-// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
-// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
-// row 0 first, so uploading the EXR rows in file order makes v = r. Sample with bilinear filtering and
+// LUT convention (EXR header attribute fresnel:convention): column i holds sqrt(mu_o) = i / (width - 1),
+// mu_o = dot(N, V); row j holds perceptual roughness r = j / (height - 1) (GGX alpha = r * r), row 0 first, so
+// both ends of both axes stand on a texel; fresnelLutCoordinates reads them through the half-texel remap
+// u = (x * (size - 1) + 0.5) / size of x = (sqrt(mu_o), r), the size from the texture itself. Sample with bilinear filtering and
 // CLAMP_TO_EDGE. ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel).
 // The LUT is read at level 0 (textureLod): texture() would pick a mip level from screen-space derivatives,
 // and a mipmapped LUT (a common importer default) then returns wrong values at silhouettes. The A channel of
@@ -18,15 +19,16 @@
 // (basis.coefficients_from_nk / coefficients_from_gulbrandsen) or `fresnel-lut coeffs --json`; they must
 // belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
 
-vec2 fresnelLutCoordinates(float NdotV, float perceptualRoughness)
+vec2 fresnelLutCoordinates(vec2 size, float NdotV, float perceptualRoughness)
 {
-    return vec2(clamp(NdotV, 0.0, 1.0), clamp(perceptualRoughness, 0.0, 1.0));
+    vec2 x = vec2(sqrt(clamp(NdotV, 0.0, 1.0)), clamp(perceptualRoughness, 0.0, 1.0));
+    return (x * (size - 1.0) + 0.5) / size;
 }
 
 // Directional albedo of the Fresnel term for each colour channel (cR, cG, cB: coefficients c0..c3).
 vec3 fresnelBasisSplitSum(sampler2D basisLut, float NdotV, float perceptualRoughness, vec4 cR, vec4 cG, vec4 cB)
 {
-    vec4 b = textureLod(basisLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0);
+    vec4 b = textureLod(basisLut, fresnelLutCoordinates(vec2(textureSize(basisLut, 0)), NdotV, perceptualRoughness), 0.0);
     return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
@@ -36,7 +38,7 @@ vec3 fresnelBasisSplitSum(sampler2D basisLut, float NdotV, float perceptualRough
 vec3 fresnelBasisSplitSum8(sampler2D basisLut, sampler2D basisLut2, float NdotV, float perceptualRoughness,
                            vec4 cR, vec4 cG, vec4 cB, vec4 eR, vec4 eG, vec4 eB)
 {
-    vec2 uv = fresnelLutCoordinates(NdotV, perceptualRoughness);
+    vec2 uv = fresnelLutCoordinates(vec2(textureSize(basisLut, 0)), NdotV, perceptualRoughness);  // one size: both tables' grid
     vec4 b = textureLod(basisLut, uv, 0.0);
     vec4 e = textureLod(basisLut2, uv, 0.0);
     return vec3(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
@@ -45,7 +47,7 @@ vec3 fresnelBasisSplitSum8(sampler2D basisLut, sampler2D basisLut2, float NdotV,
 // Schlick's split sum for comparison: F0 per colour channel.
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float perceptualRoughness, vec3 F0)
 {
-    vec2 scaleBias = textureLod(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
+    vec2 scaleBias = textureLod(schlickLut, fresnelLutCoordinates(vec2(textureSize(schlickLut, 0)), NdotV, perceptualRoughness), 0.0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
 
@@ -56,7 +58,7 @@ vec3 fresnelBasisMultipleScattering(sampler2D basisLut, sampler2D schlickLut, fl
                                     vec4 cR, vec4 cG, vec4 cB, vec4 averages)
 {
     vec3 FssEss = fresnelBasisSplitSum(basisLut, NdotV, perceptualRoughness, cR, cG, cB);
-    float Ems = 1.0 - textureLod(schlickLut, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).b;
+    float Ems = 1.0 - textureLod(schlickLut, fresnelLutCoordinates(vec2(textureSize(schlickLut, 0)), NdotV, perceptualRoughness), 0.0).b;
     vec3 Favg = clamp(vec3(dot(cR, averages), dot(cG, averages), dot(cB, averages)), 0.0, 1.0);
     return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
 }

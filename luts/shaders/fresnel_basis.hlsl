@@ -3,23 +3,29 @@
 // Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
 // Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
 //
-// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
-// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
-// row 0 first (upload the rows in file order: v = r). Use a bilinear, clamp-to-edge sampler.
+// LUT convention (EXR header attribute fresnel:convention): column i holds sqrt(mu_o) = i / (width - 1),
+// mu_o = dot(N, V); row j holds perceptual roughness r = j / (height - 1) (GGX alpha = r * r), row 0 first
+// (upload the rows in file order), so both ends of both axes stand on a texel; FresnelLutCoordinates reads them
+// through the half-texel remap u = (x * (size - 1) + 0.5) / size of x = (sqrt(mu_o), r), the size from the texture
+// itself. Use a bilinear, clamp-to-edge sampler.
 // ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel).
 //
 // Coefficients c (one float4 per colour channel) come from the Python API or `fresnel-lut coeffs --json`
 // and must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
 
-float2 FresnelLutCoordinates(float NdotV, float perceptualRoughness)
+float2 FresnelLutCoordinates(Texture2D<float4> lut, float NdotV, float perceptualRoughness)
 {
-    return float2(saturate(NdotV), saturate(perceptualRoughness));
+    uint width, height;
+    lut.GetDimensions(width, height);
+    float2 size = float2(width, height);
+    float2 x = float2(sqrt(saturate(NdotV)), saturate(perceptualRoughness));
+    return (x * (size - 1.0) + 0.5) / size;
 }
 
 float3 FresnelBasisSplitSum(Texture2D<float4> basisLut, SamplerState linearClamp, float NdotV,
                             float perceptualRoughness, float4 cR, float4 cG, float4 cB)
 {
-    float4 b = basisLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0);
+    float4 b = basisLut.SampleLevel(linearClamp, FresnelLutCoordinates(basisLut, NdotV, perceptualRoughness), 0);
     return float3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
@@ -30,7 +36,7 @@ float3 FresnelBasisSplitSum8(Texture2D<float4> basisLut, Texture2D<float4> basis
                              float NdotV, float perceptualRoughness, float4 cR, float4 cG, float4 cB,
                              float4 eR, float4 eG, float4 eB)
 {
-    float2 uv = FresnelLutCoordinates(NdotV, perceptualRoughness);
+    float2 uv = FresnelLutCoordinates(basisLut, NdotV, perceptualRoughness);  // one size: both tables' grid
     float4 b = basisLut.SampleLevel(linearClamp, uv, 0);
     float4 e = basisLut2.SampleLevel(linearClamp, uv, 0);
     return float3(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
@@ -41,7 +47,7 @@ float3 FresnelSchlickSplitSum(Texture2D<float4> schlickLut, SamplerState linearC
 {
     // one texture type for the Schlick table in every function (R = scale, G = bias, B = E; a two-channel scene
     // table reads B as 0 and A as 1)
-    float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0).rg;
+    float2 scaleBias = schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(schlickLut, NdotV, perceptualRoughness), 0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
 
@@ -53,7 +59,7 @@ float3 FresnelBasisMultipleScattering(Texture2D<float4> basisLut, Texture2D<floa
                                       float4 averages)
 {
     float3 FssEss = FresnelBasisSplitSum(basisLut, linearClamp, NdotV, perceptualRoughness, cR, cG, cB);
-    float Ems = 1.0 - schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(NdotV, perceptualRoughness), 0).b;
+    float Ems = 1.0 - schlickLut.SampleLevel(linearClamp, FresnelLutCoordinates(schlickLut, NdotV, perceptualRoughness), 0).b;
     float3 Favg = saturate(float3(dot(cR, averages), dot(cG, averages), dot(cB, averages)));
     return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
 }

@@ -3,9 +3,11 @@
 // Belcour, Bati, Barla 2020, eq. 5:  Fbar = sum_k c_k * bbar_k(mu_o, alpha)      (4 terms, one RGBA fetch)
 // Karis 2013 (Schlick split sum):    Fbar = F0 * scale + bias                     (2 terms, one RG fetch)
 //
-// LUT convention (EXR header attribute fresnel:convention): u = mu_o = dot(N, V), v = perceptual
-// roughness r (GGX alpha = r * r); texel i holds mu_o = (i + 0.5) / width, row j holds r = (j + 0.5) / height,
-// row 0 first (upload the rows in file order: v = r). Sampler: linear filtering, clamp-to-edge, no mipmaps;
+// LUT convention (EXR header attribute fresnel:convention): column i holds sqrt(mu_o) = i / (width - 1),
+// mu_o = dot(N, V); row j holds perceptual roughness r = j / (height - 1) (GGX alpha = r * r), row 0 first
+// (upload the rows in file order), so both ends of both axes stand on a texel; fresnelLutCoordinates reads them
+// through the half-texel remap u = (x * (size - 1) + 0.5) / size of x = (sqrt(mu_o), r), the size from the texture
+// itself. Sampler: linear filtering, clamp-to-edge, no mipmaps;
 // the LUT is read at level 0 (textureSampleLevel). ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3 (A is
 // signed: a float format); ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel). WebGPU filters rgba32float only with the
 // "float32-filterable" feature: otherwise upload the half-float table as rgba16float.
@@ -13,13 +15,15 @@
 // Coefficients c (one vec4 per colour channel) come from the Python API or `fresnel-lut coeffs --json` and
 // must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
 
-fn fresnelLutCoordinates(NdotV: f32, perceptualRoughness: f32) -> vec2<f32> {
-    return vec2<f32>(clamp(NdotV, 0.0, 1.0), clamp(perceptualRoughness, 0.0, 1.0));
+fn fresnelLutCoordinates(lut: texture_2d<f32>, NdotV: f32, perceptualRoughness: f32) -> vec2<f32> {
+    let size = vec2<f32>(textureDimensions(lut, 0));
+    let x = vec2<f32>(sqrt(clamp(NdotV, 0.0, 1.0)), clamp(perceptualRoughness, 0.0, 1.0));
+    return (x * (size - 1.0) + 0.5) / size;
 }
 
 fn fresnelBasisSplitSum(basisLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, perceptualRoughness: f32,
                         cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>) -> vec3<f32> {
-    let b = textureSampleLevel(basisLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0);
+    let b = textureSampleLevel(basisLut, linearClamp, fresnelLutCoordinates(basisLut, NdotV, perceptualRoughness), 0.0);
     return vec3<f32>(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 
@@ -29,7 +33,7 @@ fn fresnelBasisSplitSum(basisLut: texture_2d<f32>, linearClamp: sampler, NdotV: 
 fn fresnelBasisSplitSum8(basisLut: texture_2d<f32>, basisLut2: texture_2d<f32>, linearClamp: sampler, NdotV: f32,
                          perceptualRoughness: f32, cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>, eR: vec4<f32>,
                          eG: vec4<f32>, eB: vec4<f32>) -> vec3<f32> {
-    let uv = fresnelLutCoordinates(NdotV, perceptualRoughness);
+    let uv = fresnelLutCoordinates(basisLut, NdotV, perceptualRoughness);  // one size: both tables' grid
     let b = textureSampleLevel(basisLut, linearClamp, uv, 0.0);
     let e = textureSampleLevel(basisLut2, linearClamp, uv, 0.0);
     return vec3<f32>(dot(cR, b) + dot(eR, e), dot(cG, b) + dot(eG, e), dot(cB, b) + dot(eB, e));
@@ -37,7 +41,7 @@ fn fresnelBasisSplitSum8(basisLut: texture_2d<f32>, basisLut2: texture_2d<f32>, 
 
 fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, perceptualRoughness: f32,
                           F0: vec3<f32>) -> vec3<f32> {
-    let scaleBias = textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).rg;
+    let scaleBias = textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(schlickLut, NdotV, perceptualRoughness), 0.0).rg;
     return F0 * scaleBias.x + scaleBias.y;
 }
 
@@ -48,7 +52,7 @@ fn fresnelBasisMultipleScattering(basisLut: texture_2d<f32>, schlickLut: texture
                                   NdotV: f32, perceptualRoughness: f32, cR: vec4<f32>, cG: vec4<f32>, cB: vec4<f32>,
                                   averages: vec4<f32>) -> vec3<f32> {
     let FssEss = fresnelBasisSplitSum(basisLut, linearClamp, NdotV, perceptualRoughness, cR, cG, cB);
-    let Ems = 1.0 - textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(NdotV, perceptualRoughness), 0.0).b;
+    let Ems = 1.0 - textureSampleLevel(schlickLut, linearClamp, fresnelLutCoordinates(schlickLut, NdotV, perceptualRoughness), 0.0).b;
     let Favg = clamp(vec3<f32>(dot(cR, averages), dot(cG, averages), dot(cB, averages)), vec3<f32>(0.0), vec3<f32>(1.0));
     return FssEss + FssEss * Favg / (1.0 - Ems * Favg) * Ems;
 }

@@ -57,8 +57,17 @@ def built(tmp_path_factory):
 
 
 def _texel(i, j, size=SIZE):
-    """Convention: column i ↔ μo = (i + 0.5)/W, row j ↔ r = (j + 0.5)/H, α = r²."""
-    return (i + 0.5) / size, ((j + 0.5) / size) ** 2
+    """Convention: column i ↔ √μo = i/(W − 1), row j ↔ r = j/(H − 1), α = r²."""
+    return (i / (size - 1)) ** 2, (j / (size - 1)) ** 2
+
+
+def _reference(mu_o, alpha):
+    """Adaptive cubature of the seven functions at (μo, α); the μo = 0 column by its limit, the cubature at
+    μo = 1e-9 (the split sum is continuous there: it differs from the quadrature's μo = 0 by < 1e-8), to a relative
+    1e-8 (tighter takes minutes at that grazing angle, and the tests allow 1e-6)."""
+    if mu_o == 0.0:
+        return reference_albedo(build_channels, 1e-9, alpha, rtol=1e-8, atol=1e-9, accepted_error=1e-8)
+    return reference_albedo(build_channels, mu_o, alpha)
 
 
 # ----------------------------------------------------------------------------- build: files and headers
@@ -75,7 +84,7 @@ def test_build_writes_both_luts_with_convention(built):
     assert basis_attributes["channels"] == "R,G,B,A" and schlick_attributes["channels"] == "R,G,B"
     for attributes in (basis_attributes, schlick_attributes):
         assert attributes["convention"] == PIXEL_CONVENTION
-        assert "(i + 0.5) / width" in attributes["convention"] and "alpha = r^2" in attributes["convention"]
+        assert "sqrt(mu_o) = i / (width - 1)" in attributes["convention"] and "alpha = r^2" in attributes["convention"]
         assert attributes["width"] == attributes["height"] == str(SIZE)
         assert attributes["pixel_type"] == "float32"
     assert basis_attributes["basis_hash"] == default_basis().content_hash
@@ -86,7 +95,7 @@ def test_build_writes_both_luts_with_convention(built):
     assert default_basis().content_hash in stdout
 
 
-# Texels (column i, row j) with α ≥ 0.02, spread over the table incl. first/last column and last row.
+# Texels (column i, row j) with α ≥ 0.016, spread over the table incl. first (μo = 0) and last column and last row.
 REFERENCE_TEXELS = [(0, 31), (31, 31), (15, 31), (0, 16), (31, 16), (10, 8), (20, 24), (5, 12), (27, 4)]
 
 
@@ -96,41 +105,52 @@ def test_build_values_match_independent_integration(built, i, j):
     out, _ = built
     mu_o, alpha = _texel(i, j)
     lut = np.concatenate([read_lut(out / BASIS_LUT)[0][j, i], read_lut(out / SCHLICK_LUT)[0][j, i]])
-    np.testing.assert_allclose(lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(lut, _reference(mu_o, alpha), rtol=0, atol=1e-6)
 
 
-@pytest.mark.parametrize("i", [0, 15, 31])
-def test_build_first_row_matches_half_vector_integration(built, i):
-    """First row (α = (0.5/32)² ≈ 2.4e-4, too sharp for cubature in ω_i) equals adaptive cubature over the half vector; atol 1e-6.
+def test_build_first_row_is_the_mirror(built):
+    """Row 0 is r = 0, the mirror: every texel is its functions at μo itself, b_k(μo) and Schlick's
+    (1 − (1 − μo)^5, (1 − μo)^5, 1), μo = 0 and 1 included (float32 storage: atol 1e-7)."""
+    out, _ = built
+    mu_o = _texel(np.arange(SIZE), 0)[0]
+    lut = np.concatenate([read_lut(out / BASIS_LUT)[0][0], read_lut(out / SCHLICK_LUT)[0][0]], axis=-1)
+    np.testing.assert_allclose(lut, build_channels(mu_o), rtol=0, atol=1e-7)
 
-    (VNDF Monte Carlo is no reference here: 1 − F̄ ≈ 1.6e-7 comes from reflections below the horizon with
-    probability ~1e-7, so 2M samples see none of them and report σ ≈ 1e-10.)
+
+@pytest.mark.parametrize("i", [2, 15, 31])
+def test_build_second_row_matches_half_vector_integration(built, i):
+    """Row 1 (α = (1/31)² ≈ 1.0e-3, too sharp for cubature in ω_i) equals adaptive cubature over the half vector; atol 1e-6.
+
+    (VNDF Monte Carlo is no reference here: 1 − F̄ comes from reflections below the horizon with tiny
+    probability, so millions of samples see few of them.)
     """
     out, _ = built
-    mu_o, alpha = _texel(i, 0)
-    lut = np.concatenate([read_lut(out / BASIS_LUT)[0][0, i], read_lut(out / SCHLICK_LUT)[0][0, i]])
+    mu_o, alpha = _texel(i, 1)
+    lut = np.concatenate([read_lut(out / BASIS_LUT)[0][1, i], read_lut(out / SCHLICK_LUT)[0][1, i]])
     np.testing.assert_allclose(lut, reference_albedo_half_vector(build_channels, mu_o, alpha), rtol=0, atol=1e-6)
 
 
-def test_build_first_row_small_alpha_limit(built):
-    """First row: basis channel k ≈ b_k(μo)·(R + G of the Schlick LUT = no-Fresnel albedo); |Δ| ≤ 2(α/μo)² ln(1/α) + 1e-6."""
+def test_build_second_row_small_alpha_limit(built):
+    """Row 1: basis channel k ≈ b_k(μo)·(R + G of the Schlick LUT = no-Fresnel albedo); |Δ| ≤ 2(α/μo)² ln(1/α) + 1e-6
+    where α < μo (the columns from 4 on: the bound says nothing closer to grazing)."""
     out, _ = built
     basis_table, schlick_table = read_lut(out / BASIS_LUT)[0], read_lut(out / SCHLICK_LUT)[0]
-    mu_o = (np.arange(SIZE) + 0.5) / SIZE
-    alpha = (0.5 / SIZE) ** 2
-    albedo = schlick_table[0, :, 0] + schlick_table[0, :, 1]
+    columns = np.arange(4, SIZE)
+    mu_o, alpha = _texel(columns, 1)
+    albedo = schlick_table[1, columns, 0] + schlick_table[1, columns, 1]
     limit = default_basis().evaluate_mu(mu_o) * albedo[:, None]
     bound = 2.0 * (alpha / mu_o) ** 2 * np.log(1.0 / alpha) + 1e-6
-    assert np.all(np.abs(basis_table[0] - limit) <= bound[:, None])
+    assert np.all(np.abs(basis_table[1, columns] - limit) <= bound[:, None])
     assert np.all(albedo <= 1.0 + 1e-6) and np.all(1.0 - albedo <= bound)
 
 
 def test_build_orientation(built):
-    """Row 0 is the smoothest row (α tiny): Schlick bias G(row 0, col i) ≈ (1 − μo)^5 (mirror limit, atol 2e-3); μo grows with column."""
+    """Row 0 is the smoothest row (the mirror): Schlick bias G(row 0, col i) = (1 − μo)^5 (atol 1e-7); μo grows
+    with column."""
     out, _ = built
     schlick = read_lut(out / SCHLICK_LUT)[0]
-    mu_o = (np.arange(SIZE) + 0.5) / SIZE
-    np.testing.assert_allclose(schlick[0, :, 1], (1.0 - mu_o) ** 5, rtol=0, atol=2e-3)
+    mu_o = _texel(np.arange(SIZE), 0)[0]
+    np.testing.assert_allclose(schlick[0, :, 1], (1.0 - mu_o) ** 5, rtol=0, atol=1e-7)
     assert np.all(np.diff(schlick[0, :, 1]) < 0)  # bias falls as μo grows along a row
 
 
@@ -191,9 +211,7 @@ def test_shipped_luts_match_shipped_basis_and_reference():
     ]:
         mu_o, alpha = _texel(i, j, size)
         lut = np.concatenate([basis_table[j, i], schlick_table[j, i]])
-        np.testing.assert_allclose(
-            lut, reference_albedo(build_channels, mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}"
-        )
+        np.testing.assert_allclose(lut, _reference(mu_o, alpha), rtol=0, atol=1e-6, err_msg=f"texel {(i, j)}")
 
 
 # ----------------------------------------------------------------------------- coeffs
@@ -269,7 +287,7 @@ def test_build_model_table(tmp_path, capsys):
     assert run(["build", "--model", "f82", "--size", 8, "--out", tmp_path]) == 0
     table, header = read_lut(tmp_path / "ggx_f82.exr")
     assert table.shape == (8, 8, 3) and "x (1-x)^6" in header["combination"]
-    mu_o, roughness = (5 + 0.5) / 8, (2 + 0.5) / 8
+    mu_o, roughness = (5 / 7) ** 2, 2 / 7
     expected = directional_albedo(channel_set("f82").functions, mu_o, roughness**2)
     np.testing.assert_allclose(table[2, 5], expected, rtol=1e-6, atol=1e-7)
     assert run(["build", "--model", "generalized-schlick", "--exponent", 2, "--size", 4, "--out", tmp_path]) == 0

@@ -49,11 +49,13 @@ def test_prefiltered_limits():
     np.testing.assert_allclose(constant.prefiltered(direction, 0.7), [[0.5, 0.25, 1.0]], rtol=1e-12)
 
 
-def test_lut_lookup_hits_texel_centres():
+def test_lut_lookup_hits_the_texels():
+    """On the default grid (√μo = i/(W − 1), r = j/(H − 1)) a lookup at a texel's (μo, r) is that texel, the edges and
+    corners included, and beyond [0, 1] the edge texel (clamped as a GPU clamps)."""
     table = np.random.default_rng(0).random((8, 16, 4))
-    j, i = 3, 11
-    np.testing.assert_allclose(lut_lookup(table, np.array((i + 0.5) / 16), (j + 0.5) / 8), table[j, i], atol=1e-15)
-    np.testing.assert_allclose(lut_lookup(table, np.array(0.0), 0.0), table[0, 0], atol=1e-15)  # clamp to edge
+    for j, i in ((3, 11), (0, 0), (7, 15), (0, 15), (7, 0)):
+        np.testing.assert_allclose(lut_lookup(table, np.array((i / 15) ** 2), j / 7), table[j, i], atol=1e-15)
+    np.testing.assert_allclose(lut_lookup(table, np.array(-1.0), 2.0), table[7, 0], atol=1e-15)
 
 
 def test_tabulated_preset_curve_is_exact_to_1e6():

@@ -16,7 +16,7 @@ from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_sc
 from preintegrate.channels import basis_channels
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
-from preintegrate.lut import build_table
+from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import directional_albedo
 
 SIZE = 16
@@ -122,15 +122,16 @@ def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
     direct = directional_albedo(channels.functions, ((np.arange(SIZE) + 0.5) / SIZE)[None, :], (rows**2)[:, None])
     np.testing.assert_allclose(cropped, direct, atol=2e-6)
     # the full table of the same channels, interpolated linearly in r, agrees within its interpolation error
-    full = build_table(channels, SIZE)
-    centres = (np.arange(SIZE) + 0.5) / SIZE
+    full_grid = LutGrid(SIZE, SIZE, columns="centres")  # the scene's columns, rows over 0–1
+    full = build_table(channels, full_grid)
+    spacing = 1.0 / (SIZE - 1)
     interpolated = np.stack(
-        [[np.interp(rows, centres, full[:, i, k]) for k in range(4)] for i in range(SIZE)]
+        [[np.interp(rows, full_grid.roughness, full[:, i, k]) for k in range(4)] for i in range(SIZE)]
     ).transpose(2, 0, 1)
-    curvature = np.max(np.abs(np.diff(full, 2, axis=0)), axis=0) / (1.0 / SIZE) ** 2  # max |∂²F̄/∂r²| per texel column
+    curvature = np.max(np.abs(np.diff(full, 2, axis=0)), axis=0) / spacing**2  # max |∂²F̄/∂r²| per texel column
     # linear interpolation error ≤ h²/8 · max |∂²F̄/∂r²|; the second difference of a 16-row table
     # underestimates the derivative's maximum, hence the factor 2
-    bound = 2.0 * (1.0 / SIZE) ** 2 / 8.0 * curvature + 1e-6
+    bound = 2.0 * spacing**2 / 8.0 * curvature + 1e-6
     assert np.all(np.abs(interpolated - cropped) <= bound[None])
 
 

@@ -19,7 +19,6 @@ from fresnel_lut.scene import plan_scene, read_scene, write_scene
 from fresnel_lut.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
-from preintegrate.lut import lut_lookup
 from preintegrate.quadrature import directional_albedo
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -116,7 +115,6 @@ def test_written_tables_against_monte_carlo(built):
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
     trained = Basis.read(out / "scene_basis.json")
     theta = default_basis().theta
-    low, high = plan.roughness_range
     for index, material in enumerate(plan.scene.materials):
         entry = document["materials"][material.name]
         tables = [read_lut(out / entry[key])[0] for key in ("lut", "second_lut") if key in entry]
@@ -124,10 +122,9 @@ def test_written_tables_against_monte_carlo(built):
         coefficients = np.array(entry["coefficients"])  # (3, K)
         exact = theta_spline(theta, material.curve, axis=0)  # (3,) channels of the exact curve, spline in θ
         roughness = material.roughness[1]
-        row = (roughness - low) / (high - low) * (plan.rows - 1) if plan.rows > 1 else 0.0
         for column in (plan.columns // 2, plan.columns - 3):
-            mu_o = (column + 0.5) / plan.columns
-            fbar = coefficients @ lut_lookup(table, mu_o, (row + 0.5) / plan.rows)
+            mu_o = plan.grid.mu_o[column]
+            fbar = coefficients @ plan.grid.lookup(table, mu_o, roughness)
             mean, sigma = monte_carlo_albedo(
                 lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o, roughness**2, samples=400_000, seed=index
             )

@@ -2,8 +2,9 @@
 
 The real compilers and GPU run are tests/luts/test_shaders_gpu.py; the transcription below follows the shader
 line by line (a level-0 fetch with
-bilinear filtering and clamp-to-edge on texel centres, then dot products), and the tests check both that
-the shader text still has those lines and that the transcription reproduces the Python API.
+bilinear filtering and clamp-to-edge, then dot products), and the tests check both that
+the shader text still has those lines and that the transcription reproduces the Python API. The coordinates are
+the half-texel remap of end-point texels, u = (x (size − 1) + 0.5)/size of x = (√NdotV, r).
 """
 
 import re
@@ -42,35 +43,46 @@ def texture_bilinear_clamp(lut: np.ndarray, u, v) -> np.ndarray:
     return top * (1 - fy) + bottom * fy
 
 
+def lut_coordinates(lut: np.ndarray, n_dot_v, roughness) -> tuple[np.ndarray, np.ndarray]:
+    """fresnelLutCoordinates(size, NdotV, r): x = (sqrt(clamp(NdotV)), clamp(r)); (x (size - 1) + 0.5) / size."""
+    height, width = lut.shape[:2]
+    x = np.sqrt(np.clip(np.asarray(n_dot_v, dtype=float), 0.0, 1.0))
+    y = np.clip(np.asarray(roughness, dtype=float), 0.0, 1.0)
+    return (x * (width - 1) + 0.5) / width, (y * (height - 1) + 0.5) / height
+
+
 def fresnel_basis_split_sum(n_dot_v, roughness, coefficients) -> np.ndarray:
-    """fresnelBasisSplitSum: b = texture(basisLut, (NdotV, r)); (dot(cR, b), dot(cG, b), dot(cB, b))."""
-    b = texture_bilinear_clamp(BASIS_LUT, n_dot_v, roughness)
+    """fresnelBasisSplitSum: b = texture(basisLut, coordinates); (dot(cR, b), dot(cG, b), dot(cB, b))."""
+    b = texture_bilinear_clamp(BASIS_LUT, *lut_coordinates(BASIS_LUT, n_dot_v, roughness))
     return np.einsum("...k,...ck->...c", b, coefficients)
 
 
 def fresnel_schlick_split_sum(n_dot_v, roughness, f0) -> np.ndarray:
     """fresnelSchlickSplitSum: scaleBias = texture(schlickLut, (NdotV, r)).rg; F0 * scale + bias."""
-    scale_bias = texture_bilinear_clamp(SCHLICK_LUT, n_dot_v, roughness)
+    scale_bias = texture_bilinear_clamp(SCHLICK_LUT, *lut_coordinates(SCHLICK_LUT, n_dot_v, roughness))
     return f0 * scale_bias[..., :1] + scale_bias[..., 1:2]  # .rg: R = scale, G = bias (B = E is not used here)
 
 
 def test_shader_text_matches_the_transcription():
-    """GLSL and HLSL both clamp the coordinates to [0, 1], fetch once, and combine as transcribed here."""
-    assert re.search(r"clamp\(NdotV, 0\.0, 1\.0\), clamp\(perceptualRoughness, 0\.0, 1\.0\)", GLSL)
+    """GLSL and HLSL both clamp the coordinates to [0, 1], remap them by the texture's size, fetch once, and
+    combine as transcribed here."""
+    assert "vec2 x = vec2(sqrt(clamp(NdotV, 0.0, 1.0)), clamp(perceptualRoughness, 0.0, 1.0));" in GLSL
+    assert "return (x * (size - 1.0) + 0.5) / size;" in GLSL and "textureSize(basisLut, 0)" in GLSL
     assert "return vec3(dot(cR, b), dot(cG, b), dot(cB, b));" in GLSL
     assert "return F0 * scaleBias.x + scaleBias.y;" in GLSL
-    assert "saturate(NdotV), saturate(perceptualRoughness)" in HLSL
+    assert "float2 x = float2(sqrt(saturate(NdotV)), saturate(perceptualRoughness));" in HLSL
+    assert "return (x * (size - 1.0) + 0.5) / size;" in HLSL and "lut.GetDimensions(width, height);" in HLSL
     assert "return float3(dot(cR, b), dot(cG, b), dot(cB, b));" in HLSL
     assert "return F0 * scaleBias.x + scaleBias.y;" in HLSL
     assert "fresnel:basis_hash" in GLSL and BASIS_HEADER["basis_hash"] == default_basis().content_hash
 
 
 @pytest.mark.parametrize("i, j", [(0, 0), (5, 77), (64, 64), (127, 3), (90, 127)])
-def test_texel_centres_equal_the_python_api(i, j):
-    """At a texel centre the shader's value is Σ c_k LUT_k of that texel; it equals the Python API's quadrature
-    of the basis channels to float32 storage (|Δ| ≤ 1e-6)."""
+def test_texels_equal_the_python_api(i, j):
+    """At a texel (√μo = i/127, r = j/127, the edges included) the shader's value is Σ c_k LUT_k of that texel; it
+    equals the Python API's quadrature of the basis channels to float32 storage (|Δ| ≤ 1e-6)."""
     coefficients = coefficients_from_nk(*GOLD)
-    mu_o, roughness = (i + 0.5) / 128, (j + 0.5) / 128
+    mu_o, roughness = (i / 127) ** 2, j / 127
     shader = fresnel_basis_split_sum(mu_o, roughness, coefficients)
     np.testing.assert_allclose(shader, coefficients @ BASIS_LUT[j, i], rtol=0, atol=1e-12)
     api = coefficients @ directional_albedo(basis_channels().functions, mu_o, roughness**2)
@@ -98,10 +110,10 @@ def test_between_texels_against_exact_fresnel():
         assert np.all(np.abs(schlick - exact) <= schlick_curve_error + 4e-3)
 
 
-def test_schlick_texel_centre_equals_quadrature():
-    """Schlick shader at a texel centre = F0 · scale + bias of the Python quadrature (|Δ| ≤ 1e-6)."""
+def test_schlick_texel_equals_quadrature():
+    """Schlick shader at a texel = F0 · scale + bias of the Python quadrature (|Δ| ≤ 1e-6)."""
     f0 = np.array([0.04, 0.5, 0.95])
-    mu_o, roughness = 40.5 / 128, 100.5 / 128
+    mu_o, roughness = (40 / 127) ** 2, 100 / 127
     scale_bias = directional_albedo(schlick_channels().functions, mu_o, roughness**2)
     np.testing.assert_allclose(
         fresnel_schlick_split_sum(mu_o, roughness, f0), f0 * scale_bias[0] + scale_bias[1], atol=1e-6

@@ -20,7 +20,7 @@ from fresnel_lut.report.lut_error import lut_error_table_markdown, lut_error_vs_
 from preintegrate.channels import basis_channels, combine, schlick_channels
 from preintegrate.estimators import hammersley_points, radical_inverse_base2
 from preintegrate.ggx import g1, sample_vndf
-from preintegrate.lut import build_table, lut_axes
+from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import QuadratureOrder
 from tests.references.integration import g2_reference
 
@@ -30,7 +30,7 @@ SIX = combine(basis_channels(), schlick_channels())
 @pytest.fixture(scope="module")
 def quadrature_16():
     """16 × 16 table of the six channels at order 64 (converged to ~1e-9 at this size)."""
-    return build_table(SIX, 16, order=QuadratureOrder.uniform(64))
+    return build_table(SIX, LutGrid.centred(16), order=QuadratureOrder.uniform(64))
 
 
 def _errors(table, reference):
@@ -99,8 +99,9 @@ def _literal_integrate_brdf(mu_o, alpha, samples, sampling):
 @pytest.mark.parametrize("sampling", ["ndf", "vndf"])
 def test_matches_literal_integrate_brdf(sampling):
     """3 × 3 Schlick table with 64 points equals the sample-by-sample IntegrateBRDF loop to 1e-13."""
-    table = build_table(schlick_channels(), 3, method="hammersley", samples=64, sampling=sampling, max_samples=50)
-    mu_axis, roughness_axis = lut_axes(3)
+    grid = LutGrid.centred(3)
+    table = build_table(schlick_channels(), grid, method="hammersley", samples=64, sampling=sampling, max_samples=50)
+    mu_axis, roughness_axis = grid.mu_o, grid.roughness
     for j, roughness in enumerate(roughness_axis):
         for i, mu_o in enumerate(mu_axis):
             expected = _literal_integrate_brdf(mu_o, roughness**2, 64, sampling)
@@ -109,8 +110,8 @@ def test_matches_literal_integrate_brdf(sampling):
 
 def test_chunking_does_not_change_the_result():
     """Chunks of 7 texel-sample pairs (splitting the samples of a texel) give the same table as one chunk, to 1e-14."""
-    whole = build_table(SIX, 4, 5, method="hammersley", samples=32)
-    chunked = build_table(SIX, 4, 5, method="hammersley", samples=32, max_samples=7)
+    whole = build_table(SIX, LutGrid.centred(4, 5), method="hammersley", samples=32)
+    chunked = build_table(SIX, LutGrid.centred(4, 5), method="hammersley", samples=32, max_samples=7)
     assert whole.shape == (5, 4, 6)
     np.testing.assert_allclose(chunked, whole, rtol=0, atol=1e-14)
 
@@ -121,17 +122,21 @@ def test_ndf_converges_to_quadrature(quadrature_16):
 
     Measured: max 5.6e-2 at 64 spp, 4.5e-3 at 4096 spp.
     """
-    max_64, rms_64 = _errors(build_table(SIX, 16, method="hammersley", samples=64), quadrature_16)
-    max_4096, rms_4096 = _errors(build_table(SIX, 16, method="hammersley", samples=4096), quadrature_16)
+    max_64, rms_64 = _errors(build_table(SIX, LutGrid.centred(16), method="hammersley", samples=64), quadrature_16)
+    max_4096, rms_4096 = _errors(
+        build_table(SIX, LutGrid.centred(16), method="hammersley", samples=4096), quadrature_16
+    )
     assert max_4096 < max_64 and rms_4096 < rms_64
     assert max_4096 < 1e-2, max_4096
 
 
 def test_vndf_converges_to_quadrature(quadrature_16):
     """VNDF sampling, 16 × 16, six channels: max at 4096 spp < 1e-3 (measured 3.1e-4; 1.6e-2 at 64)."""
-    max_64, rms_64 = _errors(build_table(SIX, 16, method="hammersley", samples=64, sampling="vndf"), quadrature_16)
+    max_64, rms_64 = _errors(
+        build_table(SIX, LutGrid.centred(16), method="hammersley", samples=64, sampling="vndf"), quadrature_16
+    )
     max_4096, rms_4096 = _errors(
-        build_table(SIX, 16, method="hammersley", samples=4096, sampling="vndf"), quadrature_16
+        build_table(SIX, LutGrid.centred(16), method="hammersley", samples=4096, sampling="vndf"), quadrature_16
     )
     assert max_4096 < max_64 and rms_4096 < rms_64
     assert max_4096 < 1e-3, max_4096
@@ -140,8 +145,12 @@ def test_vndf_converges_to_quadrature(quadrature_16):
 @pytest.mark.parametrize("samples", [64, 1024])
 def test_vndf_more_accurate_than_ndf(quadrature_16, samples):
     """Same table, same points: VNDF's max and RMS errors are below NDF's (measured ≥ 3× lower at 64 and 1024 spp)."""
-    ndf = _errors(build_table(SIX, 16, method="hammersley", samples=samples, sampling="ndf"), quadrature_16)
-    vndf = _errors(build_table(SIX, 16, method="hammersley", samples=samples, sampling="vndf"), quadrature_16)
+    ndf = _errors(
+        build_table(SIX, LutGrid.centred(16), method="hammersley", samples=samples, sampling="ndf"), quadrature_16
+    )
+    vndf = _errors(
+        build_table(SIX, LutGrid.centred(16), method="hammersley", samples=samples, sampling="vndf"), quadrature_16
+    )
     assert vndf[0] < ndf[0] and vndf[1] < ndf[1], (ndf, vndf)
 
 
@@ -151,11 +160,11 @@ def test_vndf_more_accurate_than_ndf(quadrature_16, samples):
         {"grid": 1},
         {"grid": 2.5},
         {"grid": 8, "height": 0},
-        {"grid": 8, "samples": 0},
-        {"grid": 8, "samples": True},
-        {"grid": 8, "sampling": "uniform"},
-        {"grid": 8, "max_samples": 0},
-        {"grid": 8, "progress": 3},
+        {"grid": LutGrid.centred(8), "samples": 0},
+        {"grid": LutGrid.centred(8), "samples": True},
+        {"grid": LutGrid.centred(8), "sampling": "uniform"},
+        {"grid": LutGrid.centred(8), "max_samples": 0},
+        {"grid": LutGrid.centred(8), "progress": 3},
     ],
 )
 def test_invalid_input(kwargs):
@@ -165,7 +174,7 @@ def test_invalid_input(kwargs):
 
 def test_invalid_channels_and_indices():
     with pytest.raises(ParameterError, match="channels"):
-        build_table(lambda x: x, 8, method="hammersley")
+        build_table(lambda x: x, LutGrid.centred(8), method="hammersley")
     with pytest.raises(ParameterError, match="indices"):
         radical_inverse_base2([1.5])
     with pytest.raises(ParameterError, match="indices"):
@@ -176,7 +185,7 @@ def test_progress_reports_every_texel():
     calls = []
     build_table(
         SIX,
-        4,
+        LutGrid.centred(4),
         method="hammersley",
         samples=16,
         max_samples=64,

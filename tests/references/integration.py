@@ -94,18 +94,20 @@ def _cubature_over_cuts(integrand, cuts, functions, mu_o, alpha, rtol, atol, acc
     return np.atleast_1d(total)
 
 
-def reference_albedo(functions, mu_o, alpha, rtol=1e-11, atol=1e-12, visibility="height-correlated"):
+def reference_albedo(
+    functions, mu_o, alpha, rtol=1e-11, atol=1e-12, visibility="height-correlated", accepted_error=1e-10
+):
     """(K,) F̄_k(μo, α) by adaptive cubature over (θi, φi); ``functions`` maps x (N,) → (N,) or (N, K);
     ``visibility`` picks the G2 form (:data:`G2_FORMS`).
 
-    Raises AssertionError if the cubature neither converges nor estimates its error below 1e-10.
+    Raises AssertionError if the cubature neither converges nor estimates its error below ``accepted_error``.
     """
     mu_o, alpha = float(mu_o), float(alpha)
     assert 0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0
     theta_o = float(np.arccos(mu_o))
     cuts = [0.0] + ([theta_o] if 1e-9 < theta_o < 0.5 * np.pi - 1e-9 else []) + [0.5 * np.pi]
     return _cubature_over_cuts(
-        _integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-10, g2=G2_FORMS[visibility]
+        _integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=accepted_error, g2=G2_FORMS[visibility]
     )
 
 

@@ -17,7 +17,7 @@ from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.training import FIGURE_2, build_basis, validation_groups
 from fresnel_lut.report.basis_fidelity import TARGETS, fidelity_markdown, fidelity_study, group_errors, plot_fidelity
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import lut_axes
+from preintegrate.lut import LutGrid
 from preintegrate.quadrature import directional_albedo, texel_weights
 
 THETA = np.linspace(0.0, 0.5 * np.pi, 2049)
@@ -26,7 +26,7 @@ SIZE = 64
 
 @pytest.fixture(scope="module")
 def weights():
-    mu_o, roughness = lut_axes(SIZE)
+    mu_o, roughness = LutGrid.centred(SIZE).mu_o, LutGrid.centred(SIZE).roughness
     return texel_weights(THETA, mu_o[None, :], roughness_to_alpha(roughness)[:, None]).reshape(-1, THETA.size)
 
 
@@ -51,7 +51,7 @@ def test_preintegrated_error_agrees_with_direct_integration(shipped):
     def error(x):
         return basis.evaluate_mu(np.clip(x, 0, 1)) @ coefficients.T - fresnel_conductor(x[..., None], eta, kappa)
 
-    mu_o, roughness = lut_axes(SIZE)
+    mu_o, roughness = LutGrid.centred(SIZE).mu_o, LutGrid.centred(SIZE).roughness
     direct = directional_albedo(error, mu_o[None, :], roughness_to_alpha(roughness)[:, None])
     assert np.max(np.abs(direct)) == pytest.approx(shipped["figure 2"]["preintegrated"], abs=2e-6)
 

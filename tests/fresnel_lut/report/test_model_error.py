@@ -14,11 +14,11 @@ from basis import default_basis, fresnel_conductor
 from basis.validation import ParameterError
 from fresnel_lut.report.model_error import model_error_markdown, model_error_study, plot_model_error
 from preintegrate.channels import basis_channels
-from preintegrate.lut import build_table, lut_axes
+from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import directional_albedo, lagrange_cardinals, texel_weights
 
 BASIS = default_basis()
-MU_O, ROUGHNESS = lut_axes(8)
+MU_O, ROUGHNESS = LutGrid.centred(8).mu_o, LutGrid.centred(8).roughness
 ALPHA = ROUGHNESS**2
 
 
@@ -57,7 +57,10 @@ def test_weights_match_the_basis_lut(weights):
     """W @ b_k(theta grid) equals the basis LUT channels of build_table (atol 1e-6)."""
     channels = basis_channels()
     np.testing.assert_allclose(
-        weights @ channels.functions(grid_cosines(BASIS.theta)), build_table(channels, 8), rtol=0, atol=1e-6
+        weights @ channels.functions(grid_cosines(BASIS.theta)),
+        build_table(channels, LutGrid.centred(8)),
+        rtol=0,
+        atol=1e-6,
     )
 
 
