@@ -1,7 +1,8 @@
 # Two entry points that set up their own environment (a .venv made here) on a fresh machine:
 #   make luts   build the default LUTs into luts/
 #   make test   run the test suite
-#   make report error against run time (report/README.md and plots, about 70 s; installs the plot extra)
+#   make report error against run time on this machine: build/report/README.md and plots (about 70 s; installs the
+#               plot extra); the committed report/ is a snapshot with its commit and date: make report REPORT_OUT=report
 #   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
 #   make render     pictures: report/render/ (about 45 s)
 #   make view       the look-development page in your browser (fresnel-lut view --open; Ctrl-C stops it)
@@ -43,9 +44,11 @@ luts: $(STAMP)
 basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json
 
+# timings and dates differ on every run: by default they go to the ignored build/, not over the committed snapshot
+REPORT_OUT ?= build/report
 report: $(STAMP)
 	$(VENV)/bin/python -m pip install --quiet -e '.[plot]'
-	$(VENV)/bin/fresnel-lut report --out report
+	$(VENV)/bin/fresnel-lut report --out $(REPORT_OUT)
 
 materials: $(STAMP)
 	$(VENV)/bin/fresnel-lut materials --presets luts/materials.json
