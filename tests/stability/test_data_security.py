@@ -330,3 +330,20 @@ def test_resource_caps_refuse_before_the_work(tmp_path, capsys):
     error = capsys.readouterr().err
     assert_one_line_error(error)
     assert "at most 256" in error and not (tmp_path / "out").exists()
+
+
+def test_coeffs_for_another_basis_state_that_basis_error(tmp_path, capsys):
+    """Issue 26 item 8: coeffs --basis OTHER --material NAME printed the shipped basis' RMS ΔE2000 (0.073 for gold)
+    beside coefficients refitted for OTHER. A three-term basis fits gold worse: its own RMS is stated, above the
+    shipped four-term one, and recomputing the shipped basis' error gives the preset's figure back."""
+    three = tmp_path / "three.json"
+    assert run(["basis", "--count", "2000", "--terms", "3", "--out", three]) == 0
+    capsys.readouterr()
+    assert run(["coeffs", "--material", "Gold", "--json"]) == 0
+    shipped = json.loads(capsys.readouterr().out)["material"]["rms_delta_e2000"]["basis"]
+    assert run(["coeffs", "--material", "Gold", "--basis", three, "--json"]) == 0
+    other = json.loads(capsys.readouterr().out)["material"]["rms_delta_e2000"]["basis"]
+    assert other > 1.5 * shipped
+    assert run(["coeffs", "--material", "Gold", "--basis", shipped_basis_path(), "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)["material"]["rms_delta_e2000"]["basis"]
+    assert again == pytest.approx(shipped, rel=1e-6)
