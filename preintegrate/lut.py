@@ -340,26 +340,11 @@ def lut_attributes(
     }
 
 
-def _clamped_position(points: np.ndarray, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Lower texel index and fraction of linear interpolation between increasing ``centres``, clamped to
-    the edge texels outside them (needs at least two centres)."""
-    position = np.clip(np.interp(points, centres, np.arange(centres.size)), 0.0, centres.size - 1.0)
-    low = np.minimum(np.floor(position).astype(int), centres.size - 2)
-    return low, position - low
-
-
 def interpolation_weights(points, centres) -> np.ndarray:
     """(P, N) weights of linear, clamp-to-edge interpolation from samples at ``centres`` (increasing)."""
     points, centres = np.ravel(points), np.asarray(centres, dtype=np.float64)
-    weights = np.zeros((points.size, centres.size))
-    if centres.size == 1:
-        weights[:, 0] = 1.0
-        return weights
-    low, fraction = _clamped_position(points, centres)
-    rows = np.arange(points.size)
-    weights[rows, low] = 1.0 - fraction
-    weights[rows, low + 1] += fraction
-    return weights
+    position = np.clip(np.interp(points, centres, np.arange(centres.size)), 0.0, centres.size - 1.0)
+    return _position_weights(position, centres.size)
 
 
 def lut_lookup(table: np.ndarray, mu_o, roughness) -> np.ndarray:
