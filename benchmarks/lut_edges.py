@@ -21,6 +21,7 @@ import argparse
 import numpy as np
 
 from basis import default_basis, material_coefficients
+from basis.storage import write_text
 from preintegrate.channels import basis_channels
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import LutGrid, build_table
@@ -105,8 +106,6 @@ def main(argv=None) -> int:
     text = markdown(edge_errors(arguments.size, arguments.points), arguments.size, arguments.points)
     print(text)
     if arguments.out is not None:
-        from basis.storage import write_text
-
         write_text(arguments.out, text)
     return 0
 
