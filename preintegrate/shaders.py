@@ -644,7 +644,7 @@ def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, 
             arrays.append(f"const vec4 FRESNEL_CURVES{suffix}[{count}] = vec4[{count}](\n{body}\n);")
     names = {"b": ""} if not sp.wide else {"bLo": "", "bHi": "_HI"}  # variable → its array's suffix
     segments = len(c.curve_segments) - 1
-    conditions = [f"below{i}" for i in range(1, segments)]
+    conditions = _segment_conditions(c.curve_segments)
 
     def coefficient(suffix: str, power: int) -> str:
         return _choose(sp, conditions, [f"FRESNEL_CURVES{suffix}[{j * (d + 1) + power}]" for j in range(segments)])
@@ -656,6 +656,11 @@ def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, 
             f"    {name} = {name} * s + {coefficient(suffix, power)};\n" for name, suffix in names.items()
         )
     return "\n".join(arrays), statements + f"    return {sp.make_terms(*names) if sp.wide else 'b'};\n"
+
+
+def _segment_conditions(edges) -> list[str]:
+    """The shader variables below1 … below(n − 1): μ lies below inner edge i (what ``_choose`` selects on)."""
+    return [f"below{i}" for i in range(1, len(edges) - 1)]
 
 
 def _segment_map(edges) -> tuple[np.ndarray, np.ndarray]:
@@ -717,7 +722,7 @@ def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str
             "glsl": f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});",
         }[sp.language]
         inner = [f"FRESNEL_CURVE_EDGES[{i}]" for i in range(1, count - 1)]
-    conditions = [f"below{i}" for i in range(1, count - 1)]
+    conditions = _segment_conditions(edges)
     scale, offset = _segment_map(edges)
     s = (
         f"mu * {_choose(sp, conditions, [_number(x) for x in scale])} "
@@ -731,10 +736,11 @@ def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str
 
 
 def _column_coordinate(constants: ShaderConstants) -> tuple[str, str]:
-    """(what the comment calls it, the expression of ``{mu}``) of the table's column coordinate x."""
+    """(what the comment calls it, its expression) of the table's column coordinate x of the sanitised NdotV."""
+    mu = "fresnelSanitize(NdotV, 1.0, 0.0, 1.0)"
     if constants.grid.columns == "root-endpoints":
-        return "sqrt(NdotV)", "sqrt({mu})"
-    return "NdotV", "{mu}"
+        return "sqrt(NdotV)", f"sqrt({mu})"
+    return "NdotV", mu
 
 
 def _header(constants: ShaderConstants, language: str, command: str) -> str:
@@ -930,7 +936,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 {v2} fresnelBasisLutUV({f} NdotV, {f} perceptualRoughness)
 {{
     {f} r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    {f} x = {column_x_code.format(mu="fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")};
+    {f} x = {column_x_code};
     return {v2}(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
@@ -1353,7 +1359,7 @@ const FRESNEL_LUT_ROWS = {_vector(c.row_mapping, "vec4f")};  // lo, hi, scale, o
 
 fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {{
     let r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
-    let x = {column_x_code.format(mu="fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")};
+    let x = {column_x_code};
     return vec2f(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }}
 
