@@ -13,7 +13,7 @@
 // multiple-scattering average use the same c (fresnelBasisAverage). Inputs: NaN becomes a fallback, every
 // other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to [0, 0.9999], the rest to [0, 1]).
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the
-// direct-light curves within 3.1e-5 of the basis' spline (float64; tests/luts/ measures all three
+// direct-light curves within 2.2e-5 of the basis' spline (float64; tests/luts/ measures all three
 // on the GPU).
 
 static const uint FRESNEL_BASIS_HASH = 0xfb609e12u;  // the first 8 hex digits of fb609e12db5d9a8b
@@ -27,37 +27,23 @@ static const float4 FRESNEL_PROJECTION_SCALE = float4(1.0, -1.0, -0.0443560609, 
 static const float4 FRESNEL_PROJECTION_BIAS = float4(0.0, 1.0, 0.0443560609, 0.0331930751);  // coefficients of (1 - mu)^5
 static const float4 FRESNEL_PROJECTION_DIP = float4(0.0, -2.91479575e-19, 0.0555970654, -0.00370670517);  // coefficients of mu (1 - mu)^6
 static const float4 FRESNEL_BASIS_AVERAGES = float4(1.0, 0.0507224491, 0.176463608, -0.245637478);  // 2 * integral of b_k(mu) mu dmu
-static const float4 FRESNEL_CURVE_EDGES = float4(0.0, 0.08, 0.3, 1.0);
-static const int FRESNEL_CURVE_DEGREE = 8;
-// b_k(mu) on segment j: sum_p FRESNEL_CURVES[j * 9 + p] * s^p, s = 2 (mu - lo) / (hi - lo) - 1
-static const float4 FRESNEL_CURVES[27] = {
-    float4(1.0, 0.760395379, 0.645952397, 0.908450563),
-    float4(2.80660424e-15, -0.202310473, 0.450851849, 0.375714319),
-    float4(-1.11399817e-14, 0.032060447, -0.183071666, -0.436552154),
-    float4(-3.0872693e-14, -0.00445747393, 0.0193692574, 0.102567266),
-    float4(7.59555889e-14, 0.000666516735, 0.00508665025, 9.4090026e-05),
-    float4(8.02691221e-14, -0.000100816406, -0.0021512605, -0.00547880358),
-    float4(-1.65883481e-13, 9.69629154e-06, 0.000201310555, 0.00106615078),
-    float4(-5.73351732e-14, 5.68479065e-07, 7.45096781e-05, 0.000156727199),
-    float4(1.06138777e-13, -2.05787208e-07, -2.39899446e-05, -9.82808001e-05),
-    float4(1.0, 0.299564003, 0.88166134, 0.00273007328),
-    float4(2.80660424e-15, -0.194209053, -0.278467089, -0.830497532),
-    float4(-1.11399817e-14, 0.0682864817, -0.0647062419, 0.313631082),
-    float4(-3.0872693e-14, -0.0185824074, 0.0884640882, 0.0346218866),
-    float4(7.59555889e-14, 0.00439459229, -0.047675004, -0.0848773847),
-    float4(8.02691221e-14, -0.000928191603, 0.0190413985, 0.0542254847),
-    float4(-1.65883481e-13, 0.000193196845, -0.00536668769, -0.0233321592),
-    float4(-5.73351732e-14, -7.57195053e-05, -0.000487164462, 0.00455644643),
-    float4(1.06138777e-13, 2.98374137e-05, 0.000919987932, 0.000657286608),
-    float4(1.0, 0.0183155218, 0.0998787788, -0.354753319),
-    float4(2.80660424e-15, -0.0473961776, -0.229983362, 0.54072766),
-    float4(-1.11399817e-14, 0.0459324027, 0.176379587, -0.0149303521),
-    float4(-3.0872693e-14, -0.0255876761, -0.0646452866, -0.21239205),
-    float4(7.59555889e-14, 0.012471415, 0.0223213661, 0.0851917261),
-    float4(8.02691221e-14, -0.00513711024, -0.00677096247, -0.0568911671),
-    float4(-1.65883481e-13, 0.00213845712, 0.0013589996, 0.0209819157),
-    float4(-5.73351732e-14, -0.0012134329, 0.0046862316, -0.00731718418),
-    float4(1.06138777e-13, 0.000478151611, -0.00324179327, -0.000625810421)
+static const float FRESNEL_CURVE_WARP = 1.54221083;  // w of x = mu (1 + w) / (1 + w mu)
+static const int FRESNEL_CURVE_DEGREE = 12;
+// b_1 .. b_3 (b_0 = 1) on segment j of x: sum_p FRESNEL_CURVES[j * 13 + p] * s^p, s = 2 (x - lo) / (hi - lo) - 1
+static const float3 FRESNEL_CURVES[13] = {
+    float3(0.175540979, 0.637183359, -0.479060411),
+    float3(-0.406710646, -1.02436945, -1.26254909),
+    float3(0.306794926, 0.0144347677, 2.64476264),
+    float3(-0.092205461, 0.750765506, -0.068991379),
+    float3(0.0159156877, -0.695617199, -1.45042724),
+    float3(0.00102602254, 0.445625664, 1.42736587),
+    float3(-0.00242143522, -0.18929056, -1.07623107),
+    float3(0.00178115424, 0.0296110307, 0.716647259),
+    float3(0.00360153197, 0.200958879, -0.183258382),
+    float3(-0.00634307741, -0.314320285, -1.00149178),
+    float3(0.00129470319, 0.0909265785, 0.920518184),
+    float3(0.0024516553, 0.112688404, 0.189028319),
+    float3(-0.000726891571, -0.0586141758, -0.376291225)
 };
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
 // everything else clamped to [lo, hi].
@@ -188,22 +174,26 @@ float4 fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
                                      -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }
 
-// The curves b_0 .. b_3 at mu = V.H (piecewise polynomials, Horner).
+// The curves b_0 .. b_3 at mu = V.H (polynomials in x, Horner).
 float4 fresnelBasisCurves(float mu)
 {
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
-    bool below1 = mu < FRESNEL_CURVE_EDGES.y, below2 = mu < FRESNEL_CURVE_EDGES.z;
-    float s = mu * (below1 ? 25.0 : (below2 ? 9.09090909 : 2.85714286)) + (below1 ? -1.0 : (below2 ? -1.72727273 : -1.85714286));
-    float4 b = (below1 ? FRESNEL_CURVES[8] : (below2 ? FRESNEL_CURVES[17] : FRESNEL_CURVES[26]));
-    b = b * s + (below1 ? FRESNEL_CURVES[7] : (below2 ? FRESNEL_CURVES[16] : FRESNEL_CURVES[25]));
-    b = b * s + (below1 ? FRESNEL_CURVES[6] : (below2 ? FRESNEL_CURVES[15] : FRESNEL_CURVES[24]));
-    b = b * s + (below1 ? FRESNEL_CURVES[5] : (below2 ? FRESNEL_CURVES[14] : FRESNEL_CURVES[23]));
-    b = b * s + (below1 ? FRESNEL_CURVES[4] : (below2 ? FRESNEL_CURVES[13] : FRESNEL_CURVES[22]));
-    b = b * s + (below1 ? FRESNEL_CURVES[3] : (below2 ? FRESNEL_CURVES[12] : FRESNEL_CURVES[21]));
-    b = b * s + (below1 ? FRESNEL_CURVES[2] : (below2 ? FRESNEL_CURVES[11] : FRESNEL_CURVES[20]));
-    b = b * s + (below1 ? FRESNEL_CURVES[1] : (below2 ? FRESNEL_CURVES[10] : FRESNEL_CURVES[19]));
-    b = b * s + (below1 ? FRESNEL_CURVES[0] : (below2 ? FRESNEL_CURVES[9] : FRESNEL_CURVES[18]));
-    return b;
+    float x = mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu);
+    float s = x * 2.0 + -1.0;
+    float3 b = FRESNEL_CURVES[12];
+    b = b * s + FRESNEL_CURVES[11];
+    b = b * s + FRESNEL_CURVES[10];
+    b = b * s + FRESNEL_CURVES[9];
+    b = b * s + FRESNEL_CURVES[8];
+    b = b * s + FRESNEL_CURVES[7];
+    b = b * s + FRESNEL_CURVES[6];
+    b = b * s + FRESNEL_CURVES[5];
+    b = b * s + FRESNEL_CURVES[4];
+    b = b * s + FRESNEL_CURVES[3];
+    b = b * s + FRESNEL_CURVES[2];
+    b = b * s + FRESNEL_CURVES[1];
+    b = b * s + FRESNEL_CURVES[0];
+    return float4(1.0, b);
 }
 
 // Fresnel of a punctual light for each colour channel: F(V.H) = sum_k c_k b_k(theta_h).

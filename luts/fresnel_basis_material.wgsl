@@ -13,7 +13,7 @@
 // multiple-scattering average use the same c (fresnelBasisAverage). Inputs: NaN becomes a fallback, every
 // other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to [0, 0.9999], the rest to [0, 1]).
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the
-// direct-light curves within 3.1e-5 of the basis' spline (float64; tests/luts/ measures all three
+// direct-light curves within 2.2e-5 of the basis' spline (float64; tests/luts/ measures all three
 // on the GPU).
 
 const FRESNEL_BASIS_HASH: u32 = 0xfb609e12u;  // the first 8 hex digits of fb609e12db5d9a8b
@@ -27,38 +27,24 @@ const FRESNEL_PROJECTION_SCALE: vec4f = vec4f(1.0, -1.0, -0.0443560609, -0.03319
 const FRESNEL_PROJECTION_BIAS: vec4f = vec4f(0.0, 1.0, 0.0443560609, 0.0331930751);
 const FRESNEL_PROJECTION_DIP: vec4f = vec4f(0.0, -2.91479575e-19, 0.0555970654, -0.00370670517);
 const FRESNEL_BASIS_AVERAGES: vec4f = vec4f(1.0, 0.0507224491, 0.176463608, -0.245637478);
-const FRESNEL_CURVE_EDGES = vec4f(0.0, 0.08, 0.3, 1.0);
-const FRESNEL_CURVE_DEGREE: i32 = 8;
+const FRESNEL_CURVE_WARP: f32 = 1.54221083;
+const FRESNEL_CURVE_DEGREE: i32 = 12;
 const FRESNEL_F82_SCHLICK_WEIGHT: f32 = 0.462664366;
 const FRESNEL_F82_DIP: f32 = 0.0566527795;
-var<private> FRESNEL_CURVES: array<vec4f, 27> = array<vec4f, 27>(
-    vec4f(1.0, 0.760395379, 0.645952397, 0.908450563),
-    vec4f(2.80660424e-15, -0.202310473, 0.450851849, 0.375714319),
-    vec4f(-1.11399817e-14, 0.032060447, -0.183071666, -0.436552154),
-    vec4f(-3.0872693e-14, -0.00445747393, 0.0193692574, 0.102567266),
-    vec4f(7.59555889e-14, 0.000666516735, 0.00508665025, 9.4090026e-05),
-    vec4f(8.02691221e-14, -0.000100816406, -0.0021512605, -0.00547880358),
-    vec4f(-1.65883481e-13, 9.69629154e-06, 0.000201310555, 0.00106615078),
-    vec4f(-5.73351732e-14, 5.68479065e-07, 7.45096781e-05, 0.000156727199),
-    vec4f(1.06138777e-13, -2.05787208e-07, -2.39899446e-05, -9.82808001e-05),
-    vec4f(1.0, 0.299564003, 0.88166134, 0.00273007328),
-    vec4f(2.80660424e-15, -0.194209053, -0.278467089, -0.830497532),
-    vec4f(-1.11399817e-14, 0.0682864817, -0.0647062419, 0.313631082),
-    vec4f(-3.0872693e-14, -0.0185824074, 0.0884640882, 0.0346218866),
-    vec4f(7.59555889e-14, 0.00439459229, -0.047675004, -0.0848773847),
-    vec4f(8.02691221e-14, -0.000928191603, 0.0190413985, 0.0542254847),
-    vec4f(-1.65883481e-13, 0.000193196845, -0.00536668769, -0.0233321592),
-    vec4f(-5.73351732e-14, -7.57195053e-05, -0.000487164462, 0.00455644643),
-    vec4f(1.06138777e-13, 2.98374137e-05, 0.000919987932, 0.000657286608),
-    vec4f(1.0, 0.0183155218, 0.0998787788, -0.354753319),
-    vec4f(2.80660424e-15, -0.0473961776, -0.229983362, 0.54072766),
-    vec4f(-1.11399817e-14, 0.0459324027, 0.176379587, -0.0149303521),
-    vec4f(-3.0872693e-14, -0.0255876761, -0.0646452866, -0.21239205),
-    vec4f(7.59555889e-14, 0.012471415, 0.0223213661, 0.0851917261),
-    vec4f(8.02691221e-14, -0.00513711024, -0.00677096247, -0.0568911671),
-    vec4f(-1.65883481e-13, 0.00213845712, 0.0013589996, 0.0209819157),
-    vec4f(-5.73351732e-14, -0.0012134329, 0.0046862316, -0.00731718418),
-    vec4f(1.06138777e-13, 0.000478151611, -0.00324179327, -0.000625810421)
+var<private> FRESNEL_CURVES: array<vec3f, 13> = array<vec3f, 13>(
+    vec3f(0.175540979, 0.637183359, -0.479060411),
+    vec3f(-0.406710646, -1.02436945, -1.26254909),
+    vec3f(0.306794926, 0.0144347677, 2.64476264),
+    vec3f(-0.092205461, 0.750765506, -0.068991379),
+    vec3f(0.0159156877, -0.695617199, -1.45042724),
+    vec3f(0.00102602254, 0.445625664, 1.42736587),
+    vec3f(-0.00242143522, -0.18929056, -1.07623107),
+    vec3f(0.00178115424, 0.0296110307, 0.716647259),
+    vec3f(0.00360153197, 0.200958879, -0.183258382),
+    vec3f(-0.00634307741, -0.314320285, -1.00149178),
+    vec3f(0.00129470319, 0.0909265785, 0.920518184),
+    vec3f(0.0024516553, 0.112688404, 0.189028319),
+    vec3f(-0.000726891571, -0.0586141758, -0.376291225)
 );
 
 fn fresnelSanitize(x: f32, fallback: f32, lo: f32, hi: f32) -> f32 {
@@ -161,19 +147,22 @@ fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> ve
 
 fn fresnelBasisCurves(muIn: f32) -> vec4f {
     let mu = fresnelSanitize(muIn, 1.0, 0.0, 1.0);
-    let below1 = mu < FRESNEL_CURVE_EDGES.y;
-    let below2 = mu < FRESNEL_CURVE_EDGES.z;
-    let s = mu * select(select(2.85714286, 9.09090909, below2), 25.0, below1) + select(select(-1.85714286, -1.72727273, below2), -1.0, below1);
-    var b = select(select(FRESNEL_CURVES[26], FRESNEL_CURVES[17], below2), FRESNEL_CURVES[8], below1);
-    b = b * s + select(select(FRESNEL_CURVES[25], FRESNEL_CURVES[16], below2), FRESNEL_CURVES[7], below1);
-    b = b * s + select(select(FRESNEL_CURVES[24], FRESNEL_CURVES[15], below2), FRESNEL_CURVES[6], below1);
-    b = b * s + select(select(FRESNEL_CURVES[23], FRESNEL_CURVES[14], below2), FRESNEL_CURVES[5], below1);
-    b = b * s + select(select(FRESNEL_CURVES[22], FRESNEL_CURVES[13], below2), FRESNEL_CURVES[4], below1);
-    b = b * s + select(select(FRESNEL_CURVES[21], FRESNEL_CURVES[12], below2), FRESNEL_CURVES[3], below1);
-    b = b * s + select(select(FRESNEL_CURVES[20], FRESNEL_CURVES[11], below2), FRESNEL_CURVES[2], below1);
-    b = b * s + select(select(FRESNEL_CURVES[19], FRESNEL_CURVES[10], below2), FRESNEL_CURVES[1], below1);
-    b = b * s + select(select(FRESNEL_CURVES[18], FRESNEL_CURVES[9], below2), FRESNEL_CURVES[0], below1);
-    return b;
+    let x = mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu);
+    let s = x * 2.0 + -1.0;
+    var b = FRESNEL_CURVES[12];
+    b = b * s + FRESNEL_CURVES[11];
+    b = b * s + FRESNEL_CURVES[10];
+    b = b * s + FRESNEL_CURVES[9];
+    b = b * s + FRESNEL_CURVES[8];
+    b = b * s + FRESNEL_CURVES[7];
+    b = b * s + FRESNEL_CURVES[6];
+    b = b * s + FRESNEL_CURVES[5];
+    b = b * s + FRESNEL_CURVES[4];
+    b = b * s + FRESNEL_CURVES[3];
+    b = b * s + FRESNEL_CURVES[2];
+    b = b * s + FRESNEL_CURVES[1];
+    b = b * s + FRESNEL_CURVES[0];
+    return vec4f(1.0, b);
 }
 
 fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f {

@@ -5,7 +5,7 @@ Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, 
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
 ``ltc_coordinates``, ``rect_light_specular``,
 ``linear_model_curve``, ``PER_PIXEL_MODELS``,
-``CURVE_SEGMENTS``, ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
+``CURVE_WARPS``, ``CURVE_SEGMENTS``, ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
 
 Everything a shader needs to turn a texel's material parameters into the K coefficients of the basis, and the
 coefficients into F(V·H) for a punctual light, depends on the basis alone: b_k at the fit angles, the constant
@@ -31,9 +31,11 @@ numbers the GPU computes, and the tests compare the two.
   four-point coefficients of t_n, three generated constants; w is a few flops of the parameters. The projection
   is of the models' unclamped linear form (they agree with ``coefficients_from_model`` wherever the model's clamp
   to [0, 1] is inactive at the fit angles).
-* **Direct light**: F(V·H) = Σ_k c_k b_k(θ_h), the curves as piecewise polynomials in μ over
-  :data:`CURVE_SEGMENTS` (the curves steepen near grazing: one polynomial in μ or θ needs degree 16–24 for 1e-4),
-  within :data:`CURVE_TOLERANCE` of the basis' own spline in float64.
+* **Direct light**: F(V·H) = Σ_k c_k b_k(θ_h), b_0 = 1 and b_1 … b_(K−1) as one polynomial in the warped cosine
+  x = μ (1 + w)/(1 + w μ) (a Möbius map that stretches grazing, where the curves steepen: one polynomial in μ or θ
+  needs degree 16–24 for 1e-4; in x, degree 12 holds the shipped basis to 2.2e-5), else (the higher terms of
+  K > 4 bases) as piecewise polynomials in μ over :data:`CURVE_SEGMENTS` or :data:`FINE_CURVE_SEGMENTS`, within
+  :data:`CURVE_TOLERANCE` of the basis' own spline in float64.
 
 Inputs are sanitised as the shaders do (:func:`sanitize_nk`, :func:`sanitize_gulbrandsen`, :func:`sanitize_unit`):
 NaN becomes the documented fallback, everything else is clamped into the documented range, so no texel value gives
@@ -66,6 +68,7 @@ from .lut import LutGrid
 __all__ = [
     "CURVE_SEGMENTS",
     "CURVE_TOLERANCE",
+    "CURVE_WARPS",
     "FINE_CURVE_SEGMENTS",
     "PER_PIXEL_MODELS",
     "SHADER_INCLUDES",
@@ -85,10 +88,16 @@ __all__ = [
     "shader_includes",
 ]
 
-#: Segment edges in μ = V·H of the direct-light polynomials: the curves bend fastest near grazing (the shipped
-#: basis' b3 has slope 38 per radian at θ = π/2), so the segments are narrow there. Chosen by measurement on the
-#: shipped basis: one polynomial in μ needs degree 16 for 4.2e-4, in θ degree 24 for 2e-4, in √μ degree 16 for
-#: 4.7e-4; these three segments reach 2.9e-5 at degree 8.
+#: The direct-light curves are first fitted as one polynomial in x = μ (1 + w)/(1 + w μ), w the warp of least error
+#: on this grid of strengths and then on a finer one around it (the curves bend fastest near grazing: the shipped
+#: basis' b3 has slope 38 per radian at θ = π/2; the map spends the polynomial's resolution there). One polynomial
+#: costs a division and no selects, where the three segments below cost llvmpipe 0.15–0.2 of Schlick's whole pass
+#: more (benchmarks/shader_cost.py, 2026-12). On the shipped basis one polynomial in μ needs degree 16 for 4.2e-4,
+#: in θ degree 24 for 2e-4, in √μ degree 16 for 4.7e-4; in x degree 12 reaches 2.2e-5 (w = 1.54).
+CURVE_WARPS = tuple(2.0 ** (k / 2) for k in range(-6, 9))
+#: Segment edges in μ = V·H of the direct-light polynomials where one warped polynomial of degree 14 does not hold
+#: :data:`CURVE_TOLERANCE` (6- and 8-term bases), narrow near grazing; these three reach 2.9e-5 at degree 8 on the
+#: shipped basis.
 CURVE_SEGMENTS = (0.0, 0.08, 0.3, 1.0)
 #: The segments of a basis whose curves these three do not hold (the higher terms of K > 4 bases wiggle near
 #: grazing: a 6-term basis misses by 1.7e-4, an 8-term one by 1.5e-3 at degree 12); seven reach 6e-5 for K = 8.
@@ -97,6 +106,7 @@ FINE_CURVE_SEGMENTS = (0.0, 0.02, 0.05, 0.1, 0.18, 0.3, 0.5, 1.0)
 #: for float32 evaluation); the degree is the smallest of 6 … 12 that reaches it, on the first segments that do.
 CURVE_TOLERANCE = 5e-5
 _DEGREES = range(6, 13)
+_WARPED_DEGREES = range(6, 15)
 _CURVE_SAMPLES = 4001  # per segment, end points included: the fit's and the check's grid
 
 #: Documented input ranges of the per-pixel functions (the Python API's, where float32 holds them).
@@ -128,9 +138,10 @@ class ShaderConstants:
     projections: np.ndarray  # (3, K) K-point coefficients of t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶)
     averages: np.ndarray  # (K,) hemispherical averages of b_k
     curve_degree: int
-    curve_polynomials: np.ndarray  # (segments, degree + 1, K): b_k on a segment, powers of s = 2 (μ − lo)/(hi − lo) − 1
+    curve_polynomials: np.ndarray  # (segments, degree + 1, K): b_k on a segment, powers of s = 2 (x − lo)/(hi − lo) − 1
     curve_error: float  # max |polynomial − spline| over the segments' dense grids, float64
-    curve_segments: tuple[float, ...] = CURVE_SEGMENTS  # the polynomials' segment edges in μ
+    curve_segments: tuple[float, ...] = CURVE_SEGMENTS  # the polynomials' segment edges in x
+    curve_warp: float = 0.0  # w of x = μ (1 + w)/(1 + w μ), the polynomials' variable (0: x = μ)
     amplification: float = 1.0  # Lebesgue constant of the solve: max over μ of Σ_i |(B(μ) S⁻¹)_i|
     ltc_size: int = 64  # the LTC table's size (``fresnel-lut build --ltc-size``) that fresnelLtcUV addresses
     grid: LutGrid = LutGrid(128, 128)  # the tables' grid: the include's coordinate function reads them on it
@@ -206,7 +217,7 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, lt
     system = basis.evaluate(basis.fit_angles)  # B[i, k] = b_k(θ_i)
     inverse = np.linalg.inv(system[2:, 2:])
     projections = coefficients_from_samples(_linear_functions(cos_theta(basis.fit_angles)).T, basis)
-    degree, polynomials, error, segments = _fit_curves(basis)
+    degree, polynomials, error, segments, warp = _fit_curves(basis)
     curves = basis.evaluate_mu(np.linspace(0.0, 1.0, 2001))  # (μ, K)
     amplification = float(np.max(np.sum(np.abs(curves[:, 2:] @ inverse), axis=-1))) if basis.n_terms > 2 else 0.0
     return ShaderConstants(
@@ -220,35 +231,71 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, lt
         polynomials,
         error,
         segments,
+        warp,
         amplification,
         check_positive_int("ltc_size", ltc_size, low=2, high=1024),
         LutGrid(128, 128) if grid is None else grid,
     )
 
 
-def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...]]:
-    """Least-squares polynomials of b_k on each segment, the smallest degree that holds :data:`CURVE_TOLERANCE` on
-    :data:`CURVE_SEGMENTS`, else on :data:`FINE_CURVE_SEGMENTS` (else the closest fit tried, its error stated)."""
+def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
+    """(degree, polynomials, error, segment edges, warp) of the direct-light curves: least-squares polynomials of b_k,
+    the smallest degree that holds :data:`CURVE_TOLERANCE` as one polynomial in the warped cosine (warps
+    :data:`CURVE_WARPS`, then a finer grid around the best), else on :data:`CURVE_SEGMENTS`, else on
+    :data:`FINE_CURVE_SEGMENTS` in μ (else the closest fit tried, its error stated). Computed once per basis."""
+    cached = _CURVE_FITS.get(basis.content_hash)
+    if cached is None:
+        cached = _CURVE_FITS[basis.content_hash] = _search_curves(basis)
+    return cached
+
+
+_CURVE_FITS: dict[str, tuple[int, np.ndarray, float, tuple[float, ...], float]] = {}
+
+
+def _search_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
     best = None
+    for degree in _WARPED_DEGREES:
+        fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit[2])
+        if fit[2] <= 10.0 * CURVE_TOLERANCE:  # the finer grid gains up to 5x (degree 12 of the shipped basis)
+            fine = [fit[4] * 2.0 ** (k / 32) for k in range(-16, 17)]  # the coarse step, √2, in 32 parts
+            fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit[2])
+        if fit[2] <= CURVE_TOLERANCE:
+            return fit
+        best = fit if best is None or fit[2] < best[2] else best
     for segments in (CURVE_SEGMENTS, FINE_CURVE_SEGMENTS):
-        grids = []
-        for low, high in zip(segments[:-1], segments[1:]):
-            s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
-            grids.append((s, basis.evaluate_mu(low + 0.5 * (s + 1.0) * (high - low))))
         for degree in _DEGREES:
-            polynomials, error = [], 0.0
-            for s, values in grids:
-                chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, K), well conditioned
-                power = np.stack(
-                    [np.polynomial.chebyshev.cheb2poly(chebyshev[:, k]) for k in range(basis.n_terms)], axis=-1
-                )
-                polynomials.append(power)
-                error = max(error, float(np.max(np.abs(np.polynomial.polynomial.polyval(s, power).T - values))))
-            if error <= CURVE_TOLERANCE:
-                return degree, np.array(polynomials), error, segments
-            if best is None or error < best[2]:
-                best = (degree, np.array(polynomials), error, segments)
+            fit = _fit_segments(basis, segments, degree, 0.0)
+            if fit[2] <= CURVE_TOLERANCE:
+                return fit
+            best = fit if fit[2] < best[2] else best
     return best
+
+
+def _fit_segments(
+    basis: Basis, segments: tuple[float, ...], degree: int, warp: float
+) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
+    """The least-squares polynomials of one degree on each segment of x, the warp ``warp``: as :func:`_fit_curves`."""
+    polynomials, error = [], 0.0
+    s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
+    for low, high in zip(segments[:-1], segments[1:]):
+        values = basis.evaluate_mu(_unwarp(low + 0.5 * (s + 1.0) * (high - low), warp))
+        chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, K), well conditioned
+        power = np.stack([np.polynomial.chebyshev.cheb2poly(chebyshev[:, k]) for k in range(basis.n_terms)], axis=-1)
+        power[:, 0] = 0.0
+        power[0, 0] = 1.0  # b_0 = 1 (every basis file's): the shaders do not evaluate it
+        polynomials.append(power)
+        error = max(error, float(np.max(np.abs(np.polynomial.polynomial.polyval(s, power).T - values))))
+    return degree, np.array(polynomials), error, tuple(segments), float(warp)
+
+
+def _warp(mu: np.ndarray, warp: float) -> np.ndarray:
+    """x = μ (1 + w)/(1 + w μ): [0, 1] onto [0, 1], slope 1 + w at grazing and 1/(1 + w) at normal incidence."""
+    return mu * (1.0 + warp) / (1.0 + warp * mu)
+
+
+def _unwarp(x: np.ndarray, warp: float) -> np.ndarray:
+    """μ of x (the inverse of :func:`_warp`), clipped to [0, 1] against rounding."""
+    return np.clip(x / (1.0 + warp - warp * x), 0.0, 1.0)
 
 
 # ----------------------------------------------------------------------------- the Python mirrors
@@ -405,14 +452,14 @@ def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:
 
 def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = None) -> np.ndarray:
     """F(V·H) = Σ_k c_k b_k for a punctual light, as ``fresnelBasisDirect`` computes it: coefficients (…, 4) and
-    V·H (…) (clamped to [0, 1]) → (…), the curves from the generated piecewise polynomials."""
+    V·H (…) (clamped to [0, 1]) → (…), the curves from the generated polynomials in the warped cosine."""
     constants = shader_constants() if constants is None else constants
     coefficients = as_float_array("coefficients", coefficients)
-    mu = sanitize_unit(v_dot_h, 1.0)
+    x = _warp(sanitize_unit(v_dot_h, 1.0), constants.curve_warp)
     edges = np.asarray(constants.curve_segments)
-    segment = np.clip(np.searchsorted(edges, mu, side="right") - 1, 0, len(edges) - 2)
+    segment = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
     scale, offset = _segment_map(edges)
-    s = mu * scale[segment] + offset[segment]
+    s = x * scale[segment] + offset[segment]
     polynomials = constants.curve_polynomials[segment]  # (…, degree + 1, K)
     curves = polynomials[..., -1, :]
     for power in range(constants.curve_degree - 1, -1, -1):  # Horner, as the shaders
@@ -621,41 +668,48 @@ def _choose(spelling: _Spelling, conditions: list[str], values: list[str]) -> st
 
 
 def _curve_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
-    """(arrays, Horner statements) of the direct-light polynomials: b_0 … b_3 in FRESNEL_CURVES, b_4 … b_7 in
-    FRESNEL_CURVES_HI. Unrolled, each power's coefficients chosen among the segments by selects on literal indices:
-    an index that varies per pixel into a constant array is an indirect load per lane (llvmpipe measured it at half
-    the cost of Schlick's whole pass; divergent constant-memory reads on GPUs) where selects are a few ALU ops."""
+    """(arrays, Horner statements) of the direct-light polynomials of b_1 … b_(K−1) (b_0 = 1 is not evaluated):
+    terms 1-3 in FRESNEL_CURVES, 4-7 in FRESNEL_CURVES_HI. Unrolled; with segments, each power's coefficients chosen
+    among them by selects on literal indices: an index that varies per pixel into a constant array is an indirect
+    load per lane (llvmpipe measured it at half the cost of Schlick's whole pass; divergent constant-memory reads
+    on GPUs) where selects are a few ALU ops."""
     c, sp, d = constants, spelling, constants.curve_degree
-    lanes = 8 if sp.wide else 4
-    polynomial = np.zeros(c.curve_polynomials.shape[:2] + (lanes,))
-    polynomial[..., : c.n_terms] = c.curve_polynomials
-    polynomial = polynomial.reshape(-1, lanes)
-    count, v4 = polynomial.shape[0], sp.four
+    k = c.n_terms
+    polynomial = c.curve_polynomials.reshape(-1, k)  # (segments · (degree + 1), K)
+    parts = [("", "b" if not sp.wide else "bLo", polynomial[:, 1 : min(k, 4)])]
+    if sp.wide:
+        parts.append(("_HI", "bHi", polynomial[:, 4:]))
+    count = polynomial.shape[0]
     arrays = []
-    for suffix, rows in [("", polynomial[:, :4])] + ([("_HI", polynomial[:, 4:])] if sp.wide else []):
-        body = ",\n".join("    " + _vector(row, v4) for row in rows)
+    for suffix, _, rows in parts:
+        kind = sp.type(rows.shape[1])
+        body = ",\n".join("    " + (_number(row[0]) if rows.shape[1] == 1 else _vector(row, kind)) for row in rows)
         if sp.language == "wgsl":
             arrays.append(
-                f"var<private> FRESNEL_CURVES{suffix}: array<vec4f, {count}> = array<vec4f, {count}>(\n{body}\n);"
+                f"var<private> FRESNEL_CURVES{suffix}: array<{kind}, {count}> = array<{kind}, {count}>(\n{body}\n);"
             )
         elif sp.language == "hlsl":
-            arrays.append(f"static const float4 FRESNEL_CURVES{suffix}[{count}] = {{\n{body}\n}};")
+            arrays.append(f"static const {kind} FRESNEL_CURVES{suffix}[{count}] = {{\n{body}\n}};")
         else:
-            arrays.append(f"const vec4 FRESNEL_CURVES{suffix}[{count}] = vec4[{count}](\n{body}\n);")
-    names = {"b": ""} if not sp.wide else {"bLo": "", "bHi": "_HI"}  # variable → its array's suffix
+            arrays.append(f"const {kind} FRESNEL_CURVES{suffix}[{count}] = {kind}[{count}](\n{body}\n);")
     segments = len(c.curve_segments) - 1
     conditions = _segment_conditions(c.curve_segments)
 
     def coefficient(suffix: str, power: int) -> str:
         return _choose(sp, conditions, [f"FRESNEL_CURVES{suffix}[{j * (d + 1) + power}]" for j in range(segments)])
 
-    declare = "var " if sp.language == "wgsl" else v4 + " "
-    statements = "".join(f"    {declare}{name} = {coefficient(suffix, d)};\n" for name, suffix in names.items())
+    statements = ""
+    for suffix, name, rows in parts:
+        declare = "var " if sp.language == "wgsl" else sp.type(rows.shape[1]) + " "
+        statements += f"    {declare}{name} = {coefficient(suffix, d)};\n"
     for power in range(d - 1, -1, -1):
-        statements += "".join(
-            f"    {name} = {name} * s + {coefficient(suffix, power)};\n" for name, suffix in names.items()
-        )
-    return "\n".join(arrays), statements + f"    return {sp.make_terms(*names) if sp.wide else 'b'};\n"
+        statements += "".join(f"    {name} = {name} * s + {coefficient(suffix, power)};\n" for suffix, name, _ in parts)
+    v4 = sp.four
+    low = f"{v4}(1.0, {parts[0][1]}{', 0.0' * (4 - min(k, 4))})"
+    if not sp.wide:
+        return "\n".join(arrays), statements + f"    return {low};\n"
+    high = f"{v4}(bHi{', 0.0' * (8 - k)})"
+    return "\n".join(arrays), statements + f"    return {sp.make_terms(low, high)};\n"
 
 
 def _segment_conditions(edges) -> list[str]:
@@ -700,39 +754,59 @@ def _combination_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple
 
 
 def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, str]:
-    """(edges constant, statements giving the conditions below1 … of μ's segment and s on it): μ < edge_i for the
-    inner edges, then s = μ · scale + offset of the segment, the first whose upper edge lies above μ (what
-    ``direct_fresnel`` computes)."""
-    edges, sp = constants.curve_segments, spelling
+    """(constants, statements giving the polynomials' variable: x, the warped cosine of μ; the conditions below1 … of
+    x's segment; s on it): x < edge_i for the inner edges, then s = x · scale + offset of the segment, the first
+    whose upper edge lies above x (what ``direct_fresnel`` computes). One segment: no conditions, no selects."""
+    edges, sp, warp = constants.curve_segments, spelling, constants.curve_warp
     wgsl, hlsl = sp.language == "wgsl", sp.language == "hlsl"
+    const = "const" if not hlsl else "static const"
+    declarations = []
+    if warp:
+        declarations.append(
+            f"const FRESNEL_CURVE_WARP: f32 = {_number(warp)};"
+            if wgsl
+            else f"{const} float FRESNEL_CURVE_WARP = {_number(warp)};  // w of x = mu (1 + w) / (1 + w mu)"
+        )
+        x = "mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu)"
+    else:
+        x = "mu"
     count = len(edges)
     if count == 4:
         kind = "vec4f" if wgsl else sp.four
-        declaration = (
+        declarations.append(
             f"const FRESNEL_CURVE_EDGES = {_vector(edges, kind)};"
             if wgsl
-            else f"{'static const' if hlsl else 'const'} {kind} FRESNEL_CURVE_EDGES = {_vector(edges, kind)};"
+            else f"{const} {kind} FRESNEL_CURVE_EDGES = {_vector(edges, kind)};"
         )
         inner = [f"FRESNEL_CURVE_EDGES.{axis}" for axis in "yz"]
-    else:
+    elif count > 2:
         values = ", ".join(_number(edge) for edge in edges)
-        declaration = {
-            "wgsl": f"const FRESNEL_CURVE_EDGES = array<f32, {count}>({values});",
-            "hlsl": f"static const float FRESNEL_CURVE_EDGES[{count}] = {{{values}}};",
-            "glsl": f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});",
-        }[sp.language]
+        declarations.append(
+            {
+                "wgsl": f"const FRESNEL_CURVE_EDGES = array<f32, {count}>({values});",
+                "hlsl": f"static const float FRESNEL_CURVE_EDGES[{count}] = {{{values}}};",
+                "glsl": f"const float FRESNEL_CURVE_EDGES[{count}] = float[{count}]({values});",
+            }[sp.language]
+        )
         inner = [f"FRESNEL_CURVE_EDGES[{i}]" for i in range(1, count - 1)]
+    else:
+        inner = []
     conditions = _segment_conditions(edges)
     scale, offset = _segment_map(edges)
     s = (
-        f"mu * {_choose(sp, conditions, [_number(x) for x in scale])} "
-        f"+ {_choose(sp, conditions, [_number(x) for x in offset])}"
+        f"x * {_choose(sp, conditions, [_number(value) for value in scale])} "
+        f"+ {_choose(sp, conditions, [_number(value) for value in offset])}"
     )
-    if wgsl:
-        tests = "".join(f"    let {name} = mu < {edge};\n" for name, edge in zip(conditions, inner))
-        return declaration, tests + f"    let s = {s};\n"
-    tests = "    bool " + ", ".join(f"{name} = mu < {edge}" for name, edge in zip(conditions, inner)) + ";\n"
-    return declaration, tests + f"    float s = {s};\n"
+    declare = "let" if wgsl else "float"
+    statements = f"    {declare} x = {x};\n"
+    if conditions:
+        if wgsl:
+            statements += "".join(f"    let {name} = x < {edge};\n" for name, edge in zip(conditions, inner))
+        else:
+            statements += (
+                "    bool " + ", ".join(f"{name} = x < {edge}" for name, edge in zip(conditions, inner)) + ";\n"
+            )
+    return "\n".join(declarations), statements + f"    {declare} s = {s};\n"
 
 
 def _column_coordinate(constants: ShaderConstants) -> tuple[str, str]:
@@ -802,7 +876,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 {averages}
 {edges}
 {const} int FRESNEL_CURVE_DEGREE = {d};
-// b_k(mu) on segment j: sum_p FRESNEL_CURVES[j * {d + 1} + p] * s^p, s = 2 (mu - lo) / (hi - lo) - 1
+// b_1 .. b_{c.n_terms - 1} (b_0 = 1) on segment j of x: sum_p FRESNEL_CURVES[j * {d + 1} + p] * s^p, s = 2 (x - lo) / (hi - lo) - 1
 {curve_arrays}
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
 // everything else clamped to [lo, hi].
@@ -915,7 +989,7 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
                                      -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }}
 
-// The curves b_0 .. b_{c.n_terms - 1} at mu = V.H (piecewise polynomials, Horner).
+// The curves b_0 .. b_{c.n_terms - 1} at mu = V.H (polynomials in x, Horner).
 {T} fresnelBasisCurves({f} mu)
 {{
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
