@@ -116,16 +116,15 @@ vec4 fresnelCoefficientsNK(float eta, float kappa)
 }
 
 // Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9) for r in [0, 0.9999], g in [0, 1], with q = sqrt(r):
-// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of
-// positive terms (no float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
+// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max)
+// = 4 g r / ((1 + r)(1 - q)) (g (1 - q) / (1 + r) + 2 (1 - g) / (1 - q)), a product and a sum of positive terms (no
+// float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
 vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
 {
     float q = sqrt(r);
-    float over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q), over1pq = 1.0 / (1.0 + q);  // 1/(1 - r) = their product
+    float over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q);
     float n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
-    float spread = 2.0 * q * (1.0 + q) * over1mq * over1pr;
-    float above = g * 2.0 * q * (1.0 - q) * over1pr * over1pq + (1.0 - g) * 4.0 * q * over1mq * over1pq;
-    return vec2(n, g * spread * above);
+    return vec2(n, 4.0 * g * r * over1pr * over1mq * (g * (1.0 - q) * over1pr + 2.0 * (1.0 - g) * over1mq));
 }
 
 // Gulbrandsen's F(0) is r itself: no closed-form F(0) needed.

@@ -105,11 +105,8 @@ fn fresnelGulbrandsenToEtaKappa2(r: f32, g: f32) -> vec2f {
     let q = sqrt(r);
     let over1pr = 1.0 / (1.0 + r);
     let over1mq = 1.0 / (1.0 - q);
-    let over1pq = 1.0 / (1.0 + q);
     let n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
-    let spread = 2.0 * q * (1.0 + q) * over1mq * over1pr;
-    let above = g * 2.0 * q * (1.0 - q) * over1pr * over1pq + (1.0 - g) * 4.0 * q * over1mq * over1pq;
-    return vec2f(n, g * spread * above);
+    return vec2f(n, 4.0 * g * r * over1pr * over1mq * (g * (1.0 - q) * over1pr + 2.0 * (1.0 - g) * over1mq));
 }
 
 fn fresnelCoefficientsGulbrandsen(rIn: f32, gIn: f32) -> vec4f {

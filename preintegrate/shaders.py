@@ -362,16 +362,15 @@ def _gulbrandsen_eta_kappa2(reflectivity: np.ndarray, edge_tint: np.ndarray) -> 
     """Gulbrandsen 2014 eq. 7-9 as the shaders write it. With q = √r, n = g n_min + (1 − g) n_max and
     κ² = (r (n + 1)² − (n − 1)²)/(1 − r) factors exactly into g (n_max − n_min)(n − 1/n_max), each factor a sum of
     positive terms: n_max − n_min = 2q (1 + q)/((1 − q)(1 + r)), n − 1/n_max = g 2q (1 − q)/((1 + r)(1 + q))
-    + (1 − g) 4q/(1 − r). Float32 then holds κ where the textbook form cancels (r → 0 with g → 1: 6e-4 in c2), and
+    + (1 − g) 4q/(1 − r), whose product is 4 g r/((1 + r)(1 − q)) (g (1 − q)/(1 + r) + 2 (1 − g)/(1 − q)): two
+    reciprocals. Float32 then holds κ where the textbook form cancels (r → 0 with g → 1: 6e-4 in c2), and
     n_max = (1 + q)/(1 − q) holds n − 1 (which F depends on as r → 0) to a few ulps: (1 + q)²/(1 − r) misses the
     Fresnel curve by 5.9e-7 at r = 1e-7 in float32, this by 3.4e-7 at worst."""
     g, r = edge_tint, reflectivity
     q = np.sqrt(r)
-    over_1pr, over_1mq, over_1pq = 1.0 / (1.0 + r), 1.0 / (1.0 - q), 1.0 / (1.0 + q)  # 1/(1 − r) = their product
+    over_1pr, over_1mq = 1.0 / (1.0 + r), 1.0 / (1.0 - q)
     eta = g * (1.0 - r) * over_1pr + (1.0 - g) * (1.0 + q) * over_1mq
-    spread = 2.0 * q * (1.0 + q) * over_1mq * over_1pr
-    above = g * 2.0 * q * (1.0 - q) * over_1pr * over_1pq + (1.0 - g) * 4.0 * q * over_1mq * over_1pq
-    return eta, g * spread * above
+    return eta, 4.0 * g * r * over_1pr * over_1mq * (g * (1.0 - q) * over_1pr + 2.0 * (1.0 - g) * over_1mq)
 
 
 def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: ShaderConstants | None = None) -> np.ndarray:
@@ -931,16 +930,15 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 }}
 
 // Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9) for r in [0, 0.9999], g in [0, 1], with q = sqrt(r):
-// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max), sums of
-// positive terms (no float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
+// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max)
+// = 4 g r / ((1 + r)(1 - q)) (g (1 - q) / (1 + r) + 2 (1 - g) / (1 - q)), a product and a sum of positive terms (no
+// float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
 {v2} fresnelGulbrandsenToEtaKappa2({f} r, {f} g)
 {{
     {f} q = sqrt(r);
-    {f} over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q), over1pq = 1.0 / (1.0 + q);  // 1/(1 - r) = their product
+    {f} over1pr = 1.0 / (1.0 + r), over1mq = 1.0 / (1.0 - q);
     {f} n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
-    {f} spread = 2.0 * q * (1.0 + q) * over1mq * over1pr;
-    {f} above = g * 2.0 * q * (1.0 - q) * over1pr * over1pq + (1.0 - g) * 4.0 * q * over1mq * over1pq;
-    return {v2}(n, g * spread * above);
+    return {v2}(n, 4.0 * g * r * over1pr * over1mq * (g * (1.0 - q) * over1pr + 2.0 * (1.0 - g) * over1mq));
 }}
 
 // Gulbrandsen's F(0) is r itself: no closed-form F(0) needed.
@@ -1378,11 +1376,8 @@ fn fresnelGulbrandsenToEtaKappa2(r: f32, g: f32) -> vec2f {{
     let q = sqrt(r);
     let over1pr = 1.0 / (1.0 + r);
     let over1mq = 1.0 / (1.0 - q);
-    let over1pq = 1.0 / (1.0 + q);
     let n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
-    let spread = 2.0 * q * (1.0 + q) * over1mq * over1pr;
-    let above = g * 2.0 * q * (1.0 - q) * over1pr * over1pq + (1.0 - g) * 4.0 * q * over1mq * over1pq;
-    return vec2f(n, g * spread * above);
+    return vec2f(n, 4.0 * g * r * over1pr * over1mq * (g * (1.0 - q) * over1pr + 2.0 * (1.0 - g) * over1mq));
 }}
 
 fn fresnelCoefficientsGulbrandsen(rIn: f32, gIn: f32) -> {T} {{
