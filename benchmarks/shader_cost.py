@@ -107,6 +107,27 @@ VARIANTS = {
     Fbar = E * vec3(fresnelExact(NdotV, eta.r, kappa.r), fresnelExact(NdotV, eta.g, kappa.g), fresnelExact(NdotV, eta.b, kappa.b));
     F = vec3(fresnelExact(VdotH, eta.r, kappa.r), fresnelExact(VdotH, eta.g, kappa.g), fresnelExact(VdotH, eta.b, kappa.b));""",
 }
+_GULBRANDSEN = VARIANTS["basis per pixel (r, g)"]
+_CHANNELS = """vec3 r = fresnelSanitize3(texture(mapA, uv).rgb, 0.9999), g = fresnelSanitize3(texture(mapB, uv).rgb, 1.0);
+    vec4 pR = {solve}(r.x, g.x), pG = {solve}(r.y, g.y), pB = {solve}(r.z, g.z);
+    Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
+    F = fresnelBasisDirect(VdotH, pR, pG, pB);"""
+#: Where the (r, g) pass' cost goes: the same pass with one part taken out at a time (no product renders these).
+DECOMPOSITION = {
+    "(r, g) reading one texture": _GULBRANDSEN.replace("texture(mapB, uv).rgb", "texture(mapA, uv).brg"),
+    "(r, g) without Gulbrandsen's mapping": _CHANNELS.format(solve="solveWithoutMapping"),
+    "(r, g) without the fit-angle Fresnel": _CHANNELS.format(solve="mappingWithoutFit"),
+}
+DIAGNOSTICS = """
+vec3 fresnelSanitize3(vec3 x, float hi) {
+    return vec3(fresnelSanitize(x.x, 0.0, 0.0, hi), fresnelSanitize(x.y, 0.0, 0.0, hi), fresnelSanitize(x.z, 0.0, 0.0, hi));
+}
+vec4 solveWithoutMapping(float r, float g) { return fresnelCoefficientsSolve(r, 1.0 + r, g); }  // eta, kappa^2 stand-ins
+vec4 mappingWithoutFit(float r, float g) {
+    vec2 nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
+    return vec4(r, 1.0 - r, 0.01 * nk2);  // the mapping's outputs, kept alive, in place of c2, c3
+}
+"""
 SPLIT_SUM = """
 vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG, vec4 cB) {
     vec4 b = textureLod(lut, vec2(NdotV, r), 0.0);
@@ -115,8 +136,12 @@ vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 
 """
 
 
-def frame_times(width: int, height: int, frames: int, rounds: int) -> tuple[dict[str, float], str]:
-    """Median seconds per frame of each variant (rounds alternate the variants) and the renderer's name."""
+def frame_times(
+    width: int, height: int, frames: int, rounds: int, variants: dict[str, str] | None = None
+) -> tuple[dict[str, float], str]:
+    """Median seconds per frame of each variant (default: :data:`VARIANTS` and :data:`DECOMPOSITION`; rounds
+    alternate the variants) and the renderer's name."""
+    variants = {**VARIANTS, **DECOMPOSITION} if variants is None else variants
     import moderngl
 
     context = moderngl.create_standalone_context(backend="egl")
@@ -136,10 +161,14 @@ def frame_times(width: int, height: int, frames: int, rounds: int) -> tuple[dict
         framebuffer.use()
         quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
         passes = {}
-        for name, variant in VARIANTS.items():
+        for name, variant in variants.items():
             program = context.program(
                 vertex_shader=VERTEX,
-                fragment_shader="#version 330\n" + include + SPLIT_SUM + COMMON.replace("{variant}", variant),
+                fragment_shader="#version 330\n"
+                + include
+                + SPLIT_SUM
+                + DIAGNOSTICS
+                + COMMON.replace("{variant}", variant),
             )
             for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB")):
                 if uniform in program:
@@ -283,14 +312,30 @@ def main(argv=None) -> int:
         "| variant | max abs dF over theta | max abs dFbar over the table | ms per frame | cost / Schlick | range |",
         "|---|---|---|---|---|---|",
     ]
-    for name in runs[0][0]:
-        f_error, fbar_error = measured[name]
+
+    def cost(name: str) -> tuple[float, str]:
+        """Median ms per frame, and the median ratio to Schlick with its range."""
         ratios = [times[name] / times["schlick"] for times, _ in runs]
         milliseconds = statistics.median(1e3 * times[name] for times, _ in runs)
-        lines.append(
-            f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {milliseconds:.2f} | {statistics.median(ratios):.2f} "
-            f"| {min(ratios):.2f}-{max(ratios):.2f} |"
-        )
+        return milliseconds, f"{statistics.median(ratios):.2f} | {min(ratios):.2f}-{max(ratios):.2f}"
+
+    for name in VARIANTS:
+        f_error, fbar_error = measured[name]
+        milliseconds, ratio = cost(name)
+        lines.append(f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {milliseconds:.2f} | {ratio} |")
+    lines += [
+        "",
+        "Where the (r, g) pass' cost goes: the same pass with one part taken out at a time (diagnostics, not products; "
+        "the difference is the part's cost as a fraction of Schlick's pass):",
+        "",
+        "| variant | ms per frame | cost / Schlick | range | part's cost / Schlick |",
+        "|---|---|---|---|---|",
+    ]
+    full = [times["basis per pixel (r, g)"] / times["schlick"] for times, _ in runs]
+    for name in DECOMPOSITION:
+        milliseconds, ratio = cost(name)
+        part = statistics.median(f - times[name] / times["schlick"] for f, (times, _) in zip(full, runs))
+        lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} |")
     lines += [
         "",
         "Projection of each linear model onto the basis (its parameters on an 11-point grid in [0, 1] each; "
