@@ -178,7 +178,7 @@ vec4 fresnelBasisCurves(float mu)
 {
     mu = fresnelSanitize(mu, 1.0, 0.0, 1.0);
     float x = mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu);
-    float s = x * 2.0 + -1.0;
+    float s = x * 2.0 - 1.0;
     vec3 b = FRESNEL_CURVES[12];
     b = b * s + FRESNEL_CURVES[11];
     b = b * s + FRESNEL_CURVES[10];

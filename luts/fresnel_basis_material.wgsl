@@ -145,7 +145,7 @@ fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> ve
 fn fresnelBasisCurves(muIn: f32) -> vec4f {
     let mu = fresnelSanitize(muIn, 1.0, 0.0, 1.0);
     let x = mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu);
-    let s = x * 2.0 + -1.0;
+    let s = x * 2.0 - 1.0;
     var b = FRESNEL_CURVES[12];
     b = b * s + FRESNEL_CURVES[11];
     b = b * s + FRESNEL_CURVES[10];

@@ -103,7 +103,7 @@ CURVE_SEGMENTS = (0.0, 0.08, 0.3, 1.0)
 #: grazing: a 6-term basis misses by 1.7e-4, an 8-term one by 1.5e-3 at degree 12); seven reach 6e-5 for K = 8.
 FINE_CURVE_SEGMENTS = (0.0, 0.02, 0.05, 0.1, 0.18, 0.3, 0.5, 1.0)
 #: The most the direct-light polynomials may differ from the basis' spline in float64 (the issue's 1e-4, with room
-#: for float32 evaluation); the degree is the smallest of 6 … 12 that reaches it, on the first segments that do.
+#: for float32 evaluation); the degree is the smallest that reaches it (6 … 14 warped, then 6 … 12 on segments).
 CURVE_TOLERANCE = 5e-5
 _DEGREES = range(6, 13)
 _WARPED_DEGREES = range(6, 15)
@@ -253,11 +253,12 @@ _CURVE_FITS: dict[str, tuple[int, np.ndarray, float, tuple[float, ...], float]] 
 
 
 def _search_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
+    """What :func:`_fit_curves` returns, computed."""
     best = None
     for degree in _WARPED_DEGREES:
         fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit[2])
         if fit[2] <= 10.0 * CURVE_TOLERANCE:  # the finer grid gains up to 5x (degree 12 of the shipped basis)
-            fine = [fit[4] * 2.0 ** (k / 32) for k in range(-16, 17)]  # the coarse step, √2, in 32 parts
+            fine = [fit[4] * 2.0 ** (k / 32) for k in range(-16, 17)]  # a coarse step (√2) either side, 2^(1/32) apart
             fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit[2])
         if fit[2] <= CURVE_TOLERANCE:
             return fit
@@ -792,10 +793,13 @@ def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str
         inner = []
     conditions = _segment_conditions(edges)
     scale, offset = _segment_map(edges)
-    s = (
-        f"x * {_choose(sp, conditions, [_number(value) for value in scale])} "
-        f"+ {_choose(sp, conditions, [_number(value) for value in offset])}"
-    )
+    if conditions:
+        s = (
+            f"x * {_choose(sp, conditions, [_number(value) for value in scale])} "
+            f"+ {_choose(sp, conditions, [_number(value) for value in offset])}"
+        )
+    else:
+        s = f"x * {_number(scale[0])} {'-' if offset[0] < 0 else '+'} {_number(abs(offset[0]))}"
     declare = "let" if wgsl else "float"
     statements = f"    {declare} x = {x};\n"
     if conditions:
