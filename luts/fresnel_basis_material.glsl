@@ -77,9 +77,7 @@ float fresnelExact(float mu, float eta, float kappa)
 // ((s + mu^2 + 2a mu)(r + 2a mu sin^2)), r = s mu^2 + sin^4 (Hoffman's Fs times (1 + Fp/Fs) / 2: one division).
 vec2 fresnelAtFitAngles(float eta, float kappa2)
 {
-    bool nearOne = abs(eta - 1.0) < 0.5;
-    float base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;
-    vec2 t = base + (nearOne ? FRESNEL_FIT_MU2 : -FRESNEL_FIT_SIN2);
+    vec2 t = (eta - 1.0) * (eta + 1.0) - kappa2 + FRESNEL_FIT_MU2;  // eta^2 - kappa^2 - sin^2
     float e4 = 4.0 * eta * eta * kappa2;
     vec2 s = sqrt(t * t + e4);
     vec2 u = s + abs(t);
@@ -88,8 +86,7 @@ vec2 fresnelAtFitAngles(float eta, float kappa2)
     vec2 r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
     vec2 den = (s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2);
     float inverse = 1.0 / (den.x * den.y);
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse,
-                 0.0, 1.0);
+    return (s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse;
 }
 
 // Coefficients of (eta, kappa^2), already in range, whose F(0) is f0: c0 = f0, c1 = F(90) - c0, then the constant

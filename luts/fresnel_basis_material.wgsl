@@ -70,9 +70,7 @@ fn fresnelExact(mu: f32, eta: f32, kappa: f32) -> f32 {
 }
 
 fn fresnelAtFitAngles(eta: f32, kappa2: f32) -> vec2f {
-    let nearOne = abs(eta - 1.0) < 0.5;
-    let base = select(eta * eta, (eta - 1.0) * (eta + 1.0), nearOne) - kappa2;
-    let t = base + select(-FRESNEL_FIT_SIN2, FRESNEL_FIT_MU2, nearOne);
+    let t = (eta - 1.0) * (eta + 1.0) - kappa2 + FRESNEL_FIT_MU2;  // eta^2 - kappa^2 - sin^2
     let e4 = 4.0 * eta * eta * kappa2;
     let s = sqrt(t * t + e4);
     let u = s + abs(t);
@@ -81,8 +79,7 @@ fn fresnelAtFitAngles(eta: f32, kappa2: f32) -> vec2f {
     let r = s * FRESNEL_FIT_MU2 + FRESNEL_FIT_SIN2 * FRESNEL_FIT_SIN2;
     let den = (s + FRESNEL_FIT_MU2 + twoAMu) * (r + twoAMu * FRESNEL_FIT_SIN2);
     let inverse = 1.0 / (den.x * den.y);
-    return clamp((s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse,
-                 vec2f(0.0), vec2f(1.0));
+    return (s + FRESNEL_FIT_MU2 - twoAMu) * r * den.yx * inverse;
 }
 
 fn fresnelCoefficientsSolve(f0: f32, eta: f32, kappa2: f32) -> vec4f {

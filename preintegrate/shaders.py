@@ -324,8 +324,11 @@ def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: Shade
     mu = constants.fit_mu
     mu2, sin2 = mu * mu, (1.0 - mu) * (1.0 + mu)
     eta, kappa2 = eta[..., None], kappa2[..., None]
-    near_one = np.abs(eta - 1.0) < 0.5
-    t = np.where(near_one, (eta - 1.0) * (eta + 1.0), eta * eta) - kappa2 + np.where(near_one, mu2, -sin2)
+    if _grazing_fit_angles(constants):
+        t = (eta - 1.0) * (eta + 1.0) - kappa2 + mu2
+    else:
+        near_one = np.abs(eta - 1.0) < 0.5
+        t = np.where(near_one, (eta - 1.0) * (eta + 1.0), eta * eta) - kappa2 + np.where(near_one, mu2, -sin2)
     e4 = 4.0 * eta * eta * kappa2
     s = np.sqrt(t * t + e4)
     u = s + np.abs(t)
@@ -333,7 +336,16 @@ def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: Shade
         two_a2 = np.where(t >= 0.0, u, e4 / u)
     two_a_mu = np.sqrt(2.0) * mu * np.sqrt(two_a2)
     r = s * mu2 + sin2 * sin2
-    return np.clip((s + mu2 - two_a_mu) * r / ((s + mu2 + two_a_mu) * (r + two_a_mu * sin2)), 0.0, 1.0)
+    return (s + mu2 - two_a_mu) * r / ((s + mu2 + two_a_mu) * (r + two_a_mu * sin2))
+
+
+def _grazing_fit_angles(constants: ShaderConstants) -> bool:
+    """Whether every fit angle lies at or beyond 45° (those of every default basis do: 1.29–1.5 rad). There
+    η² − κ² − sin²θ is best formed as (η − 1)(η + 1) − κ² + μ² for every η: its rounding is that of the larger of
+    |η² − 1| and μ² ≤ sin²θ, where η² − sin²θ rounds at sin²θ; nearer normal incidence small η needs the other form
+    (basis/fresnel.py chooses per η, as the shaders then do)."""
+    mu = np.asarray(constants.fit_mu)
+    return bool(np.all(mu * mu <= (1.0 - mu) * (1.0 + mu)))
 
 
 def coefficients_per_pixel_nk(eta, kappa, constants: ShaderConstants | None = None) -> np.ndarray:
@@ -606,19 +618,25 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
             result = f"{numerator} * den.yx * inverse"
         else:
             quotient, result = "", f"{numerator} / ({denominator})"
+        grazing = _grazing_fit_angles(c)
         if sp.language == "wgsl":
-            functions.append(
-                f"fn {name}(eta: f32, kappa2: f32) -> {kind} {{\n"
-                "    let nearOne = abs(eta - 1.0) < 0.5;\n"
+            difference = (
+                f"    let t = (eta - 1.0) * (eta + 1.0) - kappa2 + {m2};  // eta^2 - kappa^2 - sin^2\n"
+                if grazing
+                else "    let nearOne = abs(eta - 1.0) < 0.5;\n"
                 "    let base = select(eta * eta, (eta - 1.0) * (eta + 1.0), nearOne) - kappa2;\n"
                 f"    let t = base + select(-{s2}, {m2}, nearOne);\n"
-                "    let e4 = 4.0 * eta * eta * kappa2;\n"
+            )
+            functions.append(
+                f"fn {name}(eta: f32, kappa2: f32) -> {kind} {{\n"
+                + difference
+                + "    let e4 = 4.0 * eta * eta * kappa2;\n"
                 "    let s = sqrt(t * t + e4);\n"
                 "    let u = s + abs(t);\n"
                 f"    let twoA2 = select(e4 / u, u, t >= {kind}(0.0));\n"
                 f"    let twoAMu = {m} * sqrt(twoA2);\n"
                 f"    let r = s * {m2} + {s2} * {s2};\n{quotient}"
-                f"    return clamp({result},\n                 {kind}(0.0), {kind}(1.0));\n}}\n"
+                f"    return {result};\n}}\n"
             )
         else:
             select = (
@@ -626,18 +644,23 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
                 if sp.language == "glsl" and width > 1
                 else "(t >= 0.0) ? u : e4 / u"
             )
-            functions.append(
-                f"{kind} {name}(float eta, float kappa2)\n{{\n"
-                "    bool nearOne = abs(eta - 1.0) < 0.5;\n"
+            difference = (
+                f"    {kind} t = (eta - 1.0) * (eta + 1.0) - kappa2 + {m2};  // eta^2 - kappa^2 - sin^2\n"
+                if grazing
+                else "    bool nearOne = abs(eta - 1.0) < 0.5;\n"
                 "    float base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;\n"
                 f"    {kind} t = base + (nearOne ? {m2} : -{s2});\n"
-                "    float e4 = 4.0 * eta * eta * kappa2;\n"
+            )
+            functions.append(
+                f"{kind} {name}(float eta, float kappa2)\n{{\n"
+                + difference
+                + "    float e4 = 4.0 * eta * eta * kappa2;\n"
                 f"    {kind} s = sqrt(t * t + e4);\n"
                 f"    {kind} u = s + abs(t);\n"
                 f"    {kind} twoA2 = {select};\n"
                 f"    {kind} twoAMu = {m} * sqrt(twoA2);  // 2 a mu\n"
                 f"    {kind} r = s * {m2} + {s2} * {s2};\n{quotient}"
-                f"    return clamp({result},\n                 0.0, 1.0);\n}}\n"
+                f"    return {result};\n}}\n"
             )
         rest = "rest" + ("Hi" if suffix else "")
         declare = f"let {rest}" if sp.language == "wgsl" else f"{kind} {rest}"
