@@ -3,7 +3,7 @@
 Cost: one full-screen pass at 1280 × 720 on Mesa's llvmpipe (or the GPU the EGL context finds), a sphere's normals
 per fragment seen from an eye and lit by a point light at finite distances (V, L and so V·H vary per pixel: with a
 constant light direction and view the compiler folds the direct-light Fresnel into a constant, which hid its cost
-until 2026-12), the image-based split sum and the point light (GGX, height-correlated G2), seven variants alternated
+until 2026-12), the image-based split sum and the point light (GGX, height-correlated G2), ten variants alternated
 round by round in one run, the median frame time of each as a ratio to Schlick's (which reads its F0 from a texture,
 as a textured material would):
 
@@ -15,7 +15,9 @@ as a textured material would):
   texture reads, then the same as above;
 * ``schlick, two textures``: Schlick reading as many textures as the per-pixel variants (its F0 the product of
   two): what a second texture costs, apart from any Fresnel;
-* ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light.
+* ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light;
+* :data:`DECOMPOSITION`: the (r, g) pass with its second texture read, Gulbrandsen's closed form or the exact
+  Fresnel at the fit angles taken out, one at a time: what each part costs (diagnostics, not products).
 
 Error, on the materials each parametrisation is for (max over θ of |ΔF|; max over the 128 × 128 table of |ΔF̄|,
 bilinear lookup, against the exact curve's own split sum): the held-out metals of the basis build (400 (η, κ), η 0.1–4, κ 1–8), Gulbrandsen's artist
