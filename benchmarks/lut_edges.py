@@ -21,7 +21,7 @@ import argparse
 import numpy as np
 
 from basis import default_basis, material_coefficients
-from basis.storage import write_text
+from benchmarks.output import publish
 from preintegrate.channels import basis_channels
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.lut import LutGrid, build_table
@@ -104,9 +104,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=None, help="also write the Markdown table here")
     arguments = parser.parse_args(argv)
     text = markdown(edge_errors(arguments.size, arguments.points), arguments.size, arguments.points)
-    print(text)
-    if arguments.out is not None:
-        write_text(arguments.out, text)
+    publish(text, arguments.out)
     return 0
 
 

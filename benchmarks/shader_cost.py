@@ -41,6 +41,7 @@ from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
 from basis.training import holdout_materials
+from benchmarks.output import publish
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 from preintegrate.multiple_scattering import shipped_tables
 from preintegrate.shaders import (
@@ -354,11 +355,7 @@ def main(argv=None) -> int:
         "same metals as the (eta, kappa) rows; the F82-tint sweep F0 in [0.04, 0.95], tint in [0, 1].",
     ]
     text = "\n".join(lines) + "\n"
-    print(text)
-    if arguments.out is not None:
-        from basis.storage import write_text
-
-        write_text(arguments.out, text)
+    publish(text, arguments.out)
     return 0
 
 
