@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -165,6 +166,15 @@ class ShaderConstants:
         return _round_up(2e-7 * (1.0 + self.amplification))
 
     @property
+    def grazing_fit_angles(self) -> bool:
+        """Whether every fit angle lies at or beyond 45° (those of every default basis do: 1.29–1.5 rad). There
+        η² − κ² − sin²θ is best formed as (η − 1)(η + 1) − κ² + μ² for every η: its rounding is that of the larger
+        of |η² − 1| and μ² ≤ sin²θ, where η² − sin²θ rounds at sin²θ; nearer normal incidence small η needs the
+        other form (basis/fresnel.py chooses per η, as the shaders then do)."""
+        mu = np.asarray(self.fit_mu)
+        return bool(np.all(mu * mu <= (1.0 - mu) * (1.0 + mu)))
+
+    @property
     def condition(self) -> float:
         """The ∞-norm condition number of S (1 for K = 2, where there is nothing to solve)."""
         if self.inverse.size == 0:
@@ -238,8 +248,8 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, lt
     )
 
 
-def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
-    """(degree, polynomials, error, segment edges, warp) of the direct-light curves: least-squares polynomials of b_k,
+def _fit_curves(basis: Basis) -> _CurveFit:
+    """The direct-light curves of ``basis``: least-squares polynomials of b_k,
     the smallest degree that holds :data:`CURVE_TOLERANCE` as one polynomial in the warped cosine (warps
     :data:`CURVE_WARPS`, then a finer grid around the best), else on :data:`CURVE_SEGMENTS`, else on
     :data:`FINE_CURVE_SEGMENTS` in μ (else the closest fit tried, its error stated). Computed once per basis."""
@@ -249,32 +259,41 @@ def _fit_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...]
     return cached
 
 
-_CURVE_FITS: dict[str, tuple[int, np.ndarray, float, tuple[float, ...], float]] = {}
+class _CurveFit(NamedTuple):
+    """One fit of the direct-light curves (the fields of :class:`ShaderConstants` named ``curve_…``)."""
+
+    degree: int
+    polynomials: np.ndarray  # (segments, degree + 1, K)
+    error: float  # max |polynomial − spline| over the segments' dense grids
+    segments: tuple[float, ...]  # edges in x
+    warp: float  # w of x = μ (1 + w)/(1 + w μ)
 
 
-def _search_curves(basis: Basis) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
+_CURVE_FITS: dict[str, _CurveFit] = {}
+
+
+def _search_curves(basis: Basis) -> _CurveFit:
     """What :func:`_fit_curves` returns, computed."""
     best = None
     for degree in _WARPED_DEGREES:
-        fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit[2])
-        if fit[2] <= 10.0 * CURVE_TOLERANCE:  # the finer grid gains up to 5x (degree 12 of the shipped basis)
-            fine = [fit[4] * 2.0 ** (k / 32) for k in range(-16, 17)]  # a coarse step (√2) either side, 2^(1/32) apart
-            fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit[2])
-        if fit[2] <= CURVE_TOLERANCE:
+        fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit.error)
+        if fit.error <= 10.0 * CURVE_TOLERANCE:  # the finer grid gains up to 5x (degree 12 of the shipped basis)
+            # a coarse step (√2) either side, 2^(1/32) apart
+            fine = [fit.warp * 2.0 ** (k / 32) for k in range(-16, 17)]
+            fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit.error)
+        if fit.error <= CURVE_TOLERANCE:
             return fit
-        best = fit if best is None or fit[2] < best[2] else best
+        best = fit if best is None or fit.error < best.error else best
     for segments in (CURVE_SEGMENTS, FINE_CURVE_SEGMENTS):
         for degree in _DEGREES:
             fit = _fit_segments(basis, segments, degree, 0.0)
-            if fit[2] <= CURVE_TOLERANCE:
+            if fit.error <= CURVE_TOLERANCE:
                 return fit
-            best = fit if fit[2] < best[2] else best
+            best = fit if fit.error < best.error else best
     return best
 
 
-def _fit_segments(
-    basis: Basis, segments: tuple[float, ...], degree: int, warp: float
-) -> tuple[int, np.ndarray, float, tuple[float, ...], float]:
+def _fit_segments(basis: Basis, segments: tuple[float, ...], degree: int, warp: float) -> _CurveFit:
     """The least-squares polynomials of one degree on each segment of x, the warp ``warp``: as :func:`_fit_curves`."""
     polynomials, error = [], 0.0
     s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
@@ -286,7 +305,7 @@ def _fit_segments(
         power[0, 0] = 1.0  # b_0 = 1 (every basis file's): the shaders do not evaluate it
         polynomials.append(power)
         error = max(error, float(np.max(np.abs(np.polynomial.polynomial.polyval(s, power).T - values))))
-    return degree, np.array(polynomials), error, tuple(segments), float(warp)
+    return _CurveFit(degree, np.array(polynomials), error, tuple(segments), float(warp))
 
 
 def _warp(mu: np.ndarray, warp: float) -> np.ndarray:
@@ -324,7 +343,7 @@ def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: Shade
     mu = constants.fit_mu
     mu2, sin2 = mu * mu, (1.0 - mu) * (1.0 + mu)
     eta, kappa2 = eta[..., None], kappa2[..., None]
-    if _grazing_fit_angles(constants):
+    if constants.grazing_fit_angles:
         t = (eta - 1.0) * (eta + 1.0) - kappa2 + mu2
     else:
         near_one = np.abs(eta - 1.0) < 0.5
@@ -337,15 +356,6 @@ def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: Shade
     two_a_mu = np.sqrt(2.0) * mu * np.sqrt(two_a2)
     r = s * mu2 + sin2 * sin2
     return (s + mu2 - two_a_mu) * r / ((s + mu2 + two_a_mu) * (r + two_a_mu * sin2))
-
-
-def _grazing_fit_angles(constants: ShaderConstants) -> bool:
-    """Whether every fit angle lies at or beyond 45° (those of every default basis do: 1.29–1.5 rad). There
-    η² − κ² − sin²θ is best formed as (η − 1)(η + 1) − κ² + μ² for every η: its rounding is that of the larger of
-    |η² − 1| and μ² ≤ sin²θ, where η² − sin²θ rounds at sin²θ; nearer normal incidence small η needs the other form
-    (basis/fresnel.py chooses per η, as the shaders then do)."""
-    mu = np.asarray(constants.fit_mu)
-    return bool(np.all(mu * mu <= (1.0 - mu) * (1.0 + mu)))
 
 
 def coefficients_per_pixel_nk(eta, kappa, constants: ShaderConstants | None = None) -> np.ndarray:
@@ -618,11 +628,10 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
             result = f"{numerator} * den.yx * inverse"
         else:
             quotient, result = "", f"{numerator} / ({denominator})"
-        grazing = _grazing_fit_angles(c)
         if sp.language == "wgsl":
             difference = (
                 f"    let t = (eta - 1.0) * (eta + 1.0) - kappa2 + {m2};  // eta^2 - kappa^2 - sin^2\n"
-                if grazing
+                if c.grazing_fit_angles
                 else "    let nearOne = abs(eta - 1.0) < 0.5;\n"
                 "    let base = select(eta * eta, (eta - 1.0) * (eta + 1.0), nearOne) - kappa2;\n"
                 f"    let t = base + select(-{s2}, {m2}, nearOne);\n"
@@ -646,7 +655,7 @@ def _fit_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str, st
             )
             difference = (
                 f"    {kind} t = (eta - 1.0) * (eta + 1.0) - kappa2 + {m2};  // eta^2 - kappa^2 - sin^2\n"
-                if grazing
+                if c.grazing_fit_angles
                 else "    bool nearOne = abs(eta - 1.0) < 0.5;\n"
                 "    float base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;\n"
                 f"    {kind} t = base + (nearOne ? {m2} : -{s2});\n"
@@ -785,11 +794,7 @@ def _segment_parts(constants: ShaderConstants, spelling: _Spelling) -> tuple[str
     const = "const" if not hlsl else "static const"
     declarations = []
     if warp:
-        declarations.append(
-            f"const FRESNEL_CURVE_WARP: f32 = {_number(warp)};"
-            if wgsl
-            else f"{const} float FRESNEL_CURVE_WARP = {_number(warp)};  // w of x = mu (1 + w) / (1 + w mu)"
-        )
+        declarations.append(sp.constant("FRESNEL_CURVE_WARP", warp, "" if wgsl else "w of x = mu (1 + w) / (1 + w mu)"))
         x = "mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu)"
     else:
         x = "mu"
