@@ -190,6 +190,28 @@ class LutGrid:
         v = (self.row_position(roughness) + 0.5) / self.height
         return np.stack([u, v], axis=-1)
 
+    @property
+    def row_mapping(self) -> tuple[float, float, float, float]:
+        """(r_low, r_high, scale, offset) of the affine v = clamp(r, r_low, r_high) · scale + offset that the generated
+        include's ``fresnelBasisLutUV`` writes as constants (texel centres: v = r; end-point rows:
+        v = ((r − low)/(high − low) (H − 1) + 0.5)/H, read exactly at both ends)."""
+        if self.rows == "centres":
+            return 0.0, 1.0, 1.0, 0.0
+        low, high = self.roughness_range
+        if self.height == 1:
+            return low, low, 0.0, 0.5
+        scale = (self.height - 1) / ((high - low) * self.height)
+        return low, high, scale, 0.5 / self.height - low * scale
+
+    @property
+    def column_mapping(self) -> tuple[float, float]:
+        """(scale, offset) of the include's affine u = x · scale + offset of x = √NdotV (root end-point columns, the
+        default), x = NdotV otherwise (end points: scale (W − 1)/W, offset 0.5/W, read exactly at both ends; centres:
+        u = x)."""
+        if self.columns == "centres":
+            return 1.0, 0.0
+        return (self.width - 1) / self.width, 0.5 / self.width
+
     def column_weights(self, mu_o) -> np.ndarray:
         """(P, W) weights of the linear interpolation a GPU makes along a row at the view cosines ``mu_o``."""
         return _position_weights(self.column_position(np.ravel(mu_o)), self.width)

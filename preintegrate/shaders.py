@@ -182,28 +182,6 @@ class ShaderConstants:
         system = np.linalg.inv(self.inverse)
         return float(np.linalg.norm(system, np.inf) * np.linalg.norm(self.inverse, np.inf))
 
-    @property
-    def row_mapping(self) -> tuple[float, float, float, float]:
-        """(r_low, r_high, scale, offset): the table's v = clamp(r, r_low, r_high) · scale + offset (texel centres:
-        v = r; end-point rows: v = ((r − low)/(high − low) (H − 1) + 0.5)/H, read exactly at both ends)."""
-        if self.grid.rows == "centres":
-            return 0.0, 1.0, 1.0, 0.0
-        low, high = self.grid.roughness_range
-        height = self.grid.height
-        if height == 1:
-            return low, low, 0.0, 0.5
-        scale = (height - 1) / ((high - low) * height)
-        return low, high, scale, 0.5 / height - low * scale
-
-    @property
-    def column_mapping(self) -> tuple[float, float]:
-        """(scale, offset): the table's u = x · scale + offset of x = √NdotV (root end-point columns, the default),
-        x = NdotV otherwise (end points: scale (W − 1)/W, offset 0.5/W, read exactly at both ends; centres: u = x)."""
-        if self.grid.columns == "centres":
-            return 1.0, 0.0
-        width = self.grid.width
-        return (width - 1) / width, 0.5 / width
-
 
 def _round_up(value: float) -> float:
     """The smallest of 1, 2, 5 × 10^n at or above ``value``."""
@@ -459,7 +437,7 @@ def rect_light_specular(
     integral = ltc_rect_light_integral(
         LtcGrid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
     )
-    low, high, _, _ = constants.row_mapping
+    low, high, _, _ = constants.grid.row_mapping
     terms = constants.grid.lookup(as_float_array("basis_table", basis_table), n_dot_v, np.clip(roughness, low, high))
     return integral[..., None] * np.einsum("...ck,...k->...c", as_float_array("coefficients", coefficients), terms)
 
@@ -1035,8 +1013,8 @@ def _glsl(constants: ShaderConstants, command: str, hlsl: bool = False) -> str:
 // The tables' coordinates (the grid of the build that wrote this include: {c.grid.width} x {c.grid.height}, columns at
 // {c.grid.columns}, rows at {c.grid.rows}): u = {column_x} * scale + offset, v = clamp(r, lo, hi) * scale + offset
 // (the half-texel remap of end-point texels), so that a change of grid is these constants.
-{const} {v2} FRESNEL_LUT_COLUMNS = {_vector(c.column_mapping, v2)};  // scale, offset
-{const} {v4} FRESNEL_LUT_ROWS = {_vector(c.row_mapping, v4)};  // lo, hi, scale, offset
+{const} {v2} FRESNEL_LUT_COLUMNS = {_vector(c.grid.column_mapping, v2)};  // scale, offset
+{const} {v4} FRESNEL_LUT_ROWS = {_vector(c.grid.row_mapping, v4)};  // lo, hi, scale, offset
 {v2} fresnelBasisLutUV({f} NdotV, {f} perceptualRoughness)
 {{
     {f} r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
@@ -1455,8 +1433,8 @@ fn fresnelBasisDirect(VdotH: f32, cR: {T}, cG: {T}, cB: {T}) -> vec3f {{
 }}
 
 // {c.grid.width} x {c.grid.height}, columns at {c.grid.columns}, rows at {c.grid.rows}: u = {column_x} * scale + offset, v = clamp(r, lo, hi) * scale + offset
-const FRESNEL_LUT_COLUMNS = {_vector(c.column_mapping, "vec2f")};  // scale, offset
-const FRESNEL_LUT_ROWS = {_vector(c.row_mapping, "vec4f")};  // lo, hi, scale, offset
+const FRESNEL_LUT_COLUMNS = {_vector(c.grid.column_mapping, "vec2f")};  // scale, offset
+const FRESNEL_LUT_ROWS = {_vector(c.grid.row_mapping, "vec4f")};  // lo, hi, scale, offset
 
 fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f {{
     let r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
