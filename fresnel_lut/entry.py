@@ -6,8 +6,9 @@ Ctrl-C at any moment ends the command with exit status 130 and one line, never a
 modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
 import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once; a module
 loaded later, on first use (scipy), is covered by recognising such an ImportError by its cause. A closed pipe
-on standard output (``fresnel-lut … | head``) ends the command quietly. Everything else is
-:func:`fresnel_lut.cli.main`.
+on standard output (``fresnel-lut … | head``) ends the command quietly. Before numpy loads, its and OpenBLAS'
+kernels are pinned (:mod:`fresnel_lut.kernels`) so that the files the command writes are the same bytes on every
+x86-64 machine. Everything else is :func:`fresnel_lut.cli.main`.
 """
 
 from __future__ import annotations
@@ -21,12 +22,15 @@ INTERRUPTED = "\nfresnel-lut: interrupted; no file was written or replaced"
 try:  # Ctrl-C while this module's own imports load (the signal module itself takes ~10 ms on a busy machine)
     import os
     import signal
+
+    from .kernels import pin_numeric_kernels
 except KeyboardInterrupt:
     print(INTERRUPTED, file=sys.stderr)
     raise SystemExit(130) from None
 
 
 def main() -> int:
+    pin_numeric_kernels()
     held: list[int] = []
     previous = signal.getsignal(signal.SIGINT)
     if previous is signal.default_int_handler:  # not when the shell made us ignore Ctrl-C (a background job)

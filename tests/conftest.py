@@ -19,9 +19,16 @@ def run(argv):
         return exit_.code
 
 
-def run_subprocess(argv, cwd):
+def run_subprocess(argv, cwd, timeout=120, env=None):
+    """The ``fresnel-lut`` command (its entry point, which pins the numeric kernels before numpy loads) in a fresh
+    process."""
     return subprocess.run(
-        [sys.executable, "-m", "fresnel_lut.cli", *map(str, argv)], capture_output=True, text=True, cwd=cwd, timeout=120
+        [sys.executable, "-m", "fresnel_lut.entry", *map(str, argv)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=timeout,
+        env=env,
     )
 
 
