@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, reconstruct
-from basis.storage import shipped_path
 from preintegrate.shaders import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_nk,
@@ -51,12 +50,6 @@ GLSL_MAIN = (
     + "".join(f"    out{k} = {call};\n" for k, call in enumerate(PER_PIXEL_CALLS))
     + "}\n"
 )
-
-
-def test_the_shipped_includes_are_the_shipped_basis_own():
-    """luts/fresnel_basis_material.* are what the default build writes for the shipped basis, byte for byte."""
-    for name, text in INCLUDES.items():
-        assert shipped_path(name).read_text(encoding="utf-8") == text, name
 
 
 def test_mirrors_agree_with_the_python_api():
