@@ -24,6 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from benchmarks.output import machine
+
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
 COEFFICIENTS_1E6 = (
@@ -118,7 +120,7 @@ def markdown(rows: list[dict]) -> str:
         "# Command benchmark",
         "",
         f"`python -m benchmarks.commands`, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, load average after the run "
+        f"{machine()}, Python {platform.python_version()}, load average after the run "
         f"{load[0]:.2f}. Wall time of a fresh process (median of the runs, range in brackets), peak resident memory, "
         "and the time as a multiple of `python -c 'import numpy'` measured in the same run.",
         "",

@@ -41,7 +41,7 @@ from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
 from basis.training import holdout_materials
-from benchmarks.output import publish
+from benchmarks.output import machine, publish
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 from preintegrate.multiple_scattering import shipped_tables
 from preintegrate.shaders import (
@@ -307,7 +307,7 @@ def main(argv=None) -> int:
     renderer = runs[0][1]
     measured = errors()
     lines = [
-        f"Renderer: {renderer}; {arguments.width} x {arguments.height}, median of {arguments.rounds} rounds of "
+        f"Renderer: {renderer} on {machine()}; {arguments.width} x {arguments.height}, median of {arguments.rounds} rounds of "
         f"{arguments.frames} frames, variants alternated, {len(runs)} measurements: the median ratio and its range "
         "over them (the machine is shared: a ratio moves by about 0.1 from one measurement to the next). "
         "Command: `python -m benchmarks.shader_cost`.",
