@@ -12,6 +12,7 @@ import platform
 from pathlib import Path
 
 from basis.storage import write_text
+from fresnel_lut.report.readme import read_system_value
 
 __all__ = ["machine", "publish"]
 
@@ -24,14 +25,6 @@ def publish(text: str, out: str | Path | None) -> None:
 
 
 def machine() -> str:
-    """``x86_64, AMD EPYC …, 2 cores``: the architecture, the CPU's model name where ``/proc/cpuinfo`` gives it,
+    """``x86_64, AMD EPYC, 2 cores``: the architecture, the CPU's model name (as the report's environment reads it)
     and the cores."""
-    model = ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace").splitlines():
-            if line.startswith("model name"):
-                model = ", " + line.partition(":")[2].strip()
-                break
-    except OSError:
-        pass
-    return f"{platform.machine()}{model}, {os.cpu_count()} cores"
+    return f"{platform.machine()}, {read_system_value('/proc/cpuinfo', 'model name')}, {os.cpu_count()} cores"

@@ -1,6 +1,6 @@
 """``fresnel-lut report``: error against run time, measured side by side in one run on this machine.
 
-Public objects: ``write_report``, ``environment``.
+Public objects: ``write_report``, ``environment``, ``read_system_value``.
 
 Writes ``OUT/README.md`` (tables, the machine and versions, which targets were reached) and PNG plots
 (with the ``plot`` extra) from three studies and a benchmark of the basis build:
@@ -34,12 +34,14 @@ from .basis_build import basis_build_cost, basis_build_markdown, basis_convergen
 from .lut_error import lut_error_table_markdown, lut_error_vs_time, plot_lut_error
 from .model_error import EIGHT_BIT_STEP, model_error_markdown, model_error_study, plot_model_error
 
-__all__ = ["environment", "write_report"]
+__all__ = ["environment", "read_system_value", "write_report"]
 
 PACKAGES = ("numpy", "scipy", "openexr", "colour-science", "matplotlib")
 
 
-def _read_first(path: str, key: str) -> str:
+def read_system_value(path: str, key: str) -> str:
+    """The value of the first ``key: value`` line of a system file (``/proc/cpuinfo``, ``/proc/meminfo``) that
+    starts with ``key``; ``unknown`` where there is none."""
     try:
         for line in Path(path).read_text().splitlines():
             if line.startswith(key):
@@ -70,9 +72,9 @@ def environment() -> dict:
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     return {
         "date (UTC)": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M"),
-        "machine": f"{platform.machine()}, {_read_first('/proc/cpuinfo', 'model name')}",
+        "machine": f"{platform.machine()}, {read_system_value('/proc/cpuinfo', 'model name')}",
         "cores": str(os.cpu_count()),
-        "memory": _read_first("/proc/meminfo", "MemTotal"),
+        "memory": read_system_value("/proc/meminfo", "MemTotal"),
         "load average at start (1, 5, 15 min)": ", ".join(f"{value:.2f}" for value in load),
         "system": platform.platform(),
         "python": platform.python_version(),
