@@ -17,7 +17,10 @@ as a textured material would):
   two): what a second texture costs, apart from any Fresnel;
 * ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light;
 * :data:`DECOMPOSITION`: the (r, g) pass with its second texture read, Gulbrandsen's closed form or the exact
-  Fresnel at the fit angles taken out, one at a time: what each part costs (diagnostics, not products).
+  Fresnel at the fit angles taken out, one at a time: what each part costs (diagnostics, not products);
+* :data:`DIRECT_ALTERNATIVES`: the (r, g) pass with its direct-light curves read from a 1-D RGBA table over the
+  same warped cosine (linear filtering, :data:`CURVE_TABLE_SIZE` texels), the other form issue 23 names: its cost
+  and its curve error beside the include's polynomial: the measurement behind the include's choice of form.
 
 Error, on the materials each parametrisation is for (max over θ of |ΔF|; max over the 128 × 128 table of |ΔF̄|,
 bilinear lookup, against the exact curve's own split sum): the held-out metals of the basis build (400 (η, κ), η 0.1–4, κ 1–8), Gulbrandsen's artist
@@ -48,10 +51,17 @@ from preintegrate.shaders import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
+    shader_constants,
     shader_includes,
+    unwarped_cosine,
+    warped_cosine,
 )
 
 SIZE = 128
+#: Texels of the diagnostic direct-light table: the fewest (in powers of two) at which linear interpolation in the
+#: include's warped cosine holds the curves within issue 23's 1e-4 of the spline (5.6e-5; 256 texels miss by
+#: 2.3e-4, and no width reaches the include's own 5e-5 below 1024).
+CURVE_TABLE_SIZE = 512
 #: The artist grid's largest reflectivity: beyond it (r → 1 with g → 0, η ~ 80) no four-term basis holds the curves
 #: (``stiff_artist_error`` measures r = 0.95).
 ARTIST_R_MAX = 0.9
@@ -130,7 +140,20 @@ vec4 mappingWithoutFit(float r, float g) {
     vec2 nk2 = fresnelGulbrandsenToEtaKappa2(r, g);
     return vec4(r, 1.0 - r, 0.01 * nk2);  // the mapping's outputs, kept alive, in place of c2, c3
 }
+uniform sampler2D curveLut;
+vec3 directFromTable(float VdotH, vec4 cR, vec4 cG, vec4 cB) {  // b_0 .. b_3 at texel centres of the warped cosine
+    float mu = fresnelSanitize(VdotH, 1.0, 0.0, 1.0);
+    float x = mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu);
+    vec4 b = textureLod(curveLut, vec2(x * CURVE_TABLE_SCALE + CURVE_TABLE_OFFSET, 0.5), 0.0);
+    return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
+}
 """
+#: The (r, g) pass with the other direct-light form (diagnostics, not products).
+DIRECT_ALTERNATIVES = {
+    f"(r, g), direct light from a {CURVE_TABLE_SIZE}-texel table": _GULBRANDSEN.replace(
+        "fresnelBasisDirect", "directFromTable"
+    ),
+}
 SPLIT_SUM = """
 vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG, vec4 cB) {
     vec4 b = textureLod(lut, vec2(NdotV, r), 0.0);
@@ -144,7 +167,7 @@ def frame_times(
 ) -> tuple[dict[str, float], str]:
     """Median seconds per frame of each variant (default: :data:`VARIANTS` and :data:`DECOMPOSITION`; rounds
     alternate the variants) and the renderer's name."""
-    variants = {**VARIANTS, **DECOMPOSITION} if variants is None else variants
+    variants = {**VARIANTS, **DECOMPOSITION, **DIRECT_ALTERNATIVES} if variants is None else variants
     import moderngl
 
     context = moderngl.create_standalone_context(backend="egl")
@@ -152,7 +175,7 @@ def frame_times(
         include = dict(shader_includes())["fresnel_basis_material.glsl"]
         rng = np.random.default_rng(3)
         maps = [rng.uniform(0.05, 0.95, (256, 256, 4)).astype("f4") for _ in range(2)]
-        textures = [*shipped_tables(), *maps]
+        textures = [*shipped_tables(), *maps, curve_table(default_basis(), shader_constants())]
         for unit, table in enumerate(textures):
             texture = context.texture(
                 table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, "f4").tobytes(), dtype="f4"
@@ -169,11 +192,13 @@ def frame_times(
                 vertex_shader=VERTEX,
                 fragment_shader="#version 330\n"
                 + include
+                + f"const float CURVE_TABLE_SCALE = {(CURVE_TABLE_SIZE - 1) / CURVE_TABLE_SIZE!r};\n"
+                + f"const float CURVE_TABLE_OFFSET = {0.5 / CURVE_TABLE_SIZE!r};\n"
                 + SPLIT_SUM
                 + DIAGNOSTICS
                 + COMMON.replace("{variant}", variant),
             )
-            for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB")):
+            for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB", "curveLut")):
                 if uniform in program:
                     program[uniform] = index
             for uniform, value in (
@@ -200,6 +225,23 @@ def frame_times(
         return {name: statistics.median(values) for name, values in samples.items()}, context.info["GL_RENDERER"]
     finally:
         context.release()
+
+
+def curve_table(basis, constants) -> np.ndarray:
+    """(1, :data:`CURVE_TABLE_SIZE`, K): b_0 … b_3 of ``basis`` at evenly spaced points of the include's warped cosine
+    x = μ (1 + w)/(1 + w μ), end points on the first and last texel centres."""
+    return basis.evaluate_mu(unwarped_cosine(np.linspace(0.0, 1.0, CURVE_TABLE_SIZE), constants.curve_warp))[None]
+
+
+def curve_table_error() -> float:
+    """max over μ and k of |linear interpolation of :func:`curve_table` in x − the basis' spline| (float64; the
+    include's polynomial is ShaderConstants.curve_error on the same measure)."""
+    basis, constants = default_basis(), shader_constants()
+    mu = np.linspace(0.0, 1.0, 100001)
+    nodes = np.linspace(0.0, 1.0, CURVE_TABLE_SIZE)
+    table, exact = curve_table(basis, constants)[0], basis.evaluate_mu(mu)
+    x = warped_cosine(mu, constants.curve_warp)
+    return float(max(np.max(np.abs(np.interp(x, nodes, table[:, k]) - exact[:, k])) for k in range(table.shape[1])))
 
 
 def errors() -> dict[str, tuple[float, float]]:
@@ -339,6 +381,20 @@ def main(argv=None) -> int:
         milliseconds, ratio = cost(name)
         part = statistics.median(f - times[name] / times["schlick"] for f, (times, _) in zip(full, runs))
         lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} |")
+    lines += [
+        "",
+        "Direct light: the include's polynomial against a table (max abs db: the curves b_k against the basis' "
+        "spline over theta, float64):",
+        "",
+        "| direct light | max abs db over theta | ms per frame | cost / Schlick | range |",
+        "|---|---|---|---|---|",
+        f"| polynomial of degree {shader_constants().curve_degree} in the warped cosine (the include; the (r, g) row "
+        f"above) | {shader_constants().curve_error:.1e} | {cost('basis per pixel (r, g)')[0]:.2f} | "
+        f"{cost('basis per pixel (r, g)')[1]} |",
+    ]
+    for name in DIRECT_ALTERNATIVES:
+        milliseconds, ratio = cost(name)
+        lines.append(f"| {name} | {curve_table_error():.1e} | {milliseconds:.2f} | {ratio} |")
     lines += [
         "",
         "Projection of each linear model onto the basis (its parameters on an 11-point grid in [0, 1] each; "

@@ -4,7 +4,7 @@ Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, 
 ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
 ``ltc_coordinates``, ``rect_light_specular``,
-``linear_model_curve``, ``PER_PIXEL_MODELS``,
+``linear_model_curve``, ``warped_cosine``, ``unwarped_cosine``, ``PER_PIXEL_MODELS``,
 ``CURVE_WARPS``, ``CURVE_SEGMENTS``, ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
 
 Everything a shader needs to turn a texel's material parameters into the K coefficients of the basis, and the
@@ -87,6 +87,8 @@ __all__ = [
     "sanitize_unit",
     "shader_constants",
     "shader_includes",
+    "unwarped_cosine",
+    "warped_cosine",
 ]
 
 #: The direct-light curves are first fitted as one polynomial in x = μ (1 + w)/(1 + w μ), w the warp of least error
@@ -276,7 +278,7 @@ def _fit_segments(basis: Basis, segments: tuple[float, ...], degree: int, warp: 
     polynomials, error = [], 0.0
     s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
     for low, high in zip(segments[:-1], segments[1:]):
-        values = basis.evaluate_mu(_unwarp(low + 0.5 * (s + 1.0) * (high - low), warp))
+        values = basis.evaluate_mu(unwarped_cosine(low + 0.5 * (s + 1.0) * (high - low), warp))
         chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, K), well conditioned
         power = np.stack([np.polynomial.chebyshev.cheb2poly(chebyshev[:, k]) for k in range(basis.n_terms)], axis=-1)
         power[:, 0] = 0.0
@@ -286,13 +288,13 @@ def _fit_segments(basis: Basis, segments: tuple[float, ...], degree: int, warp: 
     return _CurveFit(degree, np.array(polynomials), error, tuple(segments), float(warp))
 
 
-def _warp(mu: np.ndarray, warp: float) -> np.ndarray:
+def warped_cosine(mu: np.ndarray, warp: float) -> np.ndarray:
     """x = μ (1 + w)/(1 + w μ): [0, 1] onto [0, 1], slope 1 + w at grazing and 1/(1 + w) at normal incidence."""
     return mu * (1.0 + warp) / (1.0 + warp * mu)
 
 
-def _unwarp(x: np.ndarray, warp: float) -> np.ndarray:
-    """μ of x (the inverse of :func:`_warp`), clipped to [0, 1] against rounding."""
+def unwarped_cosine(x: np.ndarray, warp: float) -> np.ndarray:
+    """μ of x (the inverse of :func:`warped_cosine`), clipped to [0, 1] against rounding."""
     return np.clip(x / (1.0 + warp - warp * x), 0.0, 1.0)
 
 
@@ -455,7 +457,7 @@ def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = No
     V·H (…) (clamped to [0, 1]) → (…), the curves from the generated polynomials in the warped cosine."""
     constants = shader_constants() if constants is None else constants
     coefficients = as_float_array("coefficients", coefficients)
-    x = _warp(sanitize_unit(v_dot_h, 1.0), constants.curve_warp)
+    x = warped_cosine(sanitize_unit(v_dot_h, 1.0), constants.curve_warp)
     edges = np.asarray(constants.curve_segments)
     segment = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
     scale, offset = _segment_map(edges)

@@ -71,6 +71,7 @@ def test_shader_cost_runs_small():
     completed = _run("benchmarks.shader_cost", "--width", "64", "--height", "36", "--frames", "1", "--rounds", "1")
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert completed.stdout.count("| basis per pixel") == 3
+    assert completed.stdout.count("direct light from a 512-texel table") == 1
 
 
 @pytest.mark.slow
