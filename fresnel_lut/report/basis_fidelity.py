@@ -252,7 +252,7 @@ def terms_sweep(terms, groups, theta, weights, count: int, progress=None, column
             progress(f"K = {k}: generic basis")
     scene = read_scene(Path(__file__).resolve().parents[2] / "examples" / "showcase.toml")
     shipped = default_basis()
-    operators = training_operators(scene, shipped, LutGrid.centred(columns).mu_o)
+    operators = training_operators(scene, shipped, LutGrid(columns, 1).mu_o)  # a scene table's columns
     scene_errors, plain_errors = {}, {}
     curves = np.concatenate([material.curve.T for material in scene.materials])
     for k in terms:

@@ -39,12 +39,14 @@ materials' roughness ranges, endpoint-inclusive (row j ↔ r = r_lo + j (r_hi �
 the fewest rows H ∈ {2, 3, 5, 9, 17, …} that still hold every material to its aim. **Columns**: the
 file's ``size``; unset, 128 (the default build's), doubled to 256 when reading some material's exact F̄
 bilinearly between 128 columns alone costs more than half of one 10-bit step
-(:func:`fresnel_lut.scene.plan.lookup_floor`; near-mirrors at grazing, 1.5e-3 at r 0.15–0.2). A
+(:func:`fresnel_lut.scene.plan.lookup_floor`; near-mirrors at grazing: a clear coat at r = 0.05, 1.3e-3). The
+columns stand where the default build's do, √μo = i/(size − 1): μo = 0 and 1 on a texel, the columns crowding
+at grazing, where the split sum of a smooth surface steepens. A
 Schlick-only scene trains no scene basis: Schlick's two channels hold it exactly.
 
-**Error** is measured where it matters: at the 2 × size − 1 view cosines of the texel centres and the
-midpoints between them (μo from 0.5/size up: below the first centre every engine reads the edge texel,
-as with the default build), at the roughnesses of a 33-point grid over the scene's range that fall in
+**Error** is measured where it matters: at the 2 × size − 1 view cosines of the columns and the
+midpoints in √μo between them (μo from 0 to 1: every lookup a GPU makes reads between two columns, none is
+clamped to an edge texel), at the roughnesses of a 33-point grid over the scene's range that fall in
 each material's own range (plus its end points), with bilinear, clamp-to-edge
 interpolation of the table as a GPU does, against the split sum of the exact target. Every split sum is
 a linear functional of the curve, computed with the texel weights of

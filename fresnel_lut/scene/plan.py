@@ -15,7 +15,7 @@ import numpy as np
 from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import check_positive_int
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import LutGrid, interpolation_weights, texel_centres
+from preintegrate.lut import LutGrid, interpolation_weights
 from preintegrate.quadrature import texel_weights
 
 from .files import MAX_SIZE, Scene, SceneError
@@ -56,15 +56,15 @@ class ScenePlan:
 
     @property
     def grid(self) -> LutGrid:
-        """The tables' grid: ``columns`` texel centres in μo, ``rows`` at the end points of the roughness range."""
-        return LutGrid(
-            self.columns,
-            self.rows,
-            rows="endpoints",
-            roughness_range=self.roughness_range,
-            visibility=self.scene.visibility,
-            columns="centres",
-        )
+        """The tables' grid: the default build's ``columns`` at √μo end points, ``rows`` at the end points of the
+        roughness range."""
+        return _scene_grid(self.columns, self.rows, self.roughness_range, self.scene.visibility)
+
+
+def _scene_grid(columns: int, rows: int, roughness_range: tuple[float, float], visibility: str) -> LutGrid:
+    """A scene table's grid: columns as the default build's (√μo = i/(W − 1): μo = 0 and 1 on a texel, the columns
+    crowding at grazing), rows at the end points of ``roughness_range``."""
+    return LutGrid(columns, rows, rows="endpoints", roughness_range=roughness_range, visibility=visibility)
 
 
 def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str], None] | None = None) -> ScenePlan:
@@ -75,7 +75,8 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     Columns: the scene file's ``size`` if it sets one; otherwise the default build's 128, doubled (up to
     :data:`.files.MAX_SIZE`) while reading some material's exact F̄ bilinearly between the columns alone
     costs more than :data:`LOOKUP_SHARE` of :data:`ACCURACY_GOAL` (:func:`lookup_floor`): near grazing a
-    near-mirror's F̄ bends too fast for 128 columns (1.5e-3 at r 0.15–0.2), and accuracy comes before bytes."""
+    near-mirror's F̄ bends too fast for 128 columns (a clear coat at r = 0.05: 1.3e-3), and accuracy comes before
+    bytes."""
     basis = resolve_basis(basis)
     width = scene.size
     while (
@@ -119,11 +120,11 @@ def _schlick_holds_every_curve(scene: Scene, basis: Basis) -> bool:
 
 
 def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
-    """Per material, max |ΔF̄| of reading its exact F̄ bilinearly between ``width`` column centres (at the
-    error grid's view cosines, at both ends of its roughness range): what no layout beats with that width."""
+    """Per material, max |ΔF̄| of reading its exact F̄ bilinearly between ``width`` columns (at the error grid's
+    view cosines, at both ends of its roughness range): what no layout beats with that width."""
     width = check_positive_int("width", width, low=2, high=MAX_SIZE)
-    mu_eval = _view_cosines(width)  # the column centres are its even entries
-    interpolate = interpolation_weights(mu_eval, mu_eval[::2])
+    mu_eval = _view_cosines(width)  # the columns are its even entries
+    interpolate = _scene_grid(width, 1, (0.0, 0.0), scene.visibility).column_weights(mu_eval)
     floor = {}
     for material in scene.materials:
         exact = (
@@ -152,9 +153,10 @@ class _Candidates:
 
 
 def _view_cosines(width: int) -> np.ndarray:
-    """The error grid's view cosines: the texel centres of ``width`` columns and the midpoints between them,
-    μo ∈ [0.5/W, 1 − 0.5/W]; below the first centre every engine reads the edge texel (clamped NdotV)."""
-    return (np.arange(2 * width - 1) + 1.0) / (2 * width)
+    """The error grid's view cosines: the ``width`` columns (√μo = i/(W − 1)) and the midpoints in √μo between
+    them, μo from 0 to 1: every lookup a GPU makes interpolates between two of the columns."""
+    root = np.arange(2 * width - 1) / (2.0 * (width - 1))
+    return root * root
 
 
 def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: int) -> ScenePlan:
@@ -163,7 +165,8 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     low = min(m.roughness[0] for m in scene.materials)
     high = max(m.roughness[1] for m in scene.materials)
     mu_eval = _view_cosines(width)
-    mu_columns = texel_centres(width)
+    columns = _scene_grid(width, 1, (0.0, 0.0), visibility)
+    mu_columns = columns.mu_o
     grid = np.linspace(low, high, 2 * _EVAL_ROUGHNESS - 1)
     r_eval = {
         m.name: np.unique(np.concatenate([grid[(grid >= m.roughness[0]) & (grid <= m.roughness[1])], m.roughness]))
@@ -175,7 +178,7 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
-    interp_mu = interpolation_weights(mu_eval, mu_columns)  # (P, W)
+    interp_mu = columns.column_weights(mu_eval)  # (P, W), linear in √μo as a GPU reads the table
     # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
     w_eval = texel_weights(

@@ -19,12 +19,12 @@ from preintegrate.exr import read_lut
 from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import directional_albedo
 
-SIZE = 16
+SIZE = 32
 
 
-def scene_file(tmp_path, body: str, name="scene.toml") -> str:
+def scene_file(tmp_path, body: str, name="scene.toml", size: int = SIZE) -> str:
     path = tmp_path / name
-    path.write_text(f"size = {SIZE}\n" + body, encoding="utf-8")
+    path.write_text(f"size = {size}\n" + body, encoding="utf-8")
     return path
 
 
@@ -85,7 +85,7 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     # a texel of the written table, combined with the paint's weights, against Monte Carlo of Schlick
     rows = np.linspace(0.3, 0.8, plan.rows)
     j, i = 1, 11
-    mu_o = (i + 0.5) / SIZE
+    mu_o = plan.grid.mu_o[i]
     fbar = table[j, i] @ np.array([0.04, 1.0])
     mean, error = monte_carlo_albedo(
         lambda x: fresnel_model("schlick").evaluate(x, f0=0.04), mu_o, rows[j] ** 2, samples=400_000, seed=3
@@ -97,13 +97,14 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
 
 def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):
     """Four channels at 1/255, and then the scene's own basis, more accurate than the generic one; three
-    generic terms at 0.013, where one term fewer or Schlick fail."""
+    generic terms at 0.013, where one term fewer or Schlick fail (16 columns: no layout reaches one 10-bit step
+    there, so the plan aims at the tolerance and need not prefer four terms for accuracy)."""
     plan = plan_scene(read_scene(scene_file(tmp_path, f"tolerance = {DEFAULT_TOLERANCE}\n" + DIELECTRICS)))
     full = plan.full_errors
     assert plan.tables == ("scene-basis-4",)
     assert all(full["scene-basis-4"][name] < full["basis-4"][name] for name in plan.layouts)
     assert any(full["basis-3"][name] > DEFAULT_TOLERANCE for name in plan.layouts)
-    plan = plan_scene(read_scene(scene_file(tmp_path, "tolerance = 0.013\n" + DIELECTRICS)))
+    plan = plan_scene(read_scene(scene_file(tmp_path, "tolerance = 0.013\n" + DIELECTRICS, size=16)))
     full = plan.full_errors
     assert plan.tables == ("basis-3",)
     assert all(full["basis-3"][name] <= 0.013 for name in plan.layouts)
@@ -119,10 +120,10 @@ def test_narrow_range_is_cropped_and_matches_the_full_table(tmp_path):
     channels = basis_channels(plan.candidates["scene-basis-4"].trained)
     rows = np.linspace(0.2, 0.5, plan.rows)
     # exact: the rows are integrated at their own roughness
-    direct = directional_albedo(channels.functions, ((np.arange(SIZE) + 0.5) / SIZE)[None, :], (rows**2)[:, None])
+    direct = directional_albedo(channels.functions, plan.grid.mu_o[None, :], (rows**2)[:, None])
     np.testing.assert_allclose(cropped, direct, atol=2e-6)
     # the full table of the same channels, interpolated linearly in r, agrees within its interpolation error
-    full_grid = LutGrid(SIZE, SIZE, columns="centres")  # the scene's columns, rows over 0–1
+    full_grid = LutGrid(SIZE, SIZE)  # the scene's columns (the default build's), rows over 0–1
     full = build_table(channels, full_grid)
     spacing = 1.0 / (SIZE - 1)
     interpolated = np.stack(
@@ -201,8 +202,8 @@ def test_json_scene_and_coefficients_file(tmp_path):
     write_scene(plan, tmp_path / "out")
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
     for name, entry in document["materials"].items():
-        channels = int(entry["layout"].split("-")[1]) if entry["layout"].startswith("basis") else 2
-        assert np.array(entry["coefficients"]).shape == (3, channels)
+        table, _ = read_lut(tmp_path / "out" / entry["lut"])
+        assert np.array(entry["coefficients"]).shape == (3, table.shape[-1])
         assert entry["max_abs_error_fbar"] <= document["tolerance"]
         assert (tmp_path / "out" / entry["lut"]).exists()
 
@@ -231,16 +232,16 @@ def test_interrupted_write_leaves_nothing_half_written(tmp_path, monkeypatch):
 def test_f82_material_gets_its_own_exact_table_when_the_basis_cannot_hold_it(tmp_path):
     """A strong-dip F0/F82 copper: the basis reaches only ~1e-2, Hoffman 2019's own three channels
     (exact split sum: the dip stays in [0, 1]) meet 1/255; the written table combines to Monte Carlo."""
-    path = tmp_path / "f82.toml"  # 64 columns: at 16 the lookup alone costs 1.2e-2 near grazing
-    path.write_text(
-        """size = 64
+    path = scene_file(  # 32 columns: the lookup alone costs 6.8e-4 (lookup_floor)
+        tmp_path,
+        """
 [[material]]
 name = "old copper"
 f0 = [0.95, 0.64, 0.54]
 f82 = [0.93, 0.60, 0.50]
 roughness = [0.3, 0.6]
 """,
-        encoding="utf-8",
+        name="f82.toml",
     )
     plan = plan_scene(read_scene(path))
     assert plan.full_errors["basis-4"]["old copper"] > DEFAULT_TOLERANCE
@@ -254,7 +255,7 @@ roughness = [0.3, 0.6]
     model = fresnel_model("f82")
     f0, f82 = np.array([0.95, 0.64, 0.54]), np.array([0.93, 0.60, 0.50])
     mean, error = monte_carlo_albedo(
-        lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), (i + 0.5) / 64, rows[j] ** 2, samples=400_000, seed=8
+        lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), plan.grid.mu_o[i], rows[j] ** 2, samples=400_000, seed=8
     )
     np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
 
@@ -345,7 +346,7 @@ def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):
     assert all(text == written[0] for text in written)
 
 
-def test_separable_scene_matches_an_independent_separable_integral_at_texel_centres(tmp_path, capsys):
+def test_separable_scene_matches_an_independent_separable_integral_at_its_texels(tmp_path, capsys):
     """Issue 22: ``visibility = "separable"`` reaches the scene's tables. Texels of the Schlick table against adaptive
     cubature over ω_i with G1(o) G1(i) re-typed in tests/references (1e-6: float32 storage, the cubature's 1e-10);
     the height-correlated integral differs by far more at these texels, so the test tells the two apart."""
@@ -357,9 +358,10 @@ def test_separable_scene_matches_an_independent_separable_integral_at_texel_cent
     assert header["convention"].endswith("GGX with separable Smith G2 = G1(omega_o) * G1(omega_i)")
     rows = np.linspace(0.3, 0.8, table.shape[0])
     schlick = lambda x: np.stack([1.0 - (1.0 - x) ** 5, (1.0 - x) ** 5], axis=-1)  # noqa: E731 (the two channels)
+    columns = LutGrid(SIZE, SIZE).mu_o  # a scene's columns are the default build's
     apart = 0.0
     for j, i in ((0, 2), (table.shape[0] - 1, 1), (table.shape[0] - 1, 8), (1, SIZE - 1)):
-        mu_o, alpha = (i + 0.5) / SIZE, rows[j] ** 2
+        mu_o, alpha = columns[i], rows[j] ** 2
         separable = reference_albedo(schlick, mu_o, alpha, visibility="separable")
         correlated = reference_albedo(schlick, mu_o, alpha, visibility="height-correlated")
         np.testing.assert_allclose(table[j, i], separable, rtol=0, atol=1e-6)

@@ -24,12 +24,12 @@ from preintegrate.quadrature import directional_albedo
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 #: What each example scene holds with the default tolerance, measured by ``fresnel-lut scene``: the layout
-#: and the columns. Near-mirrors (r 0.15–0.2) need 256 columns: with 128, the bilinear lookup in μo near
-#: grazing costs them 1.5e-3 although the scene basis fits their curves to 3e-5.
+#: and the columns. The near-mirrors (r 0.15–0.2) of the dielectrics and the showcase hold with 128 columns on
+#: √μo end points (which crowd at grazing), where 128 texel-centre columns cost them 1.5e-3 and needed 256.
 EXPECTED = {
     "metals_mid_roughness": ("scene-basis-4", 128),
-    "dielectrics": ("scene-basis-4", 256),
-    "showcase": ("scene-basis-7", 256),
+    "dielectrics": ("scene-basis-4", 128),
+    "showcase": ("scene-basis-7", 128),
 }
 
 
@@ -54,30 +54,35 @@ def test_the_scene_basis_is_chosen_and_holds_every_material_to_ten_bits(built):
 
 
 def test_a_scene_file_that_sets_its_size_keeps_it(tmp_path):
-    """size = 128 written out: the near-mirrors stay above one 10-bit step instead of widening the table."""
-    path = tmp_path / "dielectrics.toml"
-    path.write_text("size = 128\n" + (EXAMPLES / "dielectrics.toml").read_text())
+    """size = 128 written out: a clear coat at r = 0.05 stays above one 10-bit step (its lookup alone costs 1.3e-3
+    there) instead of widening the table, as it does unset."""
+    path = tmp_path / "coat.toml"
+    coat = '[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.05\n'
+    path.write_text("size = 128\n" + coat)
     plan = plan_scene(read_scene(path))
     assert plan.columns == 128 and max(plan.errors.values()) > ACCURACY_GOAL
+    path.write_text(coat)
+    plan = plan_scene(read_scene(path))
+    assert plan.columns == 256 and max(plan.errors.values()) <= ACCURACY_GOAL
 
 
 def test_the_lookup_floor_is_the_bilinear_error_of_the_exact_split_sum(tmp_path):
     """lookup_floor against F̄ integrated directly from Schlick's formula (not through texel weights) and read
-    with np.interp between the column centres: the clear coat at r = 0.15 needs more than 128 columns, the
-    same at r = 0.5 does not."""
+    with np.interp in √μo between the columns (√μo = i/127) from μo = 0 to 1: the clear coat at r = 0.05 needs more
+    than 128 columns, the same at r = 0.5 does not."""
     path = tmp_path / "coat.toml"
     path.write_text(
-        '[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.15\n'
+        '[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.05\n'
         '[[material]]\nname = "rough coat"\nf0 = 0.05\nroughness = 0.5\n'
     )
     scene = read_scene(path)
     floor = lookup_floor(scene, default_basis(), 128)
-    mu_eval = (np.arange(255) + 1.0) / 256
-    for name, roughness in (("coat", 0.15), ("rough coat", 0.5)):
+    root = np.arange(255) / 254.0  # the columns and the midpoints between them, in √μo
+    for name, roughness in (("coat", 0.05), ("rough coat", 0.5)):
         exact = directional_albedo(
-            lambda x: (0.05 + 0.95 * (1 - np.clip(x, 0, 1)) ** 5)[..., None], mu_eval, roughness**2
+            lambda x: (0.05 + 0.95 * (1 - np.clip(x, 0, 1)) ** 5)[..., None], root**2, roughness**2
         )[:, 0]
-        direct = float(np.max(np.abs(np.interp(mu_eval, mu_eval[::2], exact[::2]) - exact)))
+        direct = float(np.max(np.abs(np.interp(root, root[::2], exact[::2]) - exact)))
         assert floor[name] == pytest.approx(direct, rel=1e-3, abs=1e-6)
     assert floor["coat"] > LOOKUP_SHARE * ACCURACY_GOAL > floor["rough coat"]
     assert plan_scene(scene).columns == 256
@@ -154,7 +159,7 @@ def test_one_material_alone_is_reproduced_to_1e_4_at_the_texels(tmp_path):
     material = plan.scene.materials[0]
     table = plan.table_values["scene-basis-4"]  # (rows, columns, 4)
     rows = np.linspace(0.2, 0.4, plan.rows)
-    mu_o = (np.arange(plan.columns) + 0.5) / plan.columns
+    mu_o = plan.grid.mu_o
     exact = theta_spline(default_basis().theta, material.curve, axis=0)
     direct = directional_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu_o[None, :], (rows**2)[:, None])
     assert np.max(np.abs(table @ plan.coefficients["figure 2"].T - direct)) <= 1e-4
