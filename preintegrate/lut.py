@@ -1,7 +1,7 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
 
 Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``,
-``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_axes``, ``lut_texel_weights``,
+``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_texel_weights``,
 ``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ √μo = i/(W − 1), row j ↔ perceptual roughness r = j/(H − 1) with α = r² (the default build; a scene's
@@ -50,7 +50,6 @@ __all__ = [
     "ROW_PLACEMENTS",
     "interpolation_weights",
     "lut_attributes",
-    "lut_axes",
     "lut_texel_weights",
     "lut_lookup",
     "model_lut_name",
@@ -183,12 +182,15 @@ class LutGrid:
         return np.clip((roughness - low) / (high - low), 0.0, 1.0) * (self.height - 1.0)
 
     def texture_coordinates(self, mu_o, roughness) -> np.ndarray:
-        """(…, 2) the (u, v) at which a GPU samples this grid's table for (μo, r): (position + 0.5)/size per axis,
-        what the generated include's ``fresnelBasisLutUV`` computes."""
+        """(…, 2) the (u, v) at which a GPU samples this grid's table for (μo, r), both clamped to [0, 1] as a GPU
+        clamps them: the affine maps :attr:`column_mapping` and :attr:`row_mapping` that the generated include's
+        ``fresnelBasisLutUV`` writes as constants (end points: (position + 0.5)/size)."""
         mu_o, roughness = np.broadcast_arrays(as_float_array("mu_o", mu_o), as_float_array("roughness", roughness))
-        u = (self.column_position(mu_o) + 0.5) / self.width
-        v = (self.row_position(roughness) + 0.5) / self.height
-        return np.stack([u, v], axis=-1)
+        mu_o, roughness = np.clip(mu_o, 0.0, 1.0), np.clip(roughness, 0.0, 1.0)
+        column_scale, column_offset = self.column_mapping
+        low, high, row_scale, row_offset = self.row_mapping
+        x = np.sqrt(mu_o) if self.columns == "root-endpoints" else mu_o
+        return np.stack([x * column_scale + column_offset, np.clip(roughness, low, high) * row_scale + row_offset], -1)
 
     @property
     def row_mapping(self) -> tuple[float, float, float, float]:
@@ -272,12 +274,6 @@ def shipped_lut(name: str = BASIS_LUT) -> Path:
 def texel_centres(count: int) -> np.ndarray:
     """(i + 0.5) / count, i = 0 … count − 1: the texel centres of one axis (unchecked)."""
     return (np.arange(count) + 0.5) / count
-
-
-def lut_axes(width: int, height: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(μo of each column, perceptual roughness of each row) of the default grid."""
-    grid = LutGrid(width, width if height is None else height)
-    return grid.mu_o, grid.roughness
 
 
 def lut_texel_weights(theta_grid, grid: LutGrid | int, order=DEFAULT_ORDER) -> np.ndarray:
