@@ -118,6 +118,7 @@ def write_scene(
         "roughness_range": [low, high],
         "rows": plan.rows,
         "columns": plan.columns,
+        "convention": convention,  # how to address the tables: the same text as their headers
         "formats": formats,
         "layout": (
             "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "

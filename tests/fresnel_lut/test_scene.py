@@ -202,8 +202,9 @@ def test_json_scene_and_coefficients_file(tmp_path):
     write_scene(plan, tmp_path / "out")
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
     for name, entry in document["materials"].items():
-        table, _ = read_lut(tmp_path / "out" / entry["lut"])
+        table, header = read_lut(tmp_path / "out" / entry["lut"])
         assert np.array(entry["coefficients"]).shape == (3, table.shape[-1])
+        assert document["convention"] == header["convention"] and "sqrt(mu_o) = i / (width - 1)" in header["convention"]
         assert entry["max_abs_error_fbar"] <= document["tolerance"]
         assert (tmp_path / "out" / entry["lut"]).exists()
 
