@@ -257,6 +257,14 @@ float smithLambda(float mu, float alpha)
     return 0.5 * (sqrt(mu * mu + alpha * alpha * (1.0 - mu * mu)) / mu - 1.0);
 }
 
+// Schlick's (1 - cos)^5 as engines write it (three multiplications: Filament's pow5, HDRP, Unreal), not pow(),
+// which SwiftShader and llvmpipe evaluate as exp2(5 log2(x)).
+float schlickWeight(float cosine)
+{
+    float m = 1.0 - cosine, m2 = m * m;
+    return m2 * m2 * m;
+}
+
 float ggxD(float muH, float alpha)  // Walter 2007 eq. 33
 {
     float a2 = alpha * alpha;
@@ -336,7 +344,7 @@ void main()
         float a = max(alpha, 1e-6);
         float brdfCos = (NdotV > 0.0 && NdotL > 0.0)
             ? ggxD(NdotH, a) / (1.0 + smithLambda(NdotV, a) + smithLambda(NdotL, a)) / (4.0 * NdotV) : 0.0;
-        vec3 F = (u_mode == 0) ? f0 + (1.0 - f0) * pow(1.0 - VdotH, 5.0)
+        vec3 F = (u_mode == 0) ? f0 + (1.0 - f0) * schlickWeight(VdotH)
                : ((u_mode == 3) ? exactFresnel(VdotH) : fresnelBasisDirect(VdotH, cR, cG, cB));
         point = u_pointRadiance * brdfCos * F;
     }
