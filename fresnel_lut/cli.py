@@ -481,7 +481,13 @@ def command_scene(arguments) -> int:
     )
     print(result["text"])
     print(f"scene built in {time.perf_counter() - started:.1f} s:")
-    for path in [*result["tables"], *result["scene_basis"], result["coefficients"], result["report"]]:
+    for path in [
+        *result["tables"],
+        *result["scene_basis"],
+        *result["shader_includes"],
+        result["coefficients"],
+        result["report"],
+    ]:
         print(f"  {path}  {_size_text(path)}")
     return 0
 

@@ -30,7 +30,10 @@ RGBA table, ``<name>_2.exr``) — and, for a material given by a linear model of
 Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while its
 clamp is inactive). The scene basis is written beside its tables as ``scene_basis.json`` (curves, fit
 angles, content hash; every table and material entry names that hash), so the coefficients and the table
-always travel together. **Accuracy first**: a material that some layout holds to one 10-bit step
+always travel together. A table that holds a whole basis (the scene's own, or the generic one's every term)
+comes with the shader includes generated from that basis and the scene's grid, ``fresnel_basis_material.{glsl,hlsl,wgsl}``
+(:mod:`preintegrate.shaders`: per-pixel coefficients, direct light, ``fresnelBasisLutUV`` on the cropped rows),
+listed in ``scene_coefficients.json`` as ``shader_includes``. **Accuracy first**: a material that some layout holds to one 10-bit step
 (:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'
 own tables; the one with the fewest channels that holds every material to its aim with one of its layouts,

@@ -1,5 +1,7 @@
-"""Write a planned scene: its tables, ``scene_coefficients.json``, ``scene_report.md`` and, when a table holds
-the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), as one transaction.
+"""Write a planned scene: its tables, ``scene_coefficients.json``, ``scene_report.md``, when a table holds
+the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), and, when a table holds a whole basis
+(the generic one's every term or the scene's own), the shader includes generated from that basis and the scene's
+grid (:mod:`preintegrate.shaders`), as one transaction.
 
 Public objects: ``write_scene``, ``build_scene``.
 """
@@ -18,6 +20,7 @@ from basis.validation import check_choice
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
+from preintegrate.shaders import SHADER_INCLUDES, shader_includes
 from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
 
 from .files import SceneError, read_scene
@@ -28,6 +31,8 @@ __all__ = ["build_scene", "write_scene"]
 
 #: The scene basis beside its table: the coefficients of ``scene_coefficients.json`` are on these curves.
 SCENE_BASIS_FILE = "scene_basis.json"
+#: The generated includes a scene build may write (the names of ``fresnel-lut build``'s).
+_INCLUDE_FILES = frozenset(name for name, _ in SHADER_INCLUDES.values())
 
 
 def _previous_files(coefficients_path: Path) -> set[str]:
@@ -36,6 +41,8 @@ def _previous_files(coefficients_path: Path) -> set[str]:
         document = json.loads(coefficients_path.read_text(encoding="utf-8"))
         names = {entry.get(key) for entry in document["materials"].values() for key in ("lut", "second_lut")}
         names.add((document.get("scene_basis") or {}).get("file"))
+        includes = document.get("shader_includes") or []
+        names.update(name for name in includes if isinstance(name, str))
     except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
         return set()
     suffixes = {fmt.suffix for fmt in FORMATS.values()}
@@ -44,8 +51,23 @@ def _previous_files(coefficients_path: Path) -> set[str]:
         for name in names
         if isinstance(name, str)
         and Path(name).name == name
-        and ((name.startswith("ggx_") and Path(name).suffix in suffixes) or name == SCENE_BASIS_FILE)
+        and (
+            (name.startswith("ggx_") and Path(name).suffix in suffixes)
+            or name == SCENE_BASIS_FILE
+            or name in _INCLUDE_FILES
+        )
     }
+
+
+def _include_basis(plan: ScenePlan, basis: Basis) -> Basis | None:
+    """The basis of the plan's table that holds a whole basis (the generic basis with all its terms, or the scene's
+    own), whose includes the scene gets; None where no table does (Schlick, a model's own, fewer generic terms)."""
+    for table in plan.tables:
+        layout = plan.candidates[table]
+        whole = layout.trained if layout.kind == "scene" else basis if layout.kind == "basis" else None
+        if whole is not None and plan.table_values[table].shape[-1] == whole.n_terms:
+            return whole
+    return None
 
 
 def write_scene(
@@ -91,6 +113,13 @@ def write_scene(
     scene_basis = next(iter(trained.values()), None)
     if scene_basis is not None:
         texts.append((SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
+    include_basis = _include_basis(plan, basis)
+    includes = (
+        []
+        if include_basis is None
+        else shader_includes(include_basis, f"fresnel-lut scene {Path(plan.scene.source).name}", grid)
+    )
+    texts += includes
     materials = {
         material.name: {
             "target": material.description,
@@ -120,6 +149,7 @@ def write_scene(
         "columns": plan.columns,
         "convention": convention,  # how to address the tables: the same text as their headers
         "formats": formats,
+        "shader_includes": [name for name, _ in includes],
         "layout": (
             "coefficients[channel R,G,B][LUT channel]: Fbar = sum_k coefficients[c][k] * LUT_k; LUT channels "
             "4-7 of a basis of more than four terms are R, G, B, A of second_lut"
@@ -206,7 +236,7 @@ def write_scene(
         formats,
         half,
         owned=sorted({Path(name).stem for name in previous} - {"scene_basis"}),
-        owned_files=sorted(previous & {SCENE_BASIS_FILE}),
+        owned_files=sorted(previous & ({SCENE_BASIS_FILE} | _INCLUDE_FILES)),
         texts=[
             *texts,
             (coefficients_path.name, json.dumps(document, indent=1) + "\n"),
@@ -219,6 +249,7 @@ def write_scene(
         "report": report_path,
         "bytes": written,
         "scene_basis": [out / SCENE_BASIS_FILE] if scene_basis is not None else [],
+        "shader_includes": [out / name for name, _ in includes],
         "full_bytes": full,
         "text": "\n".join(report),
     }

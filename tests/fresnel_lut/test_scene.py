@@ -404,6 +404,7 @@ def test_a_scene_build_writes_every_format_with_the_same_values(tmp_path, capsys
     assert sorted(p.name for p in out.iterdir()) == sorted(
         [f"{stem}{suffix}" for stem in stems for suffix in (".exr", ".ktx2", ".png", ".h")]
         + ["scene_basis.json"] * ("scene_basis" in document)
+        + document["shader_includes"]
         + ["scene_coefficients.json", "scene_report.md"]
     )
     for stem in stems:
@@ -412,7 +413,7 @@ def test_a_scene_build_writes_every_format_with_the_same_values(tmp_path, capsys
         np.testing.assert_array_equal(ktx["texels"][..., : table.shape[2]], table)
     # a rebuild with EXR alone removes the other formats of the scene's set
     assert cli.main(["scene", str(path), "--out", str(out)]) == 0
-    assert {p.suffix for p in out.iterdir()} == {".exr", ".json", ".md"}
+    assert {p.suffix for p in out.iterdir()} == {".exr", ".json", ".md", ".glsl", ".hlsl", ".wgsl"}
 
 
 @pytest.mark.parametrize(

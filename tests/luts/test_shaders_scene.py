@@ -1,0 +1,115 @@
+"""A scene build's generated include (``fresnel-lut scene`` on a scene whose table holds a whole basis) runs for real:
+its per-pixel functions match their Python mirrors for the scene's own basis and grid, and its table coordinates
+read the written table (cropped roughness rows, √μo columns) so that the JSON's coefficients give the exact
+split sum of every material within the error the plan reports.
+
+GLSL on Mesa's llvmpipe; the HLSL and WGSL come from the same generator as the default build's, which
+tests/luts/test_shaders_terms.py runs for bases of every size.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from basis.angles import theta_spline
+from basis.eigenbasis import Basis, default_basis
+from fresnel_lut.scene import plan_scene, read_scene, write_scene
+from preintegrate.exr import read_lut
+from preintegrate.quadrature import directional_albedo
+from preintegrate.shaders import shader_constants
+from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, gl_draw, per_pixel_inputs
+
+#: Two dielectrics on 32 columns: the scene's own four-term basis holds them (tests/fresnel_lut/test_scene.py).
+SCENE = """size = 32
+[[material]]
+name = "window"
+preset = "Glass BK7"
+roughness = [0.2, 0.4]
+[[material]]
+name = "pond"
+preset = "Water"
+roughness = [0.25, 0.5]
+"""
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("scene")
+    (folder / "scene.toml").write_text(SCENE, encoding="utf-8")
+    plan = plan_scene(read_scene(folder / "scene.toml"))
+    assert plan.tables == ("scene-basis-4",)
+    write_scene(plan, folder / "out")
+    return plan, folder / "out"
+
+
+def test_the_scene_writes_the_includes_of_its_own_basis(built):
+    plan, out = built
+    document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
+    trained = Basis.read(out / "scene_basis.json")
+    assert document["shader_includes"] == [f"fresnel_basis_material.{suffix}" for suffix in ("glsl", "hlsl", "wgsl")]
+    for name in document["shader_includes"]:
+        text = (out / name).read_text(encoding="utf-8")
+        assert f"fresnel:basis_hash = {trained.content_hash}" in text and "fresnel-lut scene scene.toml" in text
+
+
+def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(built):
+    """The per-pixel calls of the default build's include test (their inputs' edges and bad values included),
+    against the mirrors with the scene basis' constants on the scene's grid."""
+    plan, out = built
+    include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
+    inputs = per_pixel_inputs()
+    outputs = []
+    for calls in (PER_PIXEL_CALLS[:4], PER_PIXEL_CALLS[4:]):
+        main = (
+            "\nuniform sampler2D inputs;\n"
+            + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(calls)))
+            + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
+            + "".join(f"    out{k} = {call};\n" for k, call in enumerate(calls))
+            + "}\n"
+        )
+        outputs += gl_draw("#version 330\n" + include + main, [inputs.reshape(32, 32, 4)], {"inputs": 0}, len(calls))
+    constants = shader_constants(Basis.read(out / "scene_basis.json"), plan.grid)
+    assert_per_pixel_outputs(outputs, inputs, "llvmpipe, scene include", constants)
+
+
+FRAGMENT = """#version 330
+{include}
+uniform sampler2D lut;
+uniform sampler2D inputs;
+uniform vec4 cR;
+uniform vec4 cG;
+uniform vec4 cB;
+out vec4 colour;
+void main() {{
+    vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
+    colour = vec4(fresnelBasisSplitSumUV(lut, q.x, q.y, cR, cG, cB), 1.0);
+}}
+"""
+
+
+def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
+    """The written EXR on llvmpipe through fresnelBasisSplitSumUV with the JSON's coefficients, at the plan's error
+    grid of each material (μo from 0 to 1, the columns and the midpoints in √μo; 33 roughnesses over the scene's
+    range, those in the material's), against F̄ of the material's exact curve integrated directly: within the error
+    the plan reports for it, plus float32's 1e-6 (measured: the plan's own figures to 4e-8)."""
+    plan, out = built
+    include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
+    document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
+    table, _ = read_lut(out / "ggx_scene_basis_rgba.exr")
+    width, theta = plan.columns, default_basis().theta
+    root = np.arange(2 * width - 1) / (2.0 * (width - 1))
+    low, high = plan.roughness_range
+    for material in plan.scene.materials:
+        coefficients = np.array(document["materials"][material.name]["coefficients"])  # (3, 4)
+        roughness = np.linspace(low, high, 33)
+        roughness = roughness[(roughness >= material.roughness[0]) & (roughness <= material.roughness[1])]
+        mu, r = (values.ravel() for values in np.meshgrid(root**2, roughness))
+        inputs = np.zeros((64 * 64, 4), dtype=np.float32)
+        inputs[: mu.size, 0], inputs[: mu.size, 1] = mu, r
+        uniforms = {"lut": 0, "inputs": 1, **{f"c{c}": tuple(coefficients[k]) for k, c in enumerate("RGB")}}
+        (gpu,) = gl_draw(FRAGMENT.format(include=include), [table, inputs.reshape(64, 64, 4)], uniforms, 1, size=64)
+        exact_curve = theta_spline(theta, material.curve, axis=0)
+        exact = directional_albedo(lambda x: exact_curve(np.arccos(np.clip(x, 0, 1))), mu, r**2)  # (P, 3)
+        error = float(np.max(np.abs(gpu[: mu.size, :3] - exact)))
+        assert error <= plan.errors[material.name] + 1e-6, (material.name, error, plan.errors[material.name])
