@@ -215,7 +215,14 @@ def test_an_environment_that_is_not_a_2_to_1_finite_positive_exr_is_refused(tmp_
 @pytest.mark.slow
 def test_the_view_command_serves_until_interrupted(tmp_path):
     command = [sys.executable, "-m", "fresnel_lut.cli", "view", "--port", "0"]
-    process = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(  # Ctrl-C's default in the child: a shell's background job starts ignoring it
+        command,
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     try:
         line = ""
         while "serving" not in line:
