@@ -219,6 +219,13 @@ def write_scene(
         )
         + ".",
         (
+            f"Shader includes: {', '.join(name for name, _ in includes)}, generated from basis "
+            f"{include_basis.content_hash} on these tables' grid (per-pixel coefficients, direct light, "
+            "fresnelBasisLutUV)."
+            if includes
+            else "Shader includes: none (no table holds a whole basis); the tables' header says how to address them."
+        ),
+        (
             f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "
             f"build ({100.0 * (1.0 - sum(exr_bytes.values()) / max(1, sum(full.values()))):.1f} % saved)"
             + (f"; {sum(written.values()):,} in all of {', '.join(formats)}." if formats != ["exr"] else ".")

@@ -92,7 +92,7 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     )
     assert abs(fbar - mean) < 4.0 * error + 1e-6
     assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
-    assert "Left out: basis-4" in result["text"]
+    assert "Left out: basis-4" in result["text"] and "Shader includes: none" in result["text"]
 
 
 def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):

@@ -51,6 +51,11 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
     for name in document["shader_includes"]:
         text = (out / name).read_text(encoding="utf-8")
         assert f"fresnel:basis_hash = {trained.content_hash}" in text and "fresnel-lut scene scene.toml" in text
+    report = (out / "scene_report.md").read_text(encoding="utf-8")
+    assert (
+        f"Shader includes: fresnel_basis_material.glsl, fresnel_basis_material.hlsl, fresnel_basis_material.wgsl, generated from basis {trained.content_hash}"
+        in report
+    )
 
 
 def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(built):
