@@ -51,6 +51,7 @@ Considered Harmful". :cite:`Gulbrandsen2014` JCGT 3(4), eq. 7-9. :cite:`Hoffman2
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -253,30 +254,57 @@ _CURVE_FITS: dict[str, _CurveFit] = {}
 
 
 def _search_curves(basis: Basis) -> _CurveFit:
-    """What :func:`_fit_curves` returns, computed."""
+    """What :func:`_fit_curves` returns, computed: the candidates are compared on their Chebyshev form's error
+    (the same to rounding), the one returned is converted to the powers the shaders evaluate and measured so."""
     best = None
     for degree in _WARPED_DEGREES:
-        fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit.error)
+        fit = min((_chebyshev_fit(basis, (0.0, 1.0), degree, warp) for warp in CURVE_WARPS), key=lambda fit: fit.error)
         if fit.error <= 10.0 * CURVE_TOLERANCE:  # the finer grid gains up to 5x (degree 12 of the shipped basis)
             # a coarse step (√2) either side, 2^(1/32) apart
             fine = [fit.warp * 2.0 ** (k / 32) for k in range(-16, 17)]
-            fit = min((_fit_segments(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit.error)
+            fit = min((_chebyshev_fit(basis, (0.0, 1.0), degree, warp) for warp in fine), key=lambda fit: fit.error)
         if fit.error <= CURVE_TOLERANCE:
-            return fit
+            return _fit_segments(basis, fit.segments, fit.degree, fit.warp)
         best = fit if best is None or fit.error < best.error else best
     for segments in (CURVE_SEGMENTS, FINE_CURVE_SEGMENTS):
         for degree in _DEGREES:
-            fit = _fit_segments(basis, segments, degree, 0.0)
+            fit = _chebyshev_fit(basis, segments, degree, 0.0)
             if fit.error <= CURVE_TOLERANCE:
-                return fit
+                return _fit_segments(basis, fit.segments, fit.degree, fit.warp)
             best = fit if fit.error < best.error else best
-    return best
+    return _fit_segments(basis, best.segments, best.degree, best.warp)
+
+
+def _chebyshev_fit(basis: Basis, segments: tuple[float, ...], degree: int, warp: float) -> _CurveFit:
+    """A candidate of the search: the least-squares polynomials of :func:`_fit_segments` in Chebyshev form
+    (``polynomials`` holds Chebyshev coefficients, through the degree's pseudo-inverse, the same to rounding), with
+    that form's error; b_0 = 1, which the shaders do not evaluate, is left out of it."""
+    vandermonde, projector = _chebyshev_projector(degree)
+    polynomials, error = [], 0.0
+    for low, high in zip(segments[:-1], segments[1:]):
+        values = basis.evaluate_mu(unwarped_cosine(low + 0.5 * (_CURVE_S + 1.0) * (high - low), warp))
+        chebyshev = projector @ values  # (degree + 1, K)
+        polynomials.append(chebyshev)
+        error = max(error, float(np.max(np.abs(vandermonde @ chebyshev[:, 1:] - values[:, 1:]))))
+    return _CurveFit(degree, np.array(polynomials), error, tuple(segments), float(warp))
+
+
+#: The fits' sample points in s ∈ [−1, 1] on every segment, end points included.
+_CURVE_S = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
+
+
+@functools.lru_cache(maxsize=None)
+def _chebyshev_projector(degree: int) -> tuple[np.ndarray, np.ndarray]:
+    """(Chebyshev Vandermonde matrix of :data:`_CURVE_S`, its pseudo-inverse) of one degree."""
+    vandermonde = np.polynomial.chebyshev.chebvander(_CURVE_S, degree)
+    return vandermonde, np.linalg.pinv(vandermonde)
 
 
 def _fit_segments(basis: Basis, segments: tuple[float, ...], degree: int, warp: float) -> _CurveFit:
-    """The least-squares polynomials of one degree on each segment of x, the warp ``warp``: as :func:`_fit_curves`."""
+    """The least-squares polynomials of one degree on each segment of x, the warp ``warp``, in powers of s (what the
+    shaders evaluate, measured so): as :func:`_fit_curves`."""
     polynomials, error = [], 0.0
-    s = np.linspace(-1.0, 1.0, _CURVE_SAMPLES)
+    s = _CURVE_S
     for low, high in zip(segments[:-1], segments[1:]):
         values = basis.evaluate_mu(unwarped_cosine(low + 0.5 * (s + 1.0) * (high - low), warp))
         chebyshev = np.polynomial.chebyshev.chebfit(s, values, degree)  # (degree + 1, K), well conditioned
