@@ -30,6 +30,7 @@ from preintegrate.shaders import (
 )
 from tests.conftest import (
     PER_PIXEL_CALLS,
+    PER_PIXEL_GLSL_MAIN,
     assert_per_pixel_outputs,
     gl_draw,
     gpu_missing,
@@ -43,13 +44,6 @@ CONSTANTS = shader_constants()
 
 OUTPUTS = len(PER_PIXEL_CALLS)
 INCLUDES = dict(shader_includes())
-GLSL_MAIN = (
-    "\nuniform sampler2D inputs;\n"
-    + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(PER_PIXEL_CALLS)))
-    + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
-    + "".join(f"    out{k} = {call};\n" for k, call in enumerate(PER_PIXEL_CALLS))
-    + "}\n"
-)
 
 
 def test_mirrors_agree_with_the_python_api():
@@ -74,7 +68,7 @@ def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors():
     """Measured on llvmpipe: see the errors in the assertion message when it fails; the bounds are the module's."""
     inputs = per_pixel_inputs()
     outputs = gl_draw(
-        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + GLSL_MAIN,
+        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + PER_PIXEL_GLSL_MAIN,
         [inputs.reshape(32, 32, 4)],
         {"inputs": 0},
         OUTPUTS,
@@ -125,7 +119,7 @@ def _validator():
 )
 def test_glsl_include_compiles(head, tmp_path):
     source = tmp_path / "material.frag"
-    body = GLSL_MAIN.replace("uniform sampler2D inputs;", "uniform highp sampler2D inputs;")
+    body = PER_PIXEL_GLSL_MAIN.replace("uniform sampler2D inputs;", "uniform highp sampler2D inputs;")
     if "450" in head:
         body = body.replace("uniform highp sampler2D inputs;", "layout(binding = 0) uniform sampler2D inputs;")
     source.write_text(head + INCLUDES["fresnel_basis_material.glsl"] + body, encoding="utf-8")

@@ -8,6 +8,7 @@ tests/luts/test_shaders_terms.py runs for bases of every size.
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,25 +19,17 @@ from fresnel_lut.scene import plan_scene, read_scene, write_scene
 from preintegrate.exr import read_lut
 from preintegrate.quadrature import directional_albedo
 from preintegrate.shaders import shader_constants
-from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, gl_draw, per_pixel_inputs
+from tests.conftest import PER_PIXEL_CALLS, PER_PIXEL_GLSL_MAIN, assert_per_pixel_outputs, gl_draw, per_pixel_inputs
 
-#: Two dielectrics on 32 columns: the scene's own four-term basis holds them (tests/fresnel_lut/test_scene.py).
-SCENE = """size = 32
-[[material]]
-name = "window"
-preset = "Glass BK7"
-roughness = [0.2, 0.4]
-[[material]]
-name = "pond"
-preset = "Water"
-roughness = [0.25, 0.5]
-"""
+#: The shipped dielectrics example (four measured presets, r 0.15–0.4) on 32 columns: its own four-term basis holds
+#: it (the plan's errors 1.1e-3 to 2.0e-3 at this width).
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "dielectrics.toml"
 
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     folder = tmp_path_factory.mktemp("scene")
-    (folder / "scene.toml").write_text(SCENE, encoding="utf-8")
+    (folder / "scene.toml").write_text("size = 32\n" + EXAMPLE.read_text(encoding="utf-8"), encoding="utf-8")
     plan = plan_scene(read_scene(folder / "scene.toml"))
     assert plan.tables == ("scene-basis-4",)
     write_scene(plan, folder / "out")
@@ -64,16 +57,12 @@ def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(
     plan, out = built
     include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
     inputs = per_pixel_inputs()
-    outputs = []
-    for calls in (PER_PIXEL_CALLS[:4], PER_PIXEL_CALLS[4:]):
-        main = (
-            "\nuniform sampler2D inputs;\n"
-            + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(calls)))
-            + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
-            + "".join(f"    out{k} = {call};\n" for k, call in enumerate(calls))
-            + "}\n"
-        )
-        outputs += gl_draw("#version 330\n" + include + main, [inputs.reshape(32, 32, 4)], {"inputs": 0}, len(calls))
+    outputs = gl_draw(
+        "#version 330\n" + include + PER_PIXEL_GLSL_MAIN,
+        [inputs.reshape(32, 32, 4)],
+        {"inputs": 0},
+        len(PER_PIXEL_CALLS),
+    )
     constants = shader_constants(Basis.read(out / "scene_basis.json"), plan.grid)
     assert_per_pixel_outputs(outputs, inputs, "llvmpipe, scene include", constants)
 
@@ -95,9 +84,10 @@ void main() {{
 
 def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
     """The written EXR on llvmpipe through fresnelBasisSplitSumUV with the JSON's coefficients, at the plan's error
-    grid of each material (μo from 0 to 1, the columns and the midpoints in √μo; 33 roughnesses over the scene's
-    range, those in the material's), against F̄ of the material's exact curve integrated directly: within the error
-    the plan reports for it, plus float32's 1e-6 (measured: the plan's own figures to 4e-8)."""
+    grid of each material (μo from 0 to 1, the columns and the midpoints in √μo; of 33 roughnesses over the
+    scene's range those in the material's, and its end points), against F̄ of the material's exact curve
+    integrated directly: within the error the plan reports for it, plus float32's 1e-6 (measured: the plan's own
+    figures to 4e-8)."""
     plan, out = built
     include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
@@ -108,7 +98,8 @@ def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
     for material in plan.scene.materials:
         coefficients = np.array(document["materials"][material.name]["coefficients"])  # (3, 4)
         roughness = np.linspace(low, high, 33)
-        roughness = roughness[(roughness >= material.roughness[0]) & (roughness <= material.roughness[1])]
+        inside = (roughness >= material.roughness[0]) & (roughness <= material.roughness[1])
+        roughness = np.unique(np.concatenate([roughness[inside], material.roughness]))
         mu, r = (values.ravel() for values in np.meshgrid(root**2, roughness))
         inputs = np.zeros((64 * 64, 4), dtype=np.float32)
         inputs[: mu.size, 0], inputs[: mu.size, 1] = mu, r
