@@ -31,9 +31,11 @@ Adobe, generalized Schlick, …), that model's own exact split-sum table (``buil
 clamp is inactive). The scene basis is written beside its tables as ``scene_basis.json`` (curves, fit
 angles, content hash; every table and material entry names that hash), so the coefficients and the table
 always travel together. A table that holds a whole basis (the scene's own, or the generic one's every term)
-comes with the shader includes generated from that basis and the scene's grid, ``fresnel_basis_material.{glsl,hlsl,wgsl}``
-(:mod:`preintegrate.shaders`: per-pixel coefficients, direct light, ``fresnelBasisLutUV`` on the cropped rows),
-listed in ``scene_coefficients.json`` as ``shader_includes``. **Accuracy first**: a material that some layout holds to one 10-bit step
+comes with the shader includes generated from that basis and the scene's grid (:mod:`preintegrate.shaders`:
+per-pixel coefficients, direct light, ``fresnelBasisLutUV`` on the cropped rows), ``fresnel_basis_scene.{glsl,
+hlsl,wgsl}``, named apart from the default build's ``fresnel_basis_material.*`` so that a scene written beside a
+build never replaces that build's includes, and listed in ``scene_coefficients.json`` as ``shader_includes``.
+**Accuracy first**: a material that some layout holds to one 10-bit step
 (:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'
 own tables; the one with the fewest channels that holds every material to its aim with one of its layouts,

@@ -31,8 +31,10 @@ __all__ = ["build_scene", "write_scene"]
 
 #: The scene basis beside its table: the coefficients of ``scene_coefficients.json`` are on these curves.
 SCENE_BASIS_FILE = "scene_basis.json"
-#: The generated includes a scene build may write (the names of ``fresnel-lut build``'s).
-_INCLUDE_FILES = frozenset(name for name, _ in SHADER_INCLUDES.values())
+#: A scene's generated includes are named apart from the default build's (``fresnel_basis_material.*``), so that a
+#: scene written into a build's folder never replaces the includes of that build's tables.
+_INCLUDE_STEM, _SCENE_INCLUDE_STEM = "fresnel_basis_material", "fresnel_basis_scene"
+_INCLUDE_FILES = frozenset(name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM) for name, _ in SHADER_INCLUDES.values())
 
 
 def _previous_files(coefficients_path: Path) -> set[str]:
@@ -117,7 +119,10 @@ def write_scene(
     includes = (
         []
         if include_basis is None
-        else shader_includes(include_basis, f"fresnel-lut scene {Path(plan.scene.source).name}", grid)
+        else [
+            (name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM), text)
+            for name, text in shader_includes(include_basis, f"fresnel-lut scene {Path(plan.scene.source).name}", grid)
+        ]
     )
     texts += includes
     materials = {
@@ -242,7 +247,7 @@ def write_scene(
         out,
         formats,
         half,
-        owned=sorted({Path(name).stem for name in previous} - {"scene_basis"}),
+        owned=sorted({Path(name).stem for name in previous if name.startswith("ggx_")}),  # its tables' families
         owned_files=sorted(previous & ({SCENE_BASIS_FILE} | _INCLUDE_FILES)),
         texts=[
             *texts,

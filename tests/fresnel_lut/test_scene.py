@@ -11,12 +11,13 @@ import numpy as np
 import pytest
 
 from basis.models import fresnel_model
+from basis.storage import shipped_path
 from fresnel_lut import cli
 from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
 from preintegrate.channels import basis_channels
 from preintegrate.estimators import monte_carlo_albedo
 from preintegrate.exr import read_lut
-from preintegrate.lut import LutGrid, build_table
+from preintegrate.lut import BASIS_LUT, LutGrid, build_table
 from preintegrate.quadrature import directional_albedo
 
 SIZE = 32
@@ -319,6 +320,22 @@ def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_pa
         assert (out / "ggx_scene_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
     assert sorted(p.name for p in out.iterdir()) == ["ggx_schlick_rg.exr", "scene_coefficients.json", "scene_report.md"]
+
+
+def test_a_scene_beside_a_default_build_leaves_the_builds_includes_alone(tmp_path):
+    """A scene written into a folder that holds a default build (tables and their includes) adds its own includes
+    under their own names and leaves the build's bytes as they were: the build's include and tables still share
+    one basis."""
+    out = tmp_path / "out"
+    out.mkdir()
+    shipped = {name: shipped_path(name).read_bytes() for name in ("fresnel_basis_material.glsl", BASIS_LUT)}
+    for name, data in shipped.items():
+        (out / name).write_bytes(data)
+    result = write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
+    assert [path.name for path in result["shader_includes"]] == [
+        f"fresnel_basis_scene.{suffix}" for suffix in ("glsl", "hlsl", "wgsl")
+    ]
+    assert all((out / name).read_bytes() == data for name, data in shipped.items())
 
 
 def test_coefficients_file_is_the_same_bytes_whatever_the_hash_seed(tmp_path):

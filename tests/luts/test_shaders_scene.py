@@ -40,13 +40,13 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
     plan, out = built
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
     trained = Basis.read(out / "scene_basis.json")
-    assert document["shader_includes"] == [f"fresnel_basis_material.{suffix}" for suffix in ("glsl", "hlsl", "wgsl")]
+    assert document["shader_includes"] == [f"fresnel_basis_scene.{suffix}" for suffix in ("glsl", "hlsl", "wgsl")]
     for name in document["shader_includes"]:
         text = (out / name).read_text(encoding="utf-8")
         assert f"fresnel:basis_hash = {trained.content_hash}" in text and "fresnel-lut scene scene.toml" in text
     report = (out / "scene_report.md").read_text(encoding="utf-8")
     assert (
-        f"Shader includes: fresnel_basis_material.glsl, fresnel_basis_material.hlsl, fresnel_basis_material.wgsl, generated from basis {trained.content_hash}"
+        f"Shader includes: fresnel_basis_scene.glsl, fresnel_basis_scene.hlsl, fresnel_basis_scene.wgsl, generated from basis {trained.content_hash}"
         in report
     )
 
@@ -55,7 +55,7 @@ def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(
     """The per-pixel calls of the default build's include test (their inputs' edges and bad values included),
     against the mirrors with the scene basis' constants on the scene's grid."""
     plan, out = built
-    include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
+    include = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     inputs = per_pixel_inputs()
     outputs = gl_draw(
         "#version 330\n" + include + PER_PIXEL_GLSL_MAIN,
@@ -89,7 +89,7 @@ def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
     integrated directly: within the error the plan reports for it, plus float32's 1e-6 (measured: the plan's own
     figures to 4e-8)."""
     plan, out = built
-    include = (out / "fresnel_basis_material.glsl").read_text(encoding="utf-8")
+    include = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
     table, _ = read_lut(out / "ggx_scene_basis_rgba.exr")
     width, theta = plan.columns, default_basis().theta
