@@ -34,7 +34,8 @@ always travel together. A table that holds a whole basis (the scene's own, or th
 comes with the shader includes generated from that basis and the scene's grid (:mod:`preintegrate.shaders`:
 per-pixel coefficients, direct light, ``fresnelBasisLutUV`` on the cropped rows), ``fresnel_basis_scene.{glsl,
 hlsl,wgsl}``, named apart from the default build's ``fresnel_basis_material.*`` so that a scene written beside a
-build never replaces that build's includes, and listed in ``scene_coefficients.json`` as ``shader_includes``.
+build never replaces that build's includes, and listed in ``scene_coefficients.json`` as ``shader_includes``;
+the other tables read through the shipped ``luts/shaders/fresnel_basis.*`` at the roughness (r − lo)/(hi − lo).
 **Accuracy first**: a material that some layout holds to one 10-bit step
 (:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'

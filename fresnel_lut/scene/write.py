@@ -228,7 +228,8 @@ def write_scene(
             f"{include_basis.content_hash} on these tables' grid (per-pixel coefficients, direct light, "
             "fresnelBasisLutUV)."
             if includes
-            else "Shader includes: none (no table holds a whole basis); the tables' header says how to address them."
+            else "Shader includes: none (no table holds a whole basis); read the tables with luts/shaders/fresnel_basis.* "
+            f"at perceptual roughness (r - {low:g}) / ({high:g} - {low:g})."
         ),
         (
             f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "

@@ -15,6 +15,10 @@
 // GLSL ES 3.00 / WebGL 2: declare "precision highp float; precision highp sampler2D;" before these lines
 // (RGBA32F is not filterable there without OES_texture_float_linear: use the half-float table).
 //
+// A scene's tables (fresnel-lut scene) crop their rows to the roughness range lo..hi of their header
+// (fresnel:roughness_range): pass (r - lo) / (hi - lo) as perceptualRoughness. A scene whose table holds a
+// whole basis also writes fresnel_basis_scene.*, with that mapping built in.
+//
 // Coefficients c (one vec4 per colour channel) come from the Python API
 // (basis.coefficients_from_nk / coefficients_from_gulbrandsen) or `fresnel-lut coeffs --json`; they must
 // belong to the basis whose hash is in the LUT header (fresnel:basis_hash).

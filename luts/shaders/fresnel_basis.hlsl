@@ -10,6 +10,10 @@
 // itself. Use a bilinear, clamp-to-edge sampler.
 // ggx_basis_rgba.exr: R, G, B, A = bbar_0 .. bbar_3; ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel).
 //
+// A scene's tables (fresnel-lut scene) crop their rows to the roughness range lo..hi of their header
+// (fresnel:roughness_range): pass (r - lo) / (hi - lo) as perceptualRoughness. A scene whose table holds a
+// whole basis also writes fresnel_basis_scene.*, with that mapping built in.
+//
 // Coefficients c (one float4 per colour channel) come from the Python API or `fresnel-lut coeffs --json`
 // and must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
 

@@ -12,6 +12,10 @@
 // signed: a float format); ggx_schlick_rgb.exr: R = scale, G = bias, B = E = R + G (GGX albedo without Fresnel). WebGPU filters rgba32float only with the
 // "float32-filterable" feature: otherwise upload the half-float table as rgba16float.
 //
+// A scene's tables (fresnel-lut scene) crop their rows to the roughness range lo..hi of their header
+// (fresnel:roughness_range): pass (r - lo) / (hi - lo) as perceptualRoughness. A scene whose table holds a
+// whole basis also writes fresnel_basis_scene.*, with that mapping built in.
+//
 // Coefficients c (one vec4 per colour channel) come from the Python API or `fresnel-lut coeffs --json` and
 // must belong to the basis whose hash is in the LUT header (fresnel:basis_hash).
 

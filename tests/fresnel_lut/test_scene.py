@@ -93,7 +93,11 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     )
     assert abs(fbar - mean) < 4.0 * error + 1e-6
     assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
-    assert "Left out: basis-4" in result["text"] and "Shader includes: none" in result["text"]
+    assert "Left out: basis-4" in result["text"]
+    assert (
+        "Shader includes: none" in result["text"]
+        and "at perceptual roughness (r - 0.3) / (0.8 - 0.3)" in result["text"]
+    )
 
 
 def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):

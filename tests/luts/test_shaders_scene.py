@@ -1,7 +1,9 @@
 """A scene build's generated include (``fresnel-lut scene`` on a scene whose table holds a whole basis) runs for real:
 its per-pixel functions match their Python mirrors for the scene's own basis and grid, and its table coordinates
 read the written table (cropped roughness rows, √μo columns) so that the JSON's coefficients give the exact
-split sum of every material within the error the plan reports.
+split sum of every material within the error the plan reports. A scene without such a table (Schlick's) is read
+by the shipped split-sum include at the remapped roughness (r − lo)/(hi − lo) its comment gives, to the same
+bound.
 
 GLSL on Mesa's llvmpipe; the HLSL and WGSL come from the same generator as the default build's, which
 tests/luts/test_shaders_terms.py runs for bases of every size.
@@ -15,6 +17,7 @@ import pytest
 
 from basis.angles import theta_spline
 from basis.eigenbasis import Basis, default_basis
+from basis.storage import shipped_path
 from fresnel_lut.scene import plan_scene, read_scene, write_scene
 from preintegrate.exr import read_lut
 from preintegrate.quadrature import directional_albedo
@@ -67,6 +70,23 @@ def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(
     assert_per_pixel_outputs(outputs, inputs, "llvmpipe, scene include", constants)
 
 
+def _error_grid(plan, material) -> tuple[np.ndarray, np.ndarray]:
+    """(μo, r) of the plan's error grid for one material: the columns and the midpoints in √μo between them, and of
+    33 roughnesses over the scene's range those in the material's, with its end points."""
+    root = np.arange(2 * plan.columns - 1) / (2.0 * (plan.columns - 1))
+    roughness = np.linspace(*plan.roughness_range, 33)
+    inside = (roughness >= material.roughness[0]) & (roughness <= material.roughness[1])
+    roughness = np.unique(np.concatenate([roughness[inside], material.roughness]))
+    mu, r = np.meshgrid(root**2, roughness)
+    return mu.ravel(), r.ravel()
+
+
+def _exact_split_sum(material, mu, r) -> np.ndarray:
+    """(P, 3) F̄ of the material's exact curve (a spline in θ of its samples), integrated directly."""
+    exact = theta_spline(default_basis().theta, material.curve, axis=0)
+    return directional_albedo(lambda x: exact(np.arccos(np.clip(x, 0, 1))), mu, r**2)
+
+
 FRAGMENT = """#version 330
 {include}
 uniform sampler2D lut;
@@ -92,20 +112,54 @@ def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
     include = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
     table, _ = read_lut(out / "ggx_scene_basis_rgba.exr")
-    width, theta = plan.columns, default_basis().theta
-    root = np.arange(2 * width - 1) / (2.0 * (width - 1))
-    low, high = plan.roughness_range
     for material in plan.scene.materials:
         coefficients = np.array(document["materials"][material.name]["coefficients"])  # (3, 4)
-        roughness = np.linspace(low, high, 33)
-        inside = (roughness >= material.roughness[0]) & (roughness <= material.roughness[1])
-        roughness = np.unique(np.concatenate([roughness[inside], material.roughness]))
-        mu, r = (values.ravel() for values in np.meshgrid(root**2, roughness))
+        mu, r = _error_grid(plan, material)
         inputs = np.zeros((64 * 64, 4), dtype=np.float32)
         inputs[: mu.size, 0], inputs[: mu.size, 1] = mu, r
         uniforms = {"lut": 0, "inputs": 1, **{f"c{c}": tuple(coefficients[k]) for k, c in enumerate("RGB")}}
         (gpu,) = gl_draw(FRAGMENT.format(include=include), [table, inputs.reshape(64, 64, 4)], uniforms, 1, size=64)
-        exact_curve = theta_spline(theta, material.curve, axis=0)
-        exact = directional_albedo(lambda x: exact_curve(np.arccos(np.clip(x, 0, 1))), mu, r**2)  # (P, 3)
-        error = float(np.max(np.abs(gpu[: mu.size, :3] - exact)))
+        error = float(np.max(np.abs(gpu[: mu.size, :3] - _exact_split_sum(material, mu, r))))
+        assert error <= plan.errors[material.name] + 1e-6, (material.name, error, plan.errors[material.name])
+
+
+SCHLICK_FRAGMENT = """#version 330
+{include}
+uniform sampler2D lut;
+uniform sampler2D inputs;
+uniform vec3 f0;
+uniform vec2 roughnessRange;
+out vec4 colour;
+void main() {{
+    vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
+    float x = (q.y - roughnessRange.x) / (roughnessRange.y - roughnessRange.x);
+    colour = vec4(fresnelSchlickSplitSum(lut, q.x, x, f0), 1.0);
+}}
+"""
+
+
+def test_the_shipped_split_sum_include_reads_a_schlick_scene_at_its_remapped_roughness(tmp_path):
+    """The shipped Schlick example on 32 columns: ggx_schlick_rg.exr through luts/shaders/fresnel_basis.glsl's
+    fresnelSchlickSplitSum at (r − lo)/(hi − lo), F0 from the JSON (its weights are (F0, 1)), against each material's
+    exact split sum on the plan's error grid: within the plan's error plus float32's 1e-6."""
+    (tmp_path / "scene.toml").write_text(
+        "size = 32\n" + (EXAMPLE.parent / "schlick_only.toml").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    plan = plan_scene(read_scene(tmp_path / "scene.toml"))
+    assert plan.tables == ("schlick",)
+    write_scene(plan, tmp_path / "out")
+    assert not list((tmp_path / "out").glob("fresnel_basis_scene.*"))
+    include = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
+    document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
+    table, header = read_lut(tmp_path / "out" / "ggx_schlick_rg.exr")
+    low, high = (float(value) for value in header["roughness_range"].split(","))
+    for material in plan.scene.materials:
+        weights = np.array(document["materials"][material.name]["coefficients"])  # (3, 2): (F0, 1) per channel
+        assert np.all(weights[:, 1] == 1.0)
+        mu, r = _error_grid(plan, material)
+        inputs = np.zeros((64 * 64, 4), dtype=np.float32)
+        inputs[: mu.size, 0], inputs[: mu.size, 1] = mu, r
+        uniforms = {"lut": 0, "inputs": 1, "f0": tuple(weights[:, 0]), "roughnessRange": (low, high)}
+        (gpu,) = gl_draw(SCHLICK_FRAGMENT.format(include=include), [table, inputs.reshape(64, 64, 4)], uniforms, 1, 64)
+        error = float(np.max(np.abs(gpu[: mu.size, :3] - _exact_split_sum(material, mu, r))))
         assert error <= plan.errors[material.name] + 1e-6, (material.name, error, plan.errors[material.name])
