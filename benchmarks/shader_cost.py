@@ -381,6 +381,8 @@ def main(argv=None) -> int:
         milliseconds, ratio = cost(name)
         part = statistics.median(f - times[name] / times["schlick"] for f, (times, _) in zip(full, runs))
         lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} |")
+    constants, table_error = shader_constants(), curve_table_error()
+    milliseconds, ratio = cost("basis per pixel (r, g)")
     lines += [
         "",
         "Direct light: the include's polynomial against a table (max abs db: the curves b_k against the basis' "
@@ -388,13 +390,12 @@ def main(argv=None) -> int:
         "",
         "| direct light | max abs db over theta | ms per frame | cost / Schlick | range |",
         "|---|---|---|---|---|",
-        f"| polynomial of degree {shader_constants().curve_degree} in the warped cosine (the include; the (r, g) row "
-        f"above) | {shader_constants().curve_error:.1e} | {cost('basis per pixel (r, g)')[0]:.2f} | "
-        f"{cost('basis per pixel (r, g)')[1]} |",
+        f"| polynomial of degree {constants.curve_degree} in the warped cosine (the include; the (r, g) row "
+        f"above) | {constants.curve_error:.1e} | {milliseconds:.2f} | {ratio} |",
     ]
     for name in DIRECT_ALTERNATIVES:
         milliseconds, ratio = cost(name)
-        lines.append(f"| {name} | {curve_table_error():.1e} | {milliseconds:.2f} | {ratio} |")
+        lines.append(f"| {name} | {table_error:.1e} | {milliseconds:.2f} | {ratio} |")
     lines += [
         "",
         "Projection of each linear model onto the basis (its parameters on an 11-point grid in [0, 1] each; "

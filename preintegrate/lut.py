@@ -186,9 +186,9 @@ class LutGrid:
         clamps them: the affine maps :attr:`column_mapping` and :attr:`row_mapping` that the generated include's
         ``fresnelBasisLutUV`` writes as constants (end points: (position + 0.5)/size)."""
         mu_o, roughness = np.broadcast_arrays(as_float_array("mu_o", mu_o), as_float_array("roughness", roughness))
-        mu_o, roughness = np.clip(mu_o, 0.0, 1.0), np.clip(roughness, 0.0, 1.0)
+        mu_o = np.clip(mu_o, 0.0, 1.0)
         column_scale, column_offset = self.column_mapping
-        low, high, row_scale, row_offset = self.row_mapping
+        low, high, row_scale, row_offset = self.row_mapping  # [low, high] lies in [0, 1]
         x = np.sqrt(mu_o) if self.columns == "root-endpoints" else mu_o
         return np.stack([x * column_scale + column_offset, np.clip(roughness, low, high) * row_scale + row_offset], -1)
 
