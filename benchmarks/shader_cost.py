@@ -20,7 +20,17 @@ as a textured material would):
   Fresnel at the fit angles taken out, one at a time: what each part costs (diagnostics, not products);
 * :data:`DIRECT_ALTERNATIVES`: the (r, g) pass with its direct-light curves read from a 1-D RGBA table over the
   same warped cosine (linear filtering, :data:`CURVE_TABLE_SIZE` texels), the other form issue 23 names: its cost
-  and its curve error beside the include's polynomial: the measurement behind the include's choice of form.
+  and its curve error beside the include's polynomial: the measurement behind the include's choice of form;
+* :data:`SOLVED_OFFLINE`: the coefficients read from three textures (cR, cG, cB), as an engine that solves its
+  material maps once at import (with the include's Python mirrors) would read them: what the per-pixel solve costs
+  against three texture reads.
+
+Every variant's cost is given twice: measured on llvmpipe, and as a GPU's own compiler estimates it (ACO, Mesa's
+compiler for AMD GPUs, compiling the same fragment shader for RDNA 2 through RADV's device-less mode:
+:mod:`benchmarks.gpu_compiler`): its instruction count and its inverse throughput (cycles per 64 pixels of the
+busiest unit, texture latency hidden behind other waves) as a ratio to Schlick's. llvmpipe filters textures in
+software, so a texture read weighs about as much as fifty multiplications there and arithmetic is diluted; on a GPU
+the texture unit filters, and the arithmetic is most of these passes.
 
 Error, on the materials each parametrisation is for (max over θ of |ΔF|; max over the 128 × 128 table of |ΔF̄|,
 bilinear lookup, against the exact curve's own split sum): the held-out metals of the basis build (400 (η, κ), η 0.1–4, κ 1–8), Gulbrandsen's artist
@@ -44,6 +54,7 @@ from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
 from basis.training import holdout_materials
+from benchmarks.gpu_compiler import compiler_estimates
 from benchmarks.output import machine, publish
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 from preintegrate.multiple_scattering import shipped_tables
@@ -68,6 +79,7 @@ ARTIST_R_MAX = 0.9
 VERTEX = "#version 330\nin vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }\n"
 COMMON = """
 uniform sampler2D basisLut; uniform sampler2D schlickLut; uniform sampler2D mapA; uniform sampler2D mapB;
+uniform sampler2D mapC;
 uniform vec2 size; uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform float roughness;
 out vec4 colour;
 const vec3 EYE = vec3(0.0, 0.0, 4.0), LIGHT = vec3(1.5, 2.0, 3.0);  // per-pixel V and L: nothing folds to a constant
@@ -154,6 +166,15 @@ DIRECT_ALTERNATIVES = {
         "fresnelBasisDirect", "directFromTable"
     ),
 }
+#: The coefficients solved offline: three RGBA textures, one per colour channel (what the per-pixel solve is
+#: weighed against; linear filtering of coefficients filters F itself, which is linear in them).
+SOLVED_OFFLINE = {
+    "basis, coefficients from three textures (solved offline)": """vec4 pR = texture(mapA, uv), pG = texture(mapB, uv), pB = texture(mapC, uv);
+    Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
+    F = fresnelBasisDirect(VdotH, pR, pG, pB);""",
+}
+#: Every pass the benchmark times and compiles.
+ALL_VARIANTS = {**VARIANTS, **DECOMPOSITION, **DIRECT_ALTERNATIVES, **SOLVED_OFFLINE}
 SPLIT_SUM = """
 vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG, vec4 cB) {
     vec4 b = textureLod(lut, vec2(NdotV, r), 0.0);
@@ -162,20 +183,40 @@ vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 
 """
 
 
+def fragment_source(variant: str, version: str = "330") -> str:
+    """The whole fragment shader of one variant: the generated include, the diagnostics and :data:`COMMON` around
+    the variant's lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan compiler)."""
+    return (
+        f"#version {version}\n"
+        + dict(shader_includes())["fresnel_basis_material.glsl"]
+        + f"const float CURVE_TABLE_SCALE = {(CURVE_TABLE_SIZE - 1) / CURVE_TABLE_SIZE!r};\n"
+        + f"const float CURVE_TABLE_OFFSET = {0.5 / CURVE_TABLE_SIZE!r};\n"
+        + SPLIT_SUM
+        + DIAGNOSTICS
+        + COMMON.replace("{variant}", variant)
+    )
+
+
+def gpu_compiler_estimates() -> tuple[dict[str, dict[str, int]], str]:
+    """ACO's statistics of every variant's fragment shader compiled for AMD RDNA 2 (:mod:`benchmarks.gpu_compiler`),
+    and the compiler in words: a GPU's own compiler on the same shaders, where llvmpipe's software texture filtering
+    dilutes the arithmetic."""
+    return compiler_estimates({name: fragment_source(body, "450") for name, body in ALL_VARIANTS.items()})
+
+
 def frame_times(
     width: int, height: int, frames: int, rounds: int, variants: dict[str, str] | None = None
 ) -> tuple[dict[str, float], str]:
-    """Median seconds per frame of each variant (default: :data:`VARIANTS` and :data:`DECOMPOSITION`; rounds
-    alternate the variants) and the renderer's name."""
-    variants = {**VARIANTS, **DECOMPOSITION, **DIRECT_ALTERNATIVES} if variants is None else variants
+    """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants) and the
+    renderer's name."""
+    variants = ALL_VARIANTS if variants is None else variants
     import moderngl
 
     context = moderngl.create_standalone_context(backend="egl")
     try:
-        include = dict(shader_includes())["fresnel_basis_material.glsl"]
         rng = np.random.default_rng(3)
-        maps = [rng.uniform(0.05, 0.95, (256, 256, 4)).astype("f4") for _ in range(2)]
-        textures = [*shipped_tables(), *maps, curve_table(default_basis(), shader_constants())]
+        maps = [rng.uniform(0.05, 0.95, (256, 256, 4)).astype("f4") for _ in range(3)]
+        textures = [*shipped_tables(), *maps[:2], curve_table(default_basis(), shader_constants()), maps[2]]
         for unit, table in enumerate(textures):
             texture = context.texture(
                 table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, "f4").tobytes(), dtype="f4"
@@ -188,17 +229,8 @@ def frame_times(
         quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
         passes = {}
         for name, variant in variants.items():
-            program = context.program(
-                vertex_shader=VERTEX,
-                fragment_shader="#version 330\n"
-                + include
-                + f"const float CURVE_TABLE_SCALE = {(CURVE_TABLE_SIZE - 1) / CURVE_TABLE_SIZE!r};\n"
-                + f"const float CURVE_TABLE_OFFSET = {0.5 / CURVE_TABLE_SIZE!r};\n"
-                + SPLIT_SUM
-                + DIAGNOSTICS
-                + COMMON.replace("{variant}", variant),
-            )
-            for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB", "curveLut")):
+            program = context.program(vertex_shader=VERTEX, fragment_shader=fragment_source(variant))
+            for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC")):
                 if uniform in program:
                     program[uniform] = index
             for uniform, value in (
@@ -348,14 +380,19 @@ def main(argv=None) -> int:
     ]
     renderer = runs[0][1]
     measured = errors()
+    estimates, compiler = gpu_compiler_estimates()
     lines = [
         f"Renderer: {renderer} on {machine()}; {arguments.width} x {arguments.height}, median of {arguments.rounds} rounds of "
         f"{arguments.frames} frames, variants alternated, {len(runs)} measurements: the median ratio and its range "
         "over them (the machine is shared: a ratio moves by about 0.1 from one measurement to the next). "
+        f"GPU compiler: ACO (Mesa's AMD compiler) on {compiler} (AMD RDNA 2) through RADV's device-less mode, the same "
+        "fragment shaders as GLSL 4.50: its instructions and its inverse throughput (cycles per 64 pixels of the busiest "
+        "unit, texture latency hidden) as a ratio to Schlick's, a static estimate, not a timing. "
         "Command: `python -m benchmarks.shader_cost`.",
         "",
-        "| variant | max abs dF over theta | max abs dFbar over the table | ms per frame | cost / Schlick | range |",
-        "|---|---|---|---|---|---|",
+        "| variant | max abs dF over theta | max abs dFbar over the table | ms per frame | cost / Schlick | range "
+        "| RDNA 2 instructions | RDNA 2 throughput cost / Schlick |",
+        "|---|---|---|---|---|---|---|---|",
     ]
 
     def cost(name: str) -> tuple[float, str]:
@@ -364,38 +401,62 @@ def main(argv=None) -> int:
         milliseconds = statistics.median(1e3 * times[name] for times, _ in runs)
         return milliseconds, f"{statistics.median(ratios):.2f} | {min(ratios):.2f}-{max(ratios):.2f}"
 
+    def compiled(name: str) -> str:
+        """ACO's instructions and inverse-throughput ratio to Schlick's, as two cells."""
+        throughput = estimates[name]["Inverse Throughput"] / estimates["schlick"]["Inverse Throughput"]
+        return f"{estimates[name]['Instructions']} | {throughput:.2f}"
+
     for name in VARIANTS:
         f_error, fbar_error = measured[name]
         milliseconds, ratio = cost(name)
-        lines.append(f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {milliseconds:.2f} | {ratio} |")
+        lines.append(f"| {name} | {f_error:.2e} | {fbar_error:.2e} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
     lines += [
         "",
         "Where the (r, g) pass' cost goes: the same pass with one part taken out at a time (diagnostics, not products; "
         "the difference is the part's cost as a fraction of Schlick's pass):",
         "",
-        "| variant | ms per frame | cost / Schlick | range | part's cost / Schlick |",
-        "|---|---|---|---|---|",
+        "| variant | ms per frame | cost / Schlick | range | part's cost / Schlick | RDNA 2 instructions "
+        "| RDNA 2 throughput cost / Schlick | part's RDNA 2 cost / Schlick |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     full = [times["basis per pixel (r, g)"] / times["schlick"] for times, _ in runs]
+    full_estimate = estimates["basis per pixel (r, g)"]["Inverse Throughput"]
     for name in DECOMPOSITION:
         milliseconds, ratio = cost(name)
         part = statistics.median(f - times[name] / times["schlick"] for f, (times, _) in zip(full, runs))
-        lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} |")
+        part_estimate = (full_estimate - estimates[name]["Inverse Throughput"]) / estimates["schlick"][
+            "Inverse Throughput"
+        ]
+        lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} | {compiled(name)} | {part_estimate:.2f} |")
     constants, table_error = shader_constants(), curve_table_error()
-    milliseconds, ratio = cost("basis per pixel (r, g)")
+    milliseconds, ratio = per_pixel_ms, per_pixel_ratio = cost("basis per pixel (r, g)")
     lines += [
         "",
         "Direct light: the include's polynomial against a table (max abs db: the curves b_k against the basis' "
         "spline over theta, float64):",
         "",
-        "| direct light | max abs db over theta | ms per frame | cost / Schlick | range |",
-        "|---|---|---|---|---|",
+        "| direct light | max abs db over theta | ms per frame | cost / Schlick | range | RDNA 2 instructions "
+        "| RDNA 2 throughput cost / Schlick |",
+        "|---|---|---|---|---|---|---|",
         f"| polynomial of degree {constants.curve_degree} in the warped cosine (the include; the (r, g) row "
-        f"above) | {constants.curve_error:.1e} | {milliseconds:.2f} | {ratio} |",
+        f"above) | {constants.curve_error:.1e} | {milliseconds:.2f} | {ratio} | {compiled('basis per pixel (r, g)')} |",
     ]
     for name in DIRECT_ALTERNATIVES:
         milliseconds, ratio = cost(name)
-        lines.append(f"| {name} | {table_error:.1e} | {milliseconds:.2f} | {ratio} |")
+        lines.append(f"| {name} | {table_error:.1e} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
+    lines += [
+        "",
+        "The solve per pixel against coefficients solved offline (three RGBA textures, one per channel, as an engine "
+        "that solves its material maps at import would read them):",
+        "",
+        "| coefficients | ms per frame | cost / Schlick | range | RDNA 2 instructions | RDNA 2 throughput cost / Schlick |",
+        "|---|---|---|---|---|---|",
+        f"| solved per pixel from (r, g) (the include; the (r, g) row above) | {per_pixel_ms:.2f} | {per_pixel_ratio} "
+        f"| {compiled('basis per pixel (r, g)')} |",
+    ]
+    for name in SOLVED_OFFLINE:
+        milliseconds, ratio = cost(name)
+        lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
     lines += [
         "",
         "Projection of each linear model onto the basis (its parameters on an 11-point grid in [0, 1] each; "

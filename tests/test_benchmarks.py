@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.conftest import gpu_missing
+
 ROOT = Path(__file__).resolve().parents[1]
 #: The entries: modules of benchmarks/ that run as a program (helpers such as ``benchmarks.output`` do not).
 ENTRIES = sorted(
@@ -27,6 +29,7 @@ def test_every_benchmark_is_listed_here():
         "area_lights",
         "commands",
         "fuzz",
+        "gpu_compiler",
         "lut_edges",
         "quadrature_vs_montecarlo",
         "shader_cost",
@@ -72,6 +75,48 @@ def test_shader_cost_runs_small():
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert completed.stdout.count("| basis per pixel") == 3
     assert completed.stdout.count("direct light from a 512-texel table") == 1
+    assert completed.stdout.count("coefficients from three textures (solved offline)") == 1
+    assert "GPU compiler: ACO (Mesa's AMD compiler) on RADV NAVI21" in completed.stdout
+
+
+def _gpu_compiler_tools():
+    """glslangValidator, RADV and the Python Vulkan binding, or skip (fail under CI=true) naming the missing one."""
+    import importlib.util
+    import shutil
+
+    if shutil.which("glslangValidator") is None:
+        gpu_missing("glslangValidator (Debian glslang-tools)")
+    if not any(Path(folder).glob("radeon_icd*.json") for folder in ("/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d")):
+        gpu_missing("RADV, Mesa's Vulkan driver for AMD GPUs (Debian mesa-vulkan-drivers)")
+    if importlib.util.find_spec("vulkan") is None:
+        gpu_missing("the Python Vulkan binding (the 'gpu' extra)")
+
+
+def test_the_gpu_compiler_counts_the_arithmetic_it_is_given():
+    """ACO's estimates follow the shader's arithmetic: sixteen dependent multiply-adds on a texel add at least sixteen
+    instructions and raise the inverse throughput; the same shader twice gives the same statistics (a static model:
+    no noise)."""
+    from benchmarks.gpu_compiler import STATISTICS, compiler_estimates
+
+    _gpu_compiler_tools()
+    head = "#version 450\nuniform sampler2D map;\nuniform float k;\nout vec4 colour;\n"
+    plain = head + "void main() { vec4 x = texture(map, gl_FragCoord.xy); colour = x; }\n"
+    chain = "".join("    x = x * x * k + 0.5;\n" for _ in range(4))  # 4 x 4 components: 16 multiply-adds
+    busy = head + "void main() {\n    vec4 x = texture(map, gl_FragCoord.xy);\n" + chain + "    colour = x;\n}\n"
+    estimates, compiler = compiler_estimates({"plain": plain, "busy": busy, "plain again": plain})
+    assert compiler.startswith("RADV NAVI21, Mesa ")
+    assert set(estimates["plain"]) == set(STATISTICS)
+    assert estimates["busy"]["Instructions"] >= estimates["plain"]["Instructions"] + 16
+    assert estimates["busy"]["Inverse Throughput"] > estimates["plain"]["Inverse Throughput"]
+    assert estimates["plain again"] == estimates["plain"]
+
+
+def test_the_gpu_compiler_names_a_shader_that_does_not_compile(tmp_path):
+    _gpu_compiler_tools()
+    shader = tmp_path / "broken.frag"
+    shader.write_text("#version 450\nout vec4 colour;\nvoid main() { colour = vec4(undeclared); }\n", encoding="utf-8")
+    completed = _run("benchmarks.gpu_compiler", str(shader))
+    assert completed.returncode == 1 and "'undeclared' : undeclared identifier" in completed.stderr, completed.stderr
 
 
 @pytest.mark.slow
