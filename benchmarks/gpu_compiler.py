@@ -7,8 +7,8 @@ AMD compiler, to that GPU's instruction set, and VK_KHR_pipeline_executable_prop
 latency estimate, and the inverse throughput, the cycles per 64 pixels of the busiest unit once the latency of texture
 reads is hidden behind the other waves. It is a static model of one GPU, not a timing: it does not see the texture
 units' own throughput, caches or bandwidth. What it sees is the arithmetic, which a software rasteriser such as
-llvmpipe weighs against its own software texture filtering (a filtered fetch costs llvmpipe about as much as fifty
-multiplications, a GPU one instruction issued to its texture unit).
+llvmpipe weighs against its own software texture filtering (a GPU issues a filtered fetch to its texture unit as
+one instruction).
 
 Run: ``python -m benchmarks.gpu_compiler SHADER.frag [...] [--family navi21] [--json]`` (GLSL fragment shaders,
 ``#version 450``; loose uniforms and unbound samplers are accepted and bound in order). The shader-cost benchmark

@@ -20,7 +20,8 @@ as a textured material would):
   Fresnel at the fit angles taken out, one at a time: what each part costs (diagnostics, not products);
 * :data:`DIRECT_ALTERNATIVES`: the (r, g) pass with its direct-light curves read from a 1-D RGBA table over the
   same warped cosine (linear filtering, :data:`CURVE_TABLE_SIZE` texels), the other form issue 23 names: its cost
-  and its curve error beside the include's polynomial: the measurement behind the include's choice of form;
+  and its curve error beside the include's polynomial: the measurement behind the include's choice of form; and
+  with Schlick's F from the coefficients' c0 for the light, no curves at all: what the curves cost;
 * :data:`SOLVED_OFFLINE`: the coefficients read from three textures (cR, cG, cB), as an engine that solves its
   material maps once at import (with the include's Python mirrors) would read them: what the per-pixel solve costs
   against three texture reads.
@@ -29,8 +30,8 @@ Every variant's cost is given twice: measured on llvmpipe, and as a GPU's own co
 compiler for AMD GPUs, compiling the same fragment shader for RDNA 2 through RADV's device-less mode:
 :mod:`benchmarks.gpu_compiler`): its instruction count and its inverse throughput (cycles per 64 pixels of the
 busiest unit, texture latency hidden behind other waves) as a ratio to Schlick's. llvmpipe filters textures in
-software, so a texture read weighs about as much as fifty multiplications there and arithmetic is diluted; on a GPU
-the texture unit filters, and the arithmetic is most of these passes.
+software, so a texture read weighs much more there than on a GPU, whose texture unit filters, and arithmetic is
+diluted (the decomposition shows both: a second texture read against Gulbrandsen's mapping).
 
 Error, on the materials each parametrisation is for (max over θ of |ΔF|; max over the 128 × 128 table of |ΔF̄|,
 bilinear lookup, against the exact curve's own split sum): the held-out metals of the basis build (400 (η, κ), η 0.1–4, κ 1–8), Gulbrandsen's artist
@@ -165,6 +166,10 @@ DIRECT_ALTERNATIVES = {
     f"(r, g), direct light from a {CURVE_TABLE_SIZE}-texel table": _GULBRANDSEN.replace(
         "fresnelBasisDirect", "directFromTable"
     ),
+    "(r, g), Schlick's F from c0 for the light (no curves: what they cost)": _GULBRANDSEN.replace(
+        "F = fresnelBasisDirect(VdotH, pR, pG, pB);",
+        "F = vec3(pR.x, pG.x, pB.x) + vec3(pR.y, pG.y, pB.y) * pow5(1.0 - VdotH);",
+    ),
 }
 #: The coefficients solved offline: three RGBA textures, one per colour channel (what the per-pixel solve is
 #: weighed against; linear filtering of coefficients filters F itself, which is linear in them).
@@ -265,15 +270,25 @@ def curve_table(basis, constants) -> np.ndarray:
     return basis.evaluate_mu(unwarped_cosine(np.linspace(0.0, 1.0, CURVE_TABLE_SIZE), constants.curve_warp))[None]
 
 
-def curve_table_error() -> float:
+#: Bits of the weight between two texels in a GPU's linear filter: Direct3D asks for at least 8 (its subtexel
+#: precision), and GPUs that filter with 8-bit weights round a lookup to 1/256 of a texel.
+FILTER_WEIGHT_BITS = 8
+
+
+def curve_table_error(weight_bits: int | None = None) -> float:
     """max over μ and k of |linear interpolation of :func:`curve_table` in x − the basis' spline| (float64; the
-    include's polynomial is ShaderConstants.curve_error on the same measure)."""
+    include's polynomial is ShaderConstants.curve_error on the same measure); with ``weight_bits``, the interpolation
+    weight rounded to that many bits, as a GPU's filter rounds it."""
     basis, constants = default_basis(), shader_constants()
     mu = np.linspace(0.0, 1.0, 100001)
-    nodes = np.linspace(0.0, 1.0, CURVE_TABLE_SIZE)
     table, exact = curve_table(basis, constants)[0], basis.evaluate_mu(mu)
-    x = warped_cosine(mu, constants.curve_warp)
-    return float(max(np.max(np.abs(np.interp(x, nodes, table[:, k]) - exact[:, k])) for k in range(table.shape[1])))
+    position = warped_cosine(mu, constants.curve_warp) * (CURVE_TABLE_SIZE - 1)
+    left = np.minimum(np.floor(position).astype(int), CURVE_TABLE_SIZE - 2)
+    weight = position - left
+    if weight_bits is not None:
+        weight = np.round(weight * 2.0**weight_bits) / 2.0**weight_bits
+    interpolated = table[left] * (1.0 - weight[:, None]) + table[left + 1] * weight[:, None]
+    return float(np.max(np.abs(interpolated - exact)))
 
 
 def errors() -> dict[str, tuple[float, float]]:
@@ -429,6 +444,7 @@ def main(argv=None) -> int:
         ]
         lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {part:.2f} | {compiled(name)} | {part_estimate:.2f} |")
     constants, table_error = shader_constants(), curve_table_error()
+    coarse_filter_error = curve_table_error(FILTER_WEIGHT_BITS)
     milliseconds, ratio = per_pixel_ms, per_pixel_ratio = cost("basis per pixel (r, g)")
     lines += [
         "",
@@ -443,7 +459,12 @@ def main(argv=None) -> int:
     ]
     for name in DIRECT_ALTERNATIVES:
         milliseconds, ratio = cost(name)
-        lines.append(f"| {name} | {table_error:.1e} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
+        accuracy = (
+            f"{table_error:.1e} ({coarse_filter_error:.1e} with {FILTER_WEIGHT_BITS}-bit filter weights)"
+            if "table" in name
+            else "not the basis' curves"
+        )
+        lines.append(f"| {name} | {accuracy} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
     lines += [
         "",
         "The solve per pixel against coefficients solved offline (three RGBA textures, one per channel, as an engine "
