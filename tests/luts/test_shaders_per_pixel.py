@@ -105,6 +105,58 @@ def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
     assert_per_pixel_outputs([output[:, k] for k in range(OUTPUTS)], inputs, "lavapipe")
 
 
+OFFLINE_GLSL_MAIN = """
+uniform sampler2D reflectivityMap; uniform sampler2D edgeTintMap; uniform sampler2D basisLut;
+uniform sampler2D coefficientsRed; uniform sampler2D coefficientsGreen; uniform sampler2D coefficientsBlue;
+uniform float NdotV; uniform float roughness; uniform float VdotH; uniform vec2 shift;
+layout(location = 0) out vec4 perPixelIbl; layout(location = 1) out vec4 perPixelLight;
+layout(location = 2) out vec4 offlineIbl; layout(location = 3) out vec4 offlineLight;
+void main() {
+    vec2 uv = (gl_FragCoord.xy + shift) / vec2(textureSize(reflectivityMap, 0));
+    vec4 cR, cG, cB;
+    fresnelCoefficientsGulbrandsen3(texture(reflectivityMap, uv).rgb, texture(edgeTintMap, uv).rgb, cR, cG, cB);
+    perPixelIbl = vec4(fresnelBasisSplitSumUV(basisLut, NdotV, roughness, cR, cG, cB), 1.0);
+    perPixelLight = vec4(fresnelBasisDirect(VdotH, cR, cG, cB), 1.0);
+    vec4 oR = texture(coefficientsRed, uv), oG = texture(coefficientsGreen, uv), oB = texture(coefficientsBlue, uv);
+    offlineIbl = vec4(fresnelBasisSplitSumUV(basisLut, NdotV, roughness, oR, oG, oB), 1.0);
+    offlineLight = vec4(fresnelBasisDirect(VdotH, oR, oG, oB), 1.0);
+}
+"""
+
+
+def test_coefficients_solved_offline_read_as_textures_match_the_per_pixel_solve():
+    """README's cheaper path for maps known at import: the coefficients of a reflectivity and an edge-tint map solved
+    once by the Python API (float64, stored as three RGBA32F textures) and sampled, against the include solving the
+    same maps per pixel, on llvmpipe: F̄ (the shipped table) and F(V·H) within the include's float32 curve bound
+    at every texel. Between texels the textures filter the coefficients, and so F itself (linear in them): at the
+    midpoint of two texels each channel's F̄ is the mean of theirs, where the per-pixel solve of the filtered (r, g)
+    is not."""
+    from preintegrate.multiple_scattering import shipped_tables
+
+    rng = np.random.default_rng(5)
+    reflectivity = rng.uniform(0.0, 0.95, (32, 32, 3))
+    edge_tint = rng.uniform(0.0, 1.0, (32, 32, 3))
+    reflectivity[0, :4] = np.array([0.0, 0.9999, 0.5, 1e-6])[:, None]  # the documented range's edges
+    edge_tint[0, :4] = np.array([0.0, 1.0, 0.0, 1.0])[:, None]
+    coefficients = coefficients_from_gulbrandsen(reflectivity, edge_tint)  # (32, 32, 3, 4), as README solves them
+    textures = [reflectivity, edge_tint, shipped_tables()[0], *(coefficients[..., k, :] for k in range(3))]
+    names = ("reflectivityMap", "edgeTintMap", "basisLut", "coefficientsRed", "coefficientsGreen", "coefficientsBlue")
+    source = "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + OFFLINE_GLSL_MAIN
+    view = {"NdotV": 0.37, "roughness": 0.45, "VdotH": 0.21}
+    at_texels = gl_draw(source, textures, {**dict(zip(names, range(6))), **view, "shift": (0.0, 0.0)}, 4)
+    for per_pixel, offline in ((at_texels[0], at_texels[2]), (at_texels[1], at_texels[3])):
+        assert np.all(np.isfinite(offline))
+        assert np.max(np.abs(offline - per_pixel)) <= CONSTANTS.float32_curve_tolerance + 2e-7  # + float32 storage
+    midway = gl_draw(source, textures, {**dict(zip(names, range(6))), **view, "shift": (0.5, 0.0)}, 4)
+
+    def off_the_mean(output: int) -> float:
+        """max |F̄ midway − the mean of the two texels' F̄| of one path."""
+        texels, between = (np.asarray(o[output][:, :3]).reshape(32, 32, 3) for o in (at_texels, midway))
+        return float(np.max(np.abs(between[:, :-1] - 0.5 * (texels[:, :-1] + texels[:, 1:]))))
+
+    assert off_the_mean(2) <= 1e-6 and off_the_mean(0) > 1e-2  # llvmpipe: 1.2e-7 offline, 0.10 per pixel
+
+
 def _validator():
     path = shutil.which("glslangValidator")
     if path is None:
