@@ -15,7 +15,7 @@ Run: ``python -m benchmarks.gpu_compiler SHADER.frag [...] [--family navi21] [--
 calls :func:`compiler_estimates`. Needs glslangValidator (Debian glslang-tools), Mesa's RADV (mesa-vulkan-drivers)
 and the Python Vulkan binding (the ``gpu`` extra), all of which the test set-up installs.
 
-Public objects: ``compiler_estimates``, ``FAMILY``, ``STATISTICS``.
+Public objects: ``compiler_estimates``, ``radv_manifest``, ``FAMILY``, ``STATISTICS``.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["FAMILY", "STATISTICS", "compiler_estimates"]
+__all__ = ["FAMILY", "STATISTICS", "compiler_estimates", "radv_manifest"]
 
 #: The GPU compiled for: AMD RDNA 2 (Radeon RX 6800/6900, the generation of the current consoles' GPUs).
 FAMILY = "navi21"
@@ -58,10 +58,10 @@ def compiler_estimates(fragments: dict[str, str], family: str = FAMILY) -> tuple
             RADV_FORCE_FAMILY=family,
             RADV_DEBUG="nocache",
             MESA_SHADER_CACHE_DISABLE="true",
-            VK_ICD_FILENAMES=_radv_icd(),
+            VK_ICD_FILENAMES=radv_manifest(),
         )
         completed = subprocess.run(
-            [sys.executable, "-m", "benchmarks.gpu_compiler", "--json", "--family", family, *paths],
+            [sys.executable, "-m", "benchmarks.gpu_compiler", "--compile-here", "--json", "--family", family, *paths],
             capture_output=True,
             text=True,
             env=environment,
@@ -74,8 +74,9 @@ def compiler_estimates(fragments: dict[str, str], family: str = FAMILY) -> tuple
     return dict(zip(fragments, report["estimates"])), report["compiler"]
 
 
-def _radv_icd() -> str:
-    """The Vulkan loader's manifest of RADV (Debian's mesa-vulkan-drivers), so that no other driver is loaded."""
+def radv_manifest() -> str:
+    """The Vulkan loader's manifest of RADV (Debian's mesa-vulkan-drivers), so that no other driver is loaded; raises
+    ``RuntimeError`` where RADV is not installed."""
     for folder in ("/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d", "/usr/local/share/vulkan/icd.d"):
         for manifest in sorted(Path(folder).glob("radeon_icd*.json")):
             return str(manifest)
@@ -231,8 +232,10 @@ def main(argv=None) -> int:
     parser.add_argument("shaders", nargs="+", type=Path, help="GLSL fragment shaders (#version 450)")
     parser.add_argument("--family", default=FAMILY, help=f"the AMD GPU family RADV compiles for (default {FAMILY})")
     parser.add_argument("--json", action="store_true", help="print a JSON list of the statistics, one per shader")
+    # the child compiler_estimates starts in RADV's device-less environment (not for users)
+    parser.add_argument("--compile-here", action="store_true", help=argparse.SUPPRESS)
     arguments = parser.parse_args(argv)
-    if os.environ.get("RADV_FORCE_FAMILY") != arguments.family:  # started by hand: the estimates' own environment
+    if not arguments.compile_here:
         sources = {}
         for path in arguments.shaders:
             try:

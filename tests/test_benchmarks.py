@@ -86,8 +86,12 @@ def _gpu_compiler_tools():
 
     if shutil.which("glslangValidator") is None:
         gpu_missing("glslangValidator (Debian glslang-tools)")
-    if not any(Path(folder).glob("radeon_icd*.json") for folder in ("/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d")):
-        gpu_missing("RADV, Mesa's Vulkan driver for AMD GPUs (Debian mesa-vulkan-drivers)")
+    from benchmarks.gpu_compiler import radv_manifest
+
+    try:
+        radv_manifest()
+    except RuntimeError as missing:
+        gpu_missing(str(missing))
     if importlib.util.find_spec("vulkan") is None:
         gpu_missing("the Python Vulkan binding (the 'gpu' extra)")
 
