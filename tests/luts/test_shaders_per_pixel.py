@@ -154,7 +154,8 @@ def test_coefficients_solved_offline_read_as_textures_match_the_per_pixel_solve(
         texels, between = (np.asarray(o[output][:, :3]).reshape(32, 32, 3) for o in (at_texels, midway))
         return float(np.max(np.abs(between[:, :-1] - 0.5 * (texels[:, :-1] + texels[:, 1:]))))
 
-    assert off_the_mean(2) <= 1e-6 and off_the_mean(0) > 1e-2  # llvmpipe: 1.2e-7 offline, 0.10 per pixel
+    assert off_the_mean(2) <= 1e-6  # llvmpipe: 1.2e-7
+    assert abs(off_the_mean(0) - 0.10) <= 0.01  # README's figure: the maps' own, whatever the GL (0.1009 on llvmpipe)
 
 
 def _validator():
