@@ -6,12 +6,17 @@ are then trusted. Errors are :class:`ParameterError` (a ``ValueError``) whose
 message names the parameter, the offending value and the accepted range.
 
 Public objects: ``ParameterError``, ``as_float_array``, ``check_range``,
-``check_shape_last``, ``check_positive_int``, ``check_broadcast``, ``check_choice``, ``choose``.
+``check_shape_last``, ``check_positive_int``, ``check_broadcast``, ``check_choice``, ``choose``, ``safe_line``.
+
+Texts that reach a generated file (a file name in a shader include's comment, a command in a table's header, a scene's
+name in its report's title) pass through :func:`safe_line`, the one function that makes any text one inert line.
 """
 
 from __future__ import annotations
 
+import json
 import numbers
+import re
 
 import numpy as np
 
@@ -24,6 +29,7 @@ __all__ = [
     "check_range",
     "check_shape_last",
     "choose",
+    "safe_line",
 ]
 
 
@@ -154,3 +160,33 @@ def check_choice(name: str, value, choices, error=ParameterError):
 def choose(name: str, value, registry, error=ParameterError):
     """``registry[value]`` for a name of the registry (a mapping), refused as :func:`check_choice` refuses."""
     return registry[check_choice(name, value, registry, error)]
+
+
+#: A line that needs no quoting: printable ASCII, no comment delimiter, not ending in a backslash.
+_INERT_LINE = re.compile(r"(?!.*(?:/\*|\*/))[ -~]*(?<!\\)")
+
+
+def safe_line(text) -> str:
+    """``text`` as one line that is inert wherever the project writes it: in a ``//`` or ``/* */`` comment of a
+    GLSL, HLSL, WGSL or C include, an EXR, KTX2 or PNG attribute, a Markdown title.
+
+    Text of printable ASCII with no comment delimiter (``/*``, ``*/``) that does not end in a backslash (which would
+    continue a GLSL comment onto the next line) is returned as it is; any other text is quoted with JSON's escapes
+    (``\\n``, ``\\u00e9``, ``\\u0000``, and ``\\u002a`` for a ``*`` beside a ``/``), so that it reads back with ``json.loads``.
+    The result is never two lines, holds no control or non-ASCII character and is its own safe line (quoting
+    twice changes nothing).
+
+    Examples
+    --------
+    >>> safe_line("scene.toml")
+    'scene.toml'
+    >>> print(safe_line("x\\nfloat injected() { return 42.0; } */ é"))
+    "x\\nfloat injected() { return 42.0; } \\u002a/ \\u00e9"
+    >>> safe_line(safe_line("a\\tb")) == safe_line("a\\tb")
+    True
+    """
+    text = str(text)
+    if _INERT_LINE.fullmatch(text):
+        return text
+    quoted = json.dumps(text, ensure_ascii=True)
+    return re.sub(r"\*(?=/)|(?<=/)\*", r"\\u002a", quoted)

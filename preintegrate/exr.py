@@ -1,7 +1,7 @@
 """EXR I/O of LUT tables: atomic writes, self-describing headers, verified reads.
 
 Public objects: ``write_lut``, ``write_luts``, ``exr_writer``, ``read_lut``, ``content_hash``, ``stored_values``,
-``LutFileError``.
+``table_attributes``, ``LutFileError``.
 
 Files are written with OpenEXR 3.x (``OpenEXR.File``), ZIP-compressed scanlines, float32 by default
 or half; in half, magnitudes below 2^-14 are written as 0 rather than as subnormals. Every file is first written to a temporary name in the destination folder and renamed into
@@ -22,9 +22,18 @@ import numpy as np
 import OpenEXR
 
 from basis.storage import JOURNAL, unfinished_group, write_together
-from basis.validation import ParameterError, as_float_array
+from basis.validation import ParameterError, as_float_array, safe_line
 
-__all__ = ["LutFileError", "content_hash", "exr_writer", "read_lut", "stored_values", "write_lut", "write_luts"]
+__all__ = [
+    "LutFileError",
+    "content_hash",
+    "exr_writer",
+    "read_lut",
+    "stored_values",
+    "table_attributes",
+    "write_lut",
+    "write_luts",
+]
 
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
@@ -99,11 +108,23 @@ def write_luts(items, half: bool = False, texts=(), extra_writers=(), owned: str
     return [path for path, _ in writers[: len(items)]]
 
 
+def table_attributes(attributes) -> dict[str, str]:
+    """A table's header attributes as every format writes them: names of letters, digits and ``_``, each value one
+    inert line (:func:`basis.validation.safe_line`: a file name or command can carry no line, comment end or
+    non-ASCII character into a header, a PNG text chunk or a C comment)."""
+    if not isinstance(attributes, Mapping):
+        raise ParameterError(f"attributes must be a mapping of names to texts, got {type(attributes).__name__}")
+    for key in attributes:
+        if not isinstance(key, str) or not key.isascii() or not key.replace("_", "a").isalnum():
+            raise ParameterError(f"an attribute name is letters, digits and '_', got {str(key)[:60]!r}")
+    return {key: safe_line(value) for key, value in attributes.items()}
+
+
 def exr_writer(table, channel_names, attributes: Mapping[str, str], half: bool = False) -> Callable[[Path], None]:
     """``writer(path)`` that writes one LUT (H, W, K) as EXR, its header sealed by :func:`content_hash`; the
     table is checked and converted when the writer is made, so a bad table fails before any file is begun."""
     channels = _prepare(table, tuple(channel_names), half)
-    attributes = {**{key: str(value) for key, value in attributes.items()}, "pixel_type": "half" if half else "float32"}
+    attributes = {**table_attributes(attributes), "pixel_type": "half" if half else "float32"}
     attributes["content_hash"] = content_hash(attributes, channels)
     header = {
         "compression": OpenEXR.ZIP_COMPRESSION,

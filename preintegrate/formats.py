@@ -1,6 +1,6 @@
 """LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
 
-Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_header``.
+Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_identifier``, ``c_header``.
 
 * **KTX2** (``ktx2``): one level, no supercompression, ``VK_FORMAT_R32G32B32A32_SFLOAT`` (or
   ``R16G16B16A16_SFLOAT`` with ``--half``), rows in file order; a table of fewer channels is padded with
@@ -24,7 +24,7 @@ Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats`
   binary, exact in float32.
 
 Every file states ``fresnel:pixel_type`` (``float32``, ``half`` or ``uint16``) and ``fresnel:content_hash``, the
-:func:`payload_hash` of its attributes and its texel bytes as stored (KTX2: the level data; PNG: the 16-bit big-endian
+:func:`payload_hash` of its attributes (the PNG's ``encoding`` among them) and its texel bytes as stored (KTX2: the level data; PNG: the 16-bit big-endian
 samples before filtering, row 0 first; header: the float32 values, little-endian): a reader recomputes it to refuse a
 damaged file. A table is always written through :func:`basis.storage.write_together` (atomic, one transaction).
 
@@ -52,13 +52,14 @@ import numpy as np
 
 from basis.validation import ParameterError, as_float_array
 
-from .exr import exr_writer, stored_values
+from .exr import exr_writer, stored_values, table_attributes
 
 __all__ = [
     "FORMATS",
     "MAX_HEADER_VALUES",
     "Format",
     "c_header",
+    "c_identifier",
     "check_formats",
     "file_family",
     "payload_hash",
@@ -160,9 +161,7 @@ def _checked_table(what: str, table, attributes) -> tuple[np.ndarray, dict[str, 
     table = as_float_array("table", table, finite=False)
     if table.ndim != 3 or table.shape[0] < 1 or table.shape[1] < 1 or not 1 <= table.shape[2] <= 4:
         raise ParameterError(f"{what} holds a non-empty table of 1 to 4 channels, got shape {table.shape}")
-    if not isinstance(attributes, dict):
-        raise ParameterError(f"attributes must be a dict of texts, got {type(attributes).__name__}")
-    return table, {str(key): str(value) for key, value in attributes.items()}
+    return table, table_attributes(attributes)
 
 
 def payload_hash(attributes: dict[str, str], payload: bytes) -> str:
@@ -273,7 +272,6 @@ def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
     offset, scale = png16_encoding(table)
     texels = np.round(np.clip((table - offset) / scale, 0.0, 1.0) * 65535.0).astype(">u2")
     stacked = np.ascontiguousarray(np.moveaxis(texels, 2, 0).reshape(channels * height, width))
-    attributes = _sealed(attributes, "uint16", stacked.tobytes())
     rows = b"".join(b"\x00" + row.tobytes() for row in stacked)  # filter 0
     encoding = {
         "offset": offset.tolist(),
@@ -283,28 +281,41 @@ def png16_bytes(table: np.ndarray, attributes: dict[str, str]) -> bytes:
         f"c * {height} + {height - 1}",
         "rows_per_channel": height,
     }
-    text = {**{f"fresnel:{key}": value for key, value in attributes.items()}, "fresnel:encoding": json.dumps(encoding)}
+    # the encoding is sealed with the texels: a scale edited in the file changes the hash a reader recomputes
+    attributes = _sealed({**attributes, "encoding": json.dumps(encoding)}, "uint16", stacked.tobytes())
     chunks = [_chunk(b"IHDR", struct.pack(">IIBBBBB", width, channels * height, 16, 0, 0, 0, 0))]
-    chunks += [
-        _chunk(b"tEXt", key.encode("latin-1") + b"\x00" + value.encode("latin-1", "replace"))
-        for key, value in text.items()
+    chunks += [  # every text is ASCII (table_attributes): Latin-1, as tEXt requires, is then the same bytes
+        _chunk(b"tEXt", f"fresnel:{key}".encode("latin-1") + b"\x00" + value.encode("latin-1"))
+        for key, value in attributes.items()
     ]
     chunks += [_chunk(b"IDAT", zlib.compress(rows, 9)), _chunk(b"IEND", b"")]
     return b"\x89PNG\r\n\x1a\n" + b"".join(chunks)
 
 
+def c_identifier(name) -> str:
+    """A table's name as a C identifier (module docstring: ``header``); refused where nothing of it is one.
+
+    >>> c_identifier("ggx_generalized-schlick_p5")
+    'ggx_generalized_schlick_p5'
+    """
+    if not isinstance(name, str) or not name.isascii() or not re.search(r"[A-Za-z]", name):
+        raise ParameterError(f"a table's name must be ASCII with a letter to be a C name, got {str(name)[:60]!r}")
+    identifier = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return identifier if not identifier[0].isdigit() else "_" + identifier
+
+
 def c_header(table: np.ndarray, name: str, channel_names, attributes: dict[str, str]) -> str:
     """A C/C++ header with the table as ``static const float NAME[H * W * K]`` (row 0 first, channels
-    interleaved) and its size, channels and convention."""
+    interleaved) and its size, channels and convention. NAME is the table's name as a C identifier (every character
+    but letters, digits and ``_`` becomes ``_``: ``ggx_generalized-schlick`` is ``ggx_generalized_schlick``)."""
     table, attributes = _checked_table("a C header", table, attributes)
-    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-        raise ParameterError(f"a C name must be an identifier, got {name!r}")
+    name = c_identifier(name)
     height, width, channels = table.shape
     values = table.astype(np.float32).ravel()
     attributes = _sealed(attributes, "float32", values.astype("<f4").tobytes())
     body = ",\n".join("    " + ", ".join(f"{float(v)!r}f" for v in values[i : i + 8]) for i in range(0, values.size, 8))
     upper = name.upper()
-    notes = "\n".join(f" * {key}: {value}".replace("*/", "* /") for key, value in attributes.items())
+    notes = "\n".join(f" * {key}: {value}" for key, value in attributes.items())  # inert lines (table_attributes)
     return (
         f"/* fresnel-basis LUT {name}: {height} rows x {width} columns x {channels} channels "
         f"({', '.join(channel_names)}), float32.\n * Element [j][i][c] = {name}[(j * {width} + i) * {channels} + c].\n"

@@ -32,6 +32,27 @@ def run_subprocess(argv, cwd, timeout=120, env=None):
     )
 
 
+def read_png16(path):
+    """(texels (H, W, K) in [0, 1], the tEXt chunks) of a png16 table: a 16-bit greyscale image, the K channels
+    stacked top to bottom, read by pypng (a reader that shares no code with the writer)."""
+    import json
+
+    import numpy as np
+    import png
+
+    width, height, rows, info = png.Reader(filename=str(path)).read()
+    samples = np.array([np.asarray(row, dtype=np.float64) for row in rows])
+    text = {}
+    for kind, data in png.Reader(filename=str(path)).chunks():
+        if kind == b"tEXt":
+            key, value = data.split(b"\x00", 1)
+            text[key.decode("latin-1")] = value.decode("latin-1")
+    assert info["bitdepth"] == 16 and info["planes"] == 1 and not info["alpha"]
+    rows_per_channel = json.loads(text["fresnel:encoding"])["rows_per_channel"]
+    texels = samples.reshape(height // rows_per_channel, rows_per_channel, width).transpose(1, 2, 0)
+    return texels / 65535.0, text
+
+
 def assert_one_line_error(stderr):
     lines = stderr.splitlines()
     assert len(lines) == 1, stderr

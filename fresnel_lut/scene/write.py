@@ -16,7 +16,7 @@ from pathlib import Path
 
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import shipped_path
-from basis.validation import check_choice
+from basis.validation import check_choice, safe_line
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
@@ -87,6 +87,7 @@ def write_scene(
     grid = plan.grid
     convention = grid.convention
     tables, names, texts = [], {}, []
+    command = f"fresnel-lut scene {safe_line(Path(plan.scene.source).name)}"  # a file name may hold any text
     trained = {
         table: plan.candidates[table].trained for table in plan.tables if plan.candidates[table].trained is not None
     }
@@ -98,7 +99,7 @@ def write_scene(
             channels,
             plan.columns,
             plan.rows,
-            f"fresnel-lut scene {Path(plan.scene.source).name}",
+            command,
             convention,
             channel_set=table,
             roughness_range=f"{low:.9g},{high:.9g}",
@@ -121,7 +122,7 @@ def write_scene(
         if include_basis is None
         else [
             (name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM), text)
-            for name, text in shader_includes(include_basis, f"fresnel-lut scene {Path(plan.scene.source).name}", grid)
+            for name, text in shader_includes(include_basis, command, grid)
         ]
     )
     texts += includes
@@ -184,7 +185,7 @@ def write_scene(
     scene_layouts = [name for name in plan.full_errors if name.startswith("scene-basis")]
     table_list = ", ".join(f"{' + '.join(names[table])} ({table})" for table in plan.tables)
     report = [
-        f"# Scene build: {Path(plan.scene.source).name}",
+        f"# Scene build: {_cell(safe_line(Path(plan.scene.source).name))}",
         "",
         (
             f"Tolerance {plan.scene.tolerance:.4g} on Fbar (max over each material's roughness range and all view "

@@ -10,11 +10,10 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
-import png
 import pytest
 
 from preintegrate.exr import read_lut
-from tests.conftest import assert_one_line_error, run
+from tests.conftest import assert_one_line_error, read_png16, run
 
 
 @pytest.fixture(scope="module")
@@ -24,27 +23,10 @@ def built(tmp_path_factory):
     return out
 
 
-def _png16(path):
-    """(texels (H, W, K) in [0, 1], the tEXt chunks) of a png16 table: a 16-bit greyscale image, the K channels
-    stacked top to bottom, read by pypng."""
-    width, height, rows, info = png.Reader(filename=str(path)).read()
-    samples = np.array([np.asarray(row, dtype=np.float64) for row in rows])
-    reader = png.Reader(filename=str(path))
-    text = {}
-    for kind, data in reader.chunks():
-        if kind == b"tEXt":
-            key, value = data.split(b"\x00", 1)
-            text[key.decode("latin-1")] = value.decode("latin-1")
-    assert info["bitdepth"] == 16 and info["planes"] == 1 and not info["alpha"]
-    rows_per_channel = json.loads(text["fresnel:encoding"])["rows_per_channel"]
-    texels = samples.reshape(height // rows_per_channel, rows_per_channel, width).transpose(1, 2, 0)
-    return texels / 65535.0, text
-
-
 @pytest.mark.parametrize("name", ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_albedo_average"])
 def test_png16_round_trips_to_the_exr_within_its_step(built, name):
     table, header = read_lut(built / f"{name}.exr")
-    texels, text = _png16(built / f"{name}.png")
+    texels, text = read_png16(built / f"{name}.png")
     encoding = json.loads(text["fresnel:encoding"])
     offset, scale = np.array(encoding["offset"]), np.array(encoding["scale"])
     decoded = offset + scale * texels
@@ -56,7 +38,7 @@ def test_png16_keeps_the_signed_channel(built):
     """The basis table's A (b̄3) is negative in places: a unorm path would clip it; the PNG's offset keeps it."""
     table, _ = read_lut(built / "ggx_basis_rgba.exr")
     assert table[..., 3].min() < -0.1
-    texels, text = _png16(built / "ggx_basis_rgba.png")
+    texels, text = read_png16(built / "ggx_basis_rgba.png")
     encoding = json.loads(text["fresnel:encoding"])
     decoded = encoding["offset"][3] + encoding["scale"][3] * texels[..., 3]
     assert decoded.min() == pytest.approx(table[..., 3].min(), abs=1e-4)
@@ -84,7 +66,7 @@ def test_png16_reads_the_same_in_the_loaders_engines_use(built, name, reader):
     """Issue 26 item 19: an RGBA PNG was premultiplied by its alpha (b̄3) in OpenImageIO's default read (errors 0.69,
     1.34), and Pillow and imageio decode 16-bit RGB(A) to 8 bits. The greyscale layout, channels stacked, reads as
     the same 16-bit samples in each library's default call as in pypng (the reference reader here)."""
-    texels, _ = _png16(built / f"{name}.png")
+    texels, _ = read_png16(built / f"{name}.png")
     height, width, channels = texels.shape
     want = np.round(texels * 65535.0).transpose(2, 0, 1).reshape(channels * height, width)
     got = _default_read(reader, built / f"{name}.png")
@@ -98,7 +80,7 @@ def test_png16_stores_unit_channels_as_they_are(built):
 
     for name, unit in (("ggx_basis_rgba", [0, 1, 2]), ("ggx_schlick_rgb", [0, 1, 2]), ("ggx_albedo_average", [0])):
         table, _ = read_lut(built / f"{name}.exr")
-        encoding = json.loads(_png16(built / f"{name}.png")[1]["fresnel:encoding"])
+        encoding = json.loads(read_png16(built / f"{name}.png")[1]["fresnel:encoding"])
         for channel in unit:
             assert table[..., channel].min() >= -PNG16_SLACK and table[..., channel].max() <= 1 + PNG16_SLACK
             assert (encoding["offset"][channel], encoding["scale"][channel]) == (0.0, 1.0), (name, channel)
