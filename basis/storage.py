@@ -2,7 +2,8 @@
 
 Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_together``,
 ``Journal``, ``read_journal``, ``unfinished_group``, ``recover_folder``, ``write_text``, ``write_json``,
-``read_json_document``, ``nesting_depth``, ``MAX_NESTING``.
+``read_regular_file``, ``check_regular_file``, ``read_json_document``, ``nesting_depth``, ``MAX_NESTING``,
+``MAX_DOCUMENT_BYTES``, ``MAX_TABLE_BYTES``, ``FolderWarning``.
 
 Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
 found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
@@ -15,6 +16,15 @@ is interrupted part-way, the files already replaced are rolled back to their pre
 killed between those renames leaves a journal (``.fresnel-lut-journal.json``, names relative to its folder)
 from which the next writer of the folder finishes the group; a reader never renames, removes or writes
 anything: it refuses a file of a half-renamed group instead (:func:`unfinished_group`).
+
+A journal proves each file it names: it records the identity (device, inode, change time, size) of every temporary
+to rename and every file to remove, taken by the writer that made them. Recovery renames or removes only a file that
+is still that very file, so a journal crafted by hand, copied in or unpacked from an archive (which makes new files)
+moves nothing: it can neither replace a user's ``notes.txt`` nor remove a ``basis.json``.
+
+Every file read is first checked to be a regular file of bounded size (:func:`read_regular_file`,
+:func:`check_regular_file`): a FIFO, a device such as ``/dev/zero`` or an endless file is refused at once instead
+of hanging the reader or filling the memory.
 """
 
 from __future__ import annotations
@@ -24,7 +34,9 @@ import dataclasses
 import json
 import os
 import re
+import stat
 import tempfile
+import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -36,7 +48,12 @@ except ImportError:  # Windows: no advisory locks; groups are still renamed toge
     fcntl = None
 
 __all__ = [
+    "MAX_DOCUMENT_BYTES",
     "MAX_NESTING",
+    "MAX_TABLE_BYTES",
+    "FolderWarning",
+    "check_regular_file",
+    "read_regular_file",
     "nesting_depth",
     "Journal",
     "read_journal",
@@ -124,7 +141,77 @@ def replace_together(pairs) -> None:
 #: a process killed between the renames leaves it, and the next writer of the folder finishes the group.
 JOURNAL = ".fresnel-lut-journal.json"
 JOURNAL_FORMAT = "fresnel-basis/journal"
-JOURNAL_VERSION = 2
+JOURNAL_VERSION = 3
+#: A journal lists a build's files (a dozen names and their identities): anything larger is not one.
+MAX_JOURNAL_BYTES = 1 << 16
+#: Largest JSON document read (a basis of 8 terms on the largest grid is about 2 MB).
+MAX_DOCUMENT_BYTES = 1 << 26
+#: Largest table file read (a float32 RGBA table of 8192 x 8192 texels is 1 GiB before compression).
+MAX_TABLE_BYTES = 1 << 31
+
+
+class FolderWarning(UserWarning):
+    """Something in an output folder that is not this project's was left alone (a journal that is no regular file)."""
+
+
+def read_regular_file(path, what: str, limit: int, error=ParameterError, follow_links: bool = True) -> bytes:
+    """The bytes of ``path``, a regular file of at most ``limit`` bytes, else ``error`` with one line naming it.
+
+    The file is opened without blocking and checked on the open descriptor before a byte is read: a FIFO (whose
+    open would wait for a writer), a device (``/dev/zero`` never ends), a folder or a file over ``limit`` is refused
+    at once. ``follow_links=False`` refuses a symbolic link too.
+    """
+    with _opened_regular(path, what, limit, error, follow_links) as (handle, size):
+        chunks, total = [], 0
+        while total <= limit:
+            chunk = os.read(handle, min(1 << 20, limit + 1 - total))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            total += len(chunk)
+        if total > limit:
+            raise error(f"{what} {path} grew past {limit:,} bytes while it was read")
+        return b"".join(chunks)
+
+
+def check_regular_file(path, what: str, limit: int, error=ParameterError) -> Path:
+    """``path`` where it is a regular file of at most ``limit`` bytes (as :func:`read_regular_file` checks), for a
+    library that opens the file by name itself (OpenEXR)."""
+    with _opened_regular(path, what, limit, error, True):
+        return Path(path)
+
+
+@contextlib.contextmanager
+def _opened_regular(path, what: str, limit: int, error, follow_links: bool) -> Iterator[tuple[int, int]]:
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+    if not follow_links:
+        flags |= getattr(os, "O_NOFOLLOW", 0)
+    try:
+        handle = os.open(path, flags)
+    except FileNotFoundError:
+        raise error(f"{what} {path} does not exist") from None
+    except OSError as cause:
+        if not follow_links and os.path.islink(path):
+            raise error(f"{what} {path} is a symbolic link, not a regular file: refused unread") from None
+        raise error(f"cannot read {what} {path}: {cause.strerror or cause}") from None
+    try:
+        info = os.fstat(handle)
+        if not stat.S_ISREG(info.st_mode):
+            kind = (
+                "a folder"
+                if stat.S_ISDIR(info.st_mode)
+                else "a FIFO"
+                if stat.S_ISFIFO(info.st_mode)
+                else "a device"
+                if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode)
+                else "not a regular file"
+            )
+            raise error(f"{what} {path} is {kind}, not a regular file: refused unread")
+        if info.st_size > limit:
+            raise error(f"{what} {path} is {info.st_size:,} bytes, more than the {limit:,} such a file can be")
+        yield handle, info.st_size
+    finally:
+        os.close(handle)
 
 
 #: The names :func:`temporary_sibling` gives: ``.TARGET.XXXXXXXX.tmp`` (``mkstemp``'s eight characters).
@@ -149,48 +236,95 @@ def _plain_name(name) -> bool:
     )
 
 
+def _identity(path: Path) -> tuple[int, int, int, int] | None:
+    """(device, inode, change time in ns, size) of the file or link ``path``, None where there is none. A copy, an
+    archive's unpacking or any edit makes another identity; only the file itself keeps it."""
+    try:
+        info = os.lstat(path)
+    except OSError:
+        return None
+    return (info.st_dev, info.st_ino, info.st_ctime_ns, info.st_size)
+
+
+def _is_identity(value) -> bool:
+    return isinstance(value, list) and len(value) == 4 and all(type(item) is int and item >= 0 for item in value)
+
+
 @dataclasses.dataclass(frozen=True)
 class Journal:
-    """An unfinished group of a folder: (temporary, target) names to rename, then names to remove.
+    """An unfinished group of a folder: (temporary, target) names to rename, then names to remove, each with the
+    identity of the file the writer made or chose to remove (:func:`_identity`).
 
-    Every name is relative to the journal's folder, and a temporary is always named as this module names
-    the temporaries of its target: a journal can neither reach outside its folder nor rename a file that
-    a writer of this project did not make.
+    Every name is relative to the journal's folder, a temporary is always named as this module names the
+    temporaries of its target, and a file is acted on only while it is the very file the writer recorded: a
+    journal can neither reach outside its folder nor rename or remove a file that a writer of this project did not
+    make or choose.
     """
 
     folder: Path
-    renames: tuple[tuple[str, str], ...]
-    removals: tuple[str, ...] = ()
+    renames: tuple[tuple[str, str, tuple[int, ...]], ...]
+    removals: tuple[tuple[str, tuple[int, ...]], ...] = ()
+
+    @classmethod
+    def of(cls, folder: Path, renames, removals=()) -> "Journal":
+        """The journal of (temporary, target) paths to rename and names to remove in ``folder``, as they are now."""
+        return cls(
+            folder,
+            tuple(
+                (Path(temporary).name, Path(target).name, _identity(Path(temporary))) for temporary, target in renames
+            ),
+            tuple((name, _identity(folder / name)) for name in removals),
+        )
 
     @property
     def targets(self) -> set[str]:
         """Every name the group replaces or removes."""
-        return {target for _, target in self.renames} | set(self.removals)
+        return {target for _, target, _ in self.renames} | {name for name, _ in self.removals}
+
+    def _proven(self, name: str, identity) -> bool:
+        return identity is not None and _identity(self.folder / name) == tuple(identity)
+
+    def proven_renames(self) -> list[tuple[str, str]]:
+        """The (temporary, target) pairs whose temporary is still the file the writer made."""
+        return [
+            (temporary, target) for temporary, target, identity in self.renames if self._proven(temporary, identity)
+        ]
+
+    def proven_removals(self) -> list[str]:
+        """The names still the file the writer chose to remove."""
+        return [name for name, identity in self.removals if self._proven(name, identity)]
 
     def pending(self) -> bool:
         """Whether some rename or removal has not happened yet (the group is half done)."""
-        return any((self.folder / temporary).is_file() for temporary, _ in self.renames) or any(
-            os.path.lexists(self.folder / name) for name in self.removals
-        )
+        return bool(self.proven_renames() or self.proven_removals())
 
     def text(self) -> str:
         return json.dumps(
             {
                 "format": JOURNAL_FORMAT,
                 "version": JOURNAL_VERSION,
-                "renames": [list(pair) for pair in self.renames],
-                "removals": list(self.removals),
+                "renames": [[temporary, target, list(identity)] for temporary, target, identity in self.renames],
+                "removals": [[name, list(identity)] for name, identity in self.removals],
             }
         )
 
 
 def read_journal(folder) -> Journal | None:
-    """The folder's journal, or None where there is none or it is not one of this project's (unreadable,
-    cut short by a kill before the renames began, or naming anything but its own folder's temporaries)."""
+    """The folder's journal, or None where there is none or it is not one of this project's (not a small regular
+    file, unreadable, cut short by a kill before the renames began, or naming anything but its own folder's
+    temporaries with their identities). A journal that is no regular file (a FIFO, a link to a device) is ignored
+    with a :class:`FolderWarning`, unopened."""
     folder = Path(folder)
+    path = folder / JOURNAL
+    if not os.path.lexists(path):
+        return None
     try:
-        document = json.loads((folder / JOURNAL).read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+        data = read_regular_file(path, "journal", MAX_JOURNAL_BYTES, follow_links=False)
+        document = json.loads(data.decode("utf-8"))
+    except ParameterError as refused:
+        warnings.warn(f"{refused}; ignored", FolderWarning, stacklevel=2)
+        return None
+    except (ValueError, RecursionError):
         return None
     if (
         not isinstance(document, dict)
@@ -201,17 +335,23 @@ def read_journal(folder) -> Journal | None:
     renames, removals = document.get("renames"), document.get("removals", [])
     if not isinstance(renames, list) or not isinstance(removals, list):
         return None
-    for pair in renames:
+    for entry in renames:
         if not (
-            isinstance(pair, list)
-            and len(pair) == 2
-            and all(map(_plain_name, pair))
-            and _temporary_of(pair[0]) == pair[1]
+            isinstance(entry, list)
+            and len(entry) == 3
+            and all(map(_plain_name, entry[:2]))
+            and _temporary_of(entry[0]) == entry[1]
+            and _is_identity(entry[2])
         ):
             return None
-    if not all(map(_plain_name, removals)):
-        return None
-    return Journal(folder, tuple(tuple(pair) for pair in renames), tuple(removals))
+    for entry in removals:
+        if not (isinstance(entry, list) and len(entry) == 2 and _plain_name(entry[0]) and _is_identity(entry[1])):
+            return None
+    return Journal(
+        folder,
+        tuple((temporary, target, tuple(identity)) for temporary, target, identity in renames),
+        tuple((name, tuple(identity)) for name, identity in removals),
+    )
 
 
 @contextlib.contextmanager
@@ -230,16 +370,20 @@ def _folder_lock(folder: Path) -> Iterator[None]:
 
 
 def _finish(folder: Path) -> None:
-    """Complete an interrupted group (the lock held): rename the temporaries its journal lists, remove the
-    names it removes, drop the journal. A journal that is not this project's is dropped without acting on it."""
+    """Complete an interrupted group (the lock held): rename the temporaries its journal lists, remove the names it
+    removes and drop the journal, acting only on the files the journal proves (:class:`Journal`). A journal that
+    is not this project's is dropped (a link or FIFO of its name is removed unopened) without acting on it."""
+    if (folder / JOURNAL).is_dir() and not (folder / JOURNAL).is_symlink():
+        raise ParameterError(
+            f"{folder / JOURNAL} is a folder: this project's writers keep their journal under that name; move it away"
+        )
     journal = read_journal(folder)
-    if journal is not None:
-        for temporary, target in journal.renames:
-            source = folder / temporary
-            if source.is_file() and not source.is_symlink():
-                os.replace(source, folder / target)
-        for name in journal.removals:
+    if journal is not None and journal.pending():
+        for temporary, target in journal.proven_renames():
+            os.replace(folder / temporary, folder / target)
+        for name in journal.proven_removals():
             _remove_file(folder / name)
+        # the backups the killed writer made of the group's targets (a journal that proves a file is its writer's)
         _remove_stale_temporaries(folder, lambda name: name in journal.targets)
     (folder / JOURNAL).unlink(missing_ok=True)
 
@@ -262,7 +406,9 @@ def _remove_stale_temporaries(folder: Path, owned: Callable[[str], bool]) -> Non
 def unfinished_group(path) -> Journal | None:
     """The half-renamed group ``path`` belongs to, if a killed writer left one in its folder; reads only."""
     path = Path(path)
-    journal = read_journal(path.parent)
+    with warnings.catch_warnings():  # a reader says nothing of a folder's odd files; the next writer warns
+        warnings.simplefilter("ignore", FolderWarning)
+        journal = read_journal(path.parent)
     return journal if journal is not None and path.name in journal.targets and journal.pending() else None
 
 
@@ -270,7 +416,7 @@ def recover_folder(folder) -> None:
     """Finish a group of files that a killed process left half-renamed, and remove its temporaries: a
     writer's action (every write into the folder does it first); readers never call it."""
     folder = Path(folder)
-    if (folder / JOURNAL).exists() and os.access(folder, os.W_OK):
+    if os.path.lexists(folder / JOURNAL) and os.access(folder, os.W_OK):
         with _folder_lock(folder):
             _finish(folder)
 
@@ -293,6 +439,18 @@ def _one_line(error: BaseException, path: Path) -> BaseException:
     reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error) or type(error).__name__
     errno = getattr(error, "errno", None)
     return OSError(errno, f"cannot write {path}: {reason}") if errno else OSError(f"cannot write {path}: {reason}")
+
+
+def _write_journal(folder: Path, journal: Journal) -> None:
+    """The journal, written to a temporary and renamed over the journal's name, so that whatever stood there (a link,
+    a FIFO) is replaced, never written through; a kill before the rename leaves no journal (the renames had not
+    begun)."""
+    temporary = temporary_sibling(folder / JOURNAL)
+    try:
+        temporary.write_text(journal.text(), encoding="utf-8")
+        os.replace(temporary, folder / JOURNAL)
+    finally:
+        temporary.unlink(missing_ok=True)
 
 
 def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: str | None = None) -> list[Path]:
@@ -329,10 +487,9 @@ def write_together(writers: list[tuple[Path, Callable[[Path], None]]], owned: st
                 for path in folder.iterdir()
                 if owns(path.name) and path.name not in names and (path.is_file() or path.is_symlink())
             )
-            journal = Journal(folder, tuple((t.name, p.name) for t, p in zip(temporaries, targets)), tuple(removals))
+            journal = Journal.of(folder, zip(temporaries, targets), removals)
             try:
-                # a journal cut short by a kill is unreadable and dropped: the renames had not begun
-                (folder / JOURNAL).write_text(journal.text(), encoding="utf-8")
+                _write_journal(folder, journal)
                 replace_together(zip(temporaries, targets))
             except BaseException as error:  # nothing is renamed (replace_together rolls back): no group to finish
                 (folder / JOURNAL).unlink(missing_ok=True)
@@ -384,12 +541,11 @@ def read_json_document(
     """Read the JSON document ``what`` (e.g. "basis file") and check its ``format`` tag and ``version``
     where given; every failure raises ``error`` with one line that names the file."""
     path = Path(path)
+    data = read_regular_file(path, what, MAX_DOCUMENT_BYTES, error)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise error(f"{what} {path} does not exist") from None
-    except (OSError, UnicodeDecodeError) as cause:
-        raise error(f"cannot read {what} {path}: {cause}") from None
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as cause:
+        raise error(f"cannot read {what} {path}: not UTF-8 text ({cause})") from None
     try:
         document = json.loads(text)
     except json.JSONDecodeError as cause:

@@ -26,6 +26,7 @@ import os
 import re
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -776,7 +777,9 @@ def main(argv=None) -> int:
     parser = make_parser()
     arguments = parser.parse_args(argv)
     try:
-        return arguments.run(arguments)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return arguments.run(arguments)
     except KeyboardInterrupt:
         print("\nfresnel-lut: interrupted; no file was written or replaced", file=sys.stderr)
         return 130
@@ -785,6 +788,11 @@ def main(argv=None) -> int:
     except (ValueError, OSError) as error:
         print(f"fresnel-lut: error: {_message(error)}", file=sys.stderr)
         return 2
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning of the library (a folder's odd file left alone) as one line, as errors are."""
+    print(f"fresnel-lut: warning: {message}", file=sys.stderr)
 
 
 def _message(error: BaseException) -> str:

@@ -37,9 +37,9 @@ from basis.colorimetry import working_space
 from basis.eigenbasis import default_basis
 from basis.materials import material_from_mapping
 from basis.presets import material_presets
-from basis.storage import shipped_path
+from basis.storage import MAX_DOCUMENT_BYTES, MAX_TABLE_BYTES, check_regular_file, read_regular_file, shipped_path
 from basis.validation import ParameterError, check_positive_int
-from preintegrate.exr import read_lut
+from preintegrate.exr import LutFileError, read_lut
 from preintegrate.formats import ktx2_bytes
 from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 
@@ -77,8 +77,17 @@ _CONTENT_SECURITY_POLICY = (
 )
 
 
+#: What makes the shipped files the page serves, for the error that says one is missing.
+_REBUILD = (
+    "`make luts` (fresnel-lut build --ltc --out luts, from the project's root) makes the shipped tables and includes"
+)
+
+
 def _ktx2_of(name: str) -> bytes:
-    table, header = read_lut(shipped_path(name))
+    try:
+        table, header = read_lut(shipped_path(name))
+    except LutFileError as error:
+        raise LutFileError(f"{error}; {_REBUILD}") from None
     attributes = {key: value for key, value in header.items() if key not in ("content_hash", "pixel_type")}
     return ktx2_bytes(table, attributes, half=True)
 
@@ -111,9 +120,7 @@ def _colorimetry() -> dict:
 def read_environment(path) -> np.ndarray:
     """(H, W, 4) float32 RGBA of an equirectangular EXR (rows top first; R, G, B or Y; A = 1), at most
     :data:`ENVIRONMENT_WIDTH` wide, or an error naming what is wrong (not 2:1, not finite, negative)."""
-    path = Path(path)
-    if not path.is_file():
-        raise ParameterError(f"environment {path} is not a file")
+    path = check_regular_file(path, "environment", MAX_TABLE_BYTES)
     try:
         with OpenEXR.File(str(path)) as file:
             channels = {name: np.asarray(channel.pixels) for name, channel in file.parts[0].channels.items()}
@@ -152,7 +159,11 @@ def page_files(environment=None, progress: Callable[[str], None] | None = None) 
         files[f"/{name}"] = ((PAGE / name).read_bytes(), kind)
     files["/"] = files["/index.html"]
     for include in _INCLUDES:
-        files[f"/shaders/{Path(include).name}"] = (shipped_path(include).read_bytes(), "text/plain; charset=utf-8")
+        try:
+            data = read_regular_file(shipped_path(include), "shader include", MAX_DOCUMENT_BYTES)
+        except ParameterError as error:
+            raise ParameterError(f"{error}; {_REBUILD}") from None
+        files[f"/shaders/{Path(include).name}"] = (data, "text/plain; charset=utf-8")
     for table in (BASIS_LUT, SCHLICK_LUT, LTC_LUT):
         files[f"/tables/{Path(table).stem}.ktx2"] = (_ktx2_of(table), "image/ktx2")
     say("sampling the presets' spectral curves")

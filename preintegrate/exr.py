@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-from basis.storage import JOURNAL, unfinished_group, write_together
+from basis.storage import JOURNAL, MAX_TABLE_BYTES, check_regular_file, unfinished_group, write_together
 from basis.validation import ParameterError, as_float_array, safe_line
 
 __all__ = [
@@ -175,8 +175,7 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
             f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
             "folder (its first step finishes the group)"
         )
-    if not path.is_file():
-        raise LutFileError(f"LUT file {path} does not exist")
+    check_regular_file(path, "LUT file", MAX_TABLE_BYTES, LutFileError)  # a FIFO or a device would hang OpenEXR
     try:
         image = OpenEXR.File(str(path), separate_channels=True)  # else R,G,B,A come back merged as "RGBA"
         header = image.header()

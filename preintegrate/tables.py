@@ -1,7 +1,7 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
 Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
-``ltc_build_table``, ``table_file_name``,
+``ltc_build_table``, ``kept_ltc_grid``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
@@ -15,6 +15,7 @@ model's own exact table; :func:`write_tables` writes any list in every format of
 from __future__ import annotations
 
 import dataclasses
+import os
 import re
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -34,7 +35,9 @@ from .channels import (
     model_channels,
     schlick_table_channels,
 )
+from .exr import read_lut
 from .formats import FORMATS, check_formats, file_family
+from .ggx import VISIBILITIES
 from .ltc import LtcGrid, fit_ltc, ltc_table
 from .lut import (
     AVERAGE_LUT,
@@ -56,6 +59,7 @@ __all__ = [
     "DEFAULT_SET",
     "Table",
     "default_tables",
+    "kept_ltc_grid",
     "ltc_build_table",
     "model_table",
     "rgba_tables",
@@ -82,9 +86,9 @@ def _stem(file_name: str) -> str:
 
 
 #: The stems of the default build's set: the basis table (terms 4 … 7 of a larger basis in ``_2``), Schlick's
-#: table, E_avg and the area lights' LTC table (``--ltc``). A default build owns these in every format: those it
-#: does not write are removed.
-DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT), _stem(LTC_LUT))
+#: table and E_avg. A default build owns these in every format: those it does not write are removed. The area
+#: lights' LTC table joins the set only when the build fits it (``--ltc``): a build without it keeps the folder's.
+DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
 
 
 #: Every file of a default build of a four-term basis: the tables and the generated shader includes.
@@ -258,7 +262,8 @@ def write_default_build(
     visibility = (LutGrid(128, 128) if grid is None else grid).visibility
     if ltc is not None and ltc.visibility != visibility:
         raise ParameterError(f"the LTC table's visibility {ltc.visibility!r} must be the build's, {visibility!r}")
-    includes = shader_includes(basis, grid=grid, ltc_size=64 if ltc is None else ltc.size)
+    kept = kept_ltc_grid(out, visibility) if ltc is None else None  # refused before the work
+    includes = shader_includes(basis, grid=grid, ltc_size=(ltc or kept or LtcGrid()).size)
     tables = default_tables(basis, grid, order, progress)
     if ltc is not None:
         tables.append(ltc_build_table(ltc, ltc_progress))
@@ -268,9 +273,30 @@ def write_default_build(
         formats,
         half,
         texts=includes,
-        owned=DEFAULT_SET,
+        owned=DEFAULT_SET + ((_stem(LTC_LUT),) if ltc is not None else ()),
         owned_files=[name for name, _ in SHADER_INCLUDES.values()],
     )
+
+
+def kept_ltc_grid(out, visibility: str) -> LtcGrid | None:
+    """The grid of the LTC table a build without ``--ltc`` keeps in ``out`` (its includes address that table), None
+    where there is none; a table of another visibility, or one that cannot be read, is refused with what to run."""
+    path = Path(out) / LTC_LUT
+    if not os.path.lexists(path):
+        return None
+    refit = f"add --ltc to fit it anew for this build (fresnel-lut build --ltc --out {out}), or remove it"
+    try:
+        _, header = read_lut(path)
+        size = int(header["width"])
+        grids = [LtcGrid(size, form) for form in VISIBILITIES]
+    except (ParameterError, KeyError) as error:
+        raise ParameterError(f"{path} cannot be read as an LTC table ({error}): {refit}") from None
+    found = next((grid for grid in grids if grid.convention == header.get("convention")), None)
+    if found is None:
+        raise ParameterError(f"{path} is not an LTC table of this project's (its convention differs): {refit}")
+    if found.visibility != visibility:
+        raise ParameterError(f"{path} was fitted for {found.visibility} G2 and this build is {visibility}: {refit}")
+    return found
 
 
 def ltc_build_table(grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:

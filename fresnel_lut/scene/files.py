@@ -22,7 +22,7 @@ from basis.angles import cos_theta
 from basis.eigenbasis import Basis, resolve_basis
 from basis.materials import material_from_mapping
 from basis.presets import PRESET_SPACES
-from basis.storage import MAX_NESTING, nesting_depth
+from basis.storage import MAX_NESTING, nesting_depth, read_regular_file
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 from preintegrate.ggx import VISIBILITIES
 
@@ -100,14 +100,8 @@ def _roughness(name: str, value) -> tuple[float, float]:
 
 
 def _read_text(path: Path) -> str:
-    """The file's text, refusing what is no scene file: a folder, a device that never ends, more than 1 MiB."""
-    try:
-        with open(path, "rb") as stream:
-            data = stream.read(MAX_SCENE_BYTES + 1)
-    except OSError as error:
-        raise SceneError(f"cannot read scene file {path}: {error.strerror or error}") from None
-    if len(data) > MAX_SCENE_BYTES:
-        raise SceneError(f"scene file {path} is larger than {MAX_SCENE_BYTES // 1024} KiB: not a scene file")
+    """The file's text, refusing what is no scene file: a folder, a FIFO, a device, more than 1 MiB."""
+    data = read_regular_file(path, "scene file", MAX_SCENE_BYTES, SceneError)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as error:

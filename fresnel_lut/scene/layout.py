@@ -1,7 +1,7 @@
 """The tables a scene may ship: a :class:`Layout` names one, its channels on the basis grid, and the
 weights with which a material reads it.
 
-Public objects: ``Layout``, ``SCHLICK``, ``basis_layout``, ``own_layout``, ``scene_basis_layouts``,
+Public objects: ``Layout``, ``SCENE_TABLE_PREFIX``, ``SCHLICK``, ``basis_layout``, ``own_layout``, ``scene_basis_layouts``,
 ``train_scene_basis``, ``training_operators``.
 
 References
@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -29,6 +30,7 @@ from preintegrate.quadrature import texel_weights
 from .files import Scene, SceneMaterial
 
 __all__ = [
+    "SCENE_TABLE_PREFIX",
     "SCHLICK",
     "Layout",
     "basis_layout",
@@ -37,6 +39,11 @@ __all__ = [
     "train_scene_basis",
     "training_operators",
 ]
+
+
+#: Every table a scene writes is named ``scene_ggx_…``, apart from a build's ``ggx_…`` tables: a scene written into a
+#: build's folder replaces none of them, and a scene's own earlier tables are known by the prefix alone.
+SCENE_TABLE_PREFIX = "scene_"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,13 +85,16 @@ class Layout:
         return self.channel_set(basis).functions(cos_theta(basis.theta))
 
     def file_name(self) -> str:
+        """The table's file, named apart from every table a build writes (:data:`SCENE_TABLE_PREFIX`)."""
         if self.kind == "schlick":
-            return "ggx_schlick_rg.exr"  # a scene keeps Schlick's two channels (the default build adds E as B)
-        if self.kind == "scene":
-            return "ggx_scene_basis_rgba.exr"  # terms 4 … 7, if any, go to a second table (lut.rgba_items)
-        if self.kind == "model":
-            return model_lut_name(self.model, self.shape)
-        return f"ggx_basis_{'rgba'[: self.terms]}.exr"
+            stem = "ggx_schlick_rg"  # a scene keeps Schlick's two channels (the default build adds E as B)
+        elif self.kind == "scene":
+            stem = "ggx_own_basis_rgba"  # terms 4 … 7, if any, go to a second table (tables.rgba_tables)
+        elif self.kind == "model":
+            stem = Path(model_lut_name(self.model, self.shape)).stem
+        else:
+            stem = f"ggx_basis_{'rgba'[: self.terms]}"
+        return f"{SCENE_TABLE_PREFIX}{stem}.exr"
 
     def coefficients(self, material: SceneMaterial, basis: Basis) -> np.ndarray | None:
         """(3, n) weights of a material: Schlick (F0, 1), the first K basis terms by least squares (c0 = F0

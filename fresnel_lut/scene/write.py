@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
 from basis.eigenbasis import Basis, resolve_basis
-from basis.storage import shipped_path
+from basis.storage import MAX_DOCUMENT_BYTES, read_regular_file, shipped_path
 from basis.validation import check_choice, safe_line
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
@@ -24,6 +25,7 @@ from preintegrate.shaders import SHADER_INCLUDES, shader_includes
 from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
 
 from .files import SceneError, read_scene
+from .layout import SCENE_TABLE_PREFIX
 from .plan import ACCURACY_GOAL, ScenePlan, plan_scene
 
 __all__ = ["build_scene", "write_scene"]
@@ -34,27 +36,41 @@ SCENE_BASIS_FILE = "scene_basis.json"
 #: A scene's generated includes are named apart from the default build's (``fresnel_basis_material.*``), so that a
 #: scene written into a build's folder never replaces the includes of that build's tables.
 _INCLUDE_STEM, _SCENE_INCLUDE_STEM = "fresnel_basis_material", "fresnel_basis_scene"
+#: The suffixes of every table format.
+FORMAT_SUFFIXES = frozenset(fmt.suffix for fmt in FORMATS.values())
 _INCLUDE_FILES = frozenset(name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM) for name, _ in SHADER_INCLUDES.values())
 
 
+#: The scene tables of the builds before they were named apart (``scene_ggx_…``): names no build writes.
+_LEGACY_SCENE_TABLES = re.compile(r"ggx_(?:scene_basis_rgba(?:_2)?|schlick_rg|basis_(?:r|rg|rgb))")
+
+
 def _previous_files(coefficients_path: Path) -> set[str]:
-    """The tables (``lut`` of its materials) and the scene basis a scene built earlier into the same folder lists."""
+    """The files a scene built earlier into the same folder wrote, as its ``scene_coefficients.json`` lists them:
+    only names a scene writes (its ``scene_ggx_…`` tables, its scene basis and includes), so that a crafted list
+    can remove nothing else (a build's ``ggx_…`` tables, a user's file)."""
     try:
-        document = json.loads(coefficients_path.read_text(encoding="utf-8"))
+        data = read_regular_file(coefficients_path, "scene coefficients", MAX_DOCUMENT_BYTES)
+        document = json.loads(data.decode("utf-8"))
         names = {entry.get(key) for entry in document["materials"].values() for key in ("lut", "second_lut")}
         names.add((document.get("scene_basis") or {}).get("file"))
         includes = document.get("shader_includes") or []
         names.update(name for name in includes if isinstance(name, str))
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
+    except (ValueError, KeyError, TypeError, AttributeError, RecursionError):  # ParameterError is a ValueError
         return set()
-    suffixes = {fmt.suffix for fmt in FORMATS.values()}
     return {
         name
         for name in names
         if isinstance(name, str)
         and Path(name).name == name
         and (
-            (name.startswith("ggx_") and Path(name).suffix in suffixes)
+            (
+                Path(name).suffix in FORMAT_SUFFIXES
+                and (
+                    re.fullmatch(rf"{SCENE_TABLE_PREFIX}ggx_[A-Za-z0-9_.=-]+", Path(name).stem)
+                    or _LEGACY_SCENE_TABLES.fullmatch(Path(name).stem)
+                )
+            )
             or name == SCENE_BASIS_FILE
             or name in _INCLUDE_FILES
         )
@@ -249,7 +265,7 @@ def write_scene(
         out,
         formats,
         half,
-        owned=sorted({Path(name).stem for name in previous if name.startswith("ggx_")}),  # its tables' families
+        owned=sorted({Path(name).stem for name in previous if Path(name).suffix in FORMAT_SUFFIXES}),  # its tables
         owned_files=sorted(previous & ({SCENE_BASIS_FILE} | _INCLUDE_FILES)),
         texts=[
             *texts,

@@ -586,17 +586,23 @@ def test_build_visibility_is_recorded_and_changes_the_table(tmp_path, capsys):
 
 def test_build_ltc_writes_the_area_light_table_with_its_set(tmp_path, capsys):
     """``build --ltc`` adds ggx_ltc (its size from ``--ltc-size``, its convention and lobe error in the header) to
-    the set, and the generated includes address it at that size; a build without ``--ltc`` removes it (the set is
-    the build's)."""
+    the set, and the generated includes address it at that size; a build without ``--ltc`` keeps it and addresses it
+    (issue 36 item 7: ``view`` and the area-light include need it), and refuses one of another visibility."""
     assert run(["build", "--size", "8", "--ltc", "--ltc-size", "6", "--out", tmp_path]) == 0
     table, header = read_lut(tmp_path / "ggx_ltc.exr")
     assert table.shape == (6, 6, 4) and np.all(np.isfinite(table))
     assert header["channels"] == "m00,m20,m02,m22" and "sqrt(1 - mu_o) = j / (size - 1)" in header["convention"]
     assert float(header["ltc_lobe_error_max"]) < 1.0
     assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    ltc = (tmp_path / "ggx_ltc.exr").read_bytes()
     assert run(["build", "--size", "8", "--out", tmp_path]) == 0
-    assert not (tmp_path / "ggx_ltc.exr").exists()
-    assert "const float FRESNEL_LTC_SIZE = 64.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    assert (tmp_path / "ggx_ltc.exr").read_bytes() == ltc
+    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    assert run(["build", "--size", "8", "--visibility", "separable", "--out", tmp_path]) == 2
+    error = capsys.readouterr().err
+    assert_one_line_error(error)
+    assert "fitted for height-correlated G2 and this build is separable: add --ltc" in error
+    assert (tmp_path / "ggx_ltc.exr").read_bytes() == ltc
 
 
 @pytest.mark.parametrize(

@@ -208,7 +208,7 @@ def test_an_environment_that_is_not_a_2_to_1_finite_positive_exr_is_refused(tmp_
     (tmp_path / "text.exr").write_text("not an EXR")
     with pytest.raises(ValueError, match="not a readable EXR"):
         read_environment(tmp_path / "text.exr")
-    with pytest.raises(ValueError, match="not a file"):
+    with pytest.raises(ValueError, match="does not exist"):
         read_environment(tmp_path / "missing.exr")
 
 
@@ -242,7 +242,7 @@ def test_the_view_command_serves_until_interrupted(tmp_path):
     missing = subprocess.run(
         [*command, "--environment", str(tmp_path / "missing.exr")], cwd=ROOT, capture_output=True, text=True
     )
-    assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "not a file" in missing.stderr
+    assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "does not exist" in missing.stderr
 
 
 # ---- the page --------------------------------------------------------------------------------------------------

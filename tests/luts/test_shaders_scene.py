@@ -111,7 +111,7 @@ def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
     plan, out = built
     include = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     document = json.loads((out / "scene_coefficients.json").read_text(encoding="utf-8"))
-    table, _ = read_lut(out / "ggx_scene_basis_rgba.exr")
+    table, _ = read_lut(out / "scene_ggx_own_basis_rgba.exr")
     for material in plan.scene.materials:
         coefficients = np.array(document["materials"][material.name]["coefficients"])  # (3, 4)
         mu, r = _error_grid(plan, material)
@@ -139,7 +139,7 @@ void main() {{
 
 
 def test_the_shipped_split_sum_include_reads_a_schlick_scene_at_its_remapped_roughness(tmp_path):
-    """The shipped Schlick example on 32 columns: ggx_schlick_rg.exr through luts/shaders/fresnel_basis.glsl's
+    """The shipped Schlick example on 32 columns: scene_ggx_schlick_rg.exr through luts/shaders/fresnel_basis.glsl's
     fresnelSchlickSplitSum at (r − lo)/(hi − lo), F0 from the JSON (its weights are (F0, 1)), against each material's
     exact split sum on the plan's error grid: within the plan's error plus float32's 1e-6."""
     (tmp_path / "scene.toml").write_text(
@@ -151,7 +151,7 @@ def test_the_shipped_split_sum_include_reads_a_schlick_scene_at_its_remapped_rou
     assert not list((tmp_path / "out").glob("fresnel_basis_scene.*"))
     include = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
-    table, header = read_lut(tmp_path / "out" / "ggx_schlick_rg.exr")
+    table, header = read_lut(tmp_path / "out" / "scene_ggx_schlick_rg.exr")
     low, high = (float(value) for value in header["roughness_range"].split(","))
     for material in plan.scene.materials:
         weights = np.array(document["materials"][material.name]["coefficients"])  # (3, 2): (F0, 1) per channel
