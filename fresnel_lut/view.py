@@ -1,6 +1,7 @@
 """The look-development page: a local server for a WebGL 2 page that runs the shipped includes on the shipped tables.
 
-Public objects: ``page_files``, ``make_server``, ``serving``, ``serve``, ``read_environment``, ``PAGE_SIZE``.
+Public objects: ``page_files``, ``make_server``, ``serving``, ``serve``, ``read_environment``, ``is_loopback``,
+``ServerWarning``, ``PAGE_SIZE``, ``IDLE_TIMEOUT``, ``MAX_CONNECTIONS``.
 
 The server (Python's standard library, bound to 127.0.0.1 unless told otherwise) answers GET and HEAD for a fixed set
 of names built once at start, in memory, and nothing else: no path of a request is ever joined to a folder, so no file
@@ -17,15 +18,23 @@ outside that set can be read (``..``, encoded or not, is simply not one of the n
 * ``/environment.f32`` — with ``environment``: the user's equirectangular EXR as float32 RGBA, rows top first,
   which the page prefilters on the GPU.
 
-The Content-Security-Policy header allows nothing but these names: the page loads nothing from the internet.
+The Content-Security-Policy header allows nothing but these names: the page loads nothing from the internet. A
+request whose ``Host`` is not this server's (a name other than ``localhost``, an address, or this machine's own name)
+is refused, so that a page elsewhere cannot read ``/config.json`` or the user's environment through a DNS name
+rebound to 127.0.0.1. Connections idle for :data:`IDLE_TIMEOUT` seconds are closed and at most
+:data:`MAX_CONNECTIONS` are served at once; every request gets an HTTP answer (400 for a malformed one) and none
+prints a traceback. Bound beyond the loopback addresses, the server warns (:class:`ServerWarning`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import http.server
+import ipaddress
 import json
+import socket
 import threading
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
@@ -53,7 +62,18 @@ from .render import (
     STUDIO,
 )
 
-__all__ = ["PAGE_SIZE", "make_server", "page_files", "read_environment", "serve", "serving"]
+__all__ = [
+    "IDLE_TIMEOUT",
+    "MAX_CONNECTIONS",
+    "PAGE_SIZE",
+    "ServerWarning",
+    "is_loopback",
+    "make_server",
+    "page_files",
+    "read_environment",
+    "serve",
+    "serving",
+]
 
 PAGE = Path(__file__).resolve().parent / "page"
 #: The page's files and their types.
@@ -195,15 +215,79 @@ def page_files(environment=None, progress: Callable[[str], None] | None = None) 
     return files
 
 
+#: Seconds a connection may stay silent (before or between requests) before the server closes it.
+IDLE_TIMEOUT = 10.0
+#: Connections served at once; one more is closed unanswered until a place frees (each holds a thread).
+MAX_CONNECTIONS = 128
+
+
+class ServerWarning(UserWarning):
+    """The page's server is reachable from other machines."""
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` (a name or an address, as ``--host`` takes it) reaches this machine only."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False
+
+
+def _host_names(host: str) -> set[str]:
+    """The names a browser may put in ``Host`` for a server bound to ``host`` (lower case, without the port)."""
+    names = {"localhost", host.strip("[]").lower()}
+    if not is_loopback(host):  # reachable from elsewhere: this machine's own names too
+        names |= {socket.gethostname().lower(), socket.getfqdn().lower()}
+    return names
+
+
+def _split_host(value: str) -> tuple[str, str | None]:
+    """(name or address, port or None) of a ``Host`` header value (``[::1]:8000`` → ``::1``, ``8000``)."""
+    value = value.strip().lower()
+    if value.startswith("["):
+        address, _, rest = value[1:].partition("]")
+        return address, rest[1:] if rest.startswith(":") else None
+    name, colon, port = value.rpartition(":")
+    return (name, port) if colon and ":" not in name else (value, None)
+
+
 class _Handler(http.server.BaseHTTPRequestHandler):
-    """GET and HEAD of the server's names; 404 for every other path, 405 for every other method."""
+    """GET and HEAD of the server's names; 404 for every other path, 405 for every other method, 400 for a request
+    that cannot be read, 403 for another site's ``Host``."""
 
     files: dict[str, tuple[bytes, str]] = {}
+    names: set[str] = set()
     server_version = "fresnel-lut-view"
     sys_version = ""
+    timeout = IDLE_TIMEOUT  # socket time-out of every read (StreamRequestHandler applies it)
+    default_request_version = "HTTP/1.0"  # an unreadable request line is answered with a status line, not HTTP/0.9's body
+
+    def _host_allowed(self) -> bool:
+        value = self.headers.get("Host")
+        if value is None:  # HTTP/1.0 without Host: no browser, hence no rebound name
+            return True
+        name, port = _split_host(value)
+        if port is not None and port != str(self.server.server_address[1]):
+            return False
+        if name in self.names:
+            return True
+        try:
+            ipaddress.ip_address(name)  # an address literal names no site another page could rebind
+            return True
+        except ValueError:
+            return False
 
     def _answer(self, body: bool) -> None:
-        path = unquote(urlsplit(self.path).path)
+        if not self._host_allowed():
+            self.send_error(403, "not this server's host name")
+            return
+        try:
+            path = unquote(urlsplit(self.path).path)
+        except ValueError:  # e.g. "http://[/": not a URL
+            self.send_error(400, "the request's path is not a URL")
+            return
         found = self.files.get(path)
         if found is None:
             self.send_error(404, "not one of the page's files")
@@ -234,20 +318,55 @@ class _Handler(http.server.BaseHTTPRequestHandler):
         pass  # one line per request would bury the URL; errors reach the page's console
 
 
+class _Server(http.server.ThreadingHTTPServer):
+    """A thread per connection, at most :data:`MAX_CONNECTIONS` at once; errors of a connection (a client that reset
+    it, a time-out) end that connection quietly instead of printing a traceback."""
+
+    daemon_threads = True
+    request_queue_size = MAX_CONNECTIONS  # the listen backlog: a page's burst of requests is not refused by the kernel
+
+    def __init__(self, address, handler):
+        self._places = threading.BoundedSemaphore(MAX_CONNECTIONS)
+        super().__init__(address, handler)
+
+    def process_request(self, request, client_address):
+        if not self._places.acquire(blocking=False):
+            self.shutdown_request(request)  # full: closed unanswered, as a busy server would
+            return
+        try:
+            super().process_request(request, client_address)
+        except BaseException:
+            self._places.release()
+            raise
+
+    def process_request_thread(self, request, client_address):
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            self._places.release()
+
+    def handle_error(self, request, client_address) -> None:
+        pass  # a connection's own failure (reset, time-out, a broken pipe) concerns that connection only
+
+
 def make_server(
     files: dict[str, tuple[bytes, str]], port: int = 8000, host: str = "127.0.0.1"
 ) -> http.server.ThreadingHTTPServer:
-    """A server of ``files`` (:func:`page_files`) on ``host``:``port`` (0: any free port), not yet serving."""
+    """A server of ``files`` (:func:`page_files`) on ``host``:``port`` (0: any free port; an IPv6 address such as
+    ``::1`` too), not yet serving."""
     port = check_positive_int("port", port, low=0, high=65535)
-    if not isinstance(host, str) or not host:
+    if not isinstance(host, str) or not host or any(character.isspace() for character in host):
         raise ParameterError(f"host must be a host name or address, got {host!r}")
-    handler = type("Handler", (_Handler,), {"files": dict(files)})
+    handler = type("Handler", (_Handler,), {"files": dict(files), "names": _host_names(host)})
     try:
-        server = http.server.ThreadingHTTPServer((host, port), handler)
+        family = socket.getaddrinfo(host.strip("[]"), port, type=socket.SOCK_STREAM)[0][0]
+    except (OSError, UnicodeError) as error:
+        raise ParameterError(f"host {host!r} is no address or name of this machine ({error})") from None
+    server_class = type("Server", (_Server,), {"address_family": family})
+    try:
+        return server_class((host.strip("[]"), port), handler)
     except OSError as error:
         raise OSError(error.errno, f"cannot listen on {host}:{port}: {error.strerror}") from error
-    server.daemon_threads = True
-    return server
 
 
 @contextlib.contextmanager
@@ -270,6 +389,13 @@ def serve(
     progress: Callable[[str], None] | None = None,
 ) -> None:
     """Serve the page until interrupted; ``ready`` gets its URL once it listens."""
+    if not is_loopback(host):
+        warnings.warn(
+            f"listening on {host}: other machines can open the page (and the environment map); --host 127.0.0.1 "
+            "keeps it to this one",
+            ServerWarning,
+            stacklevel=2,
+        )
     server = make_server(page_files(environment, progress), port, host)
     try:
         address, bound = server.server_address[:2]

@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import http.client
 import signal
+import socket
+import struct
 import subprocess
 import sys
 from pathlib import Path
@@ -185,6 +187,118 @@ def test_the_server_refuses_every_other_path(server, path):
 def test_the_server_only_reads(server):
     for method in ("POST", "PUT", "DELETE"):
         assert _get(server, "/", method)[0].status == 405
+
+
+def _raw(server, request: bytes) -> bytes:
+    """What the server answers to ``request`` sent as it is (no client library in between)."""
+    with socket.create_connection(("127.0.0.1", server.server_address[1]), timeout=10) as connection:
+        connection.sendall(request)
+        answer = b""
+        while chunk := connection.recv(65536):
+            answer += chunk
+    return answer
+
+
+@pytest.mark.parametrize(
+    "host, status",
+    [
+        ("evil.example:{port}", 403),  # a DNS-rebinding page: its own name, rebound to 127.0.0.1
+        ("evil.example", 403),
+        ("localhost:1", 403),  # another port
+        ("localhost:{port}", 200),
+        ("127.0.0.1:{port}", 200),
+        ("LOCALHOST:{port}", 200),
+    ],
+)
+def test_a_request_for_another_host_is_refused(server, host, status):
+    """Issue 36 item 5: ``Host`` names this server, or the request is refused before any file is read."""
+    port = server.server_address[1]
+    answer = _raw(
+        server, f"GET /config.json HTTP/1.1\r\nHost: {host.format(port=port)}\r\nConnection: close\r\n\r\n".encode()
+    )
+    assert answer.split(b"\r\n", 1)[0].split()[1] == str(status).encode()
+    assert (b'"basis_hash"' in answer) == (status == 200)
+
+
+@pytest.mark.parametrize(
+    "request_line", [b"GET http://[/ HTTP/1.0", b"GET / HTTP/9.9", b"\x00\xff garbage", b"GET " + b"a" * 70000]
+)
+def test_a_malformed_request_gets_an_http_answer_and_no_traceback(server, request_line, capfd):
+    """Item 10: every request is answered (400-class), and nothing reaches the terminal."""
+    answer = _raw(server, request_line + b"\r\n\r\n")
+    assert answer.startswith(b"HTTP/") and answer.split()[1] in (b"400", b"404", b"414", b"505")
+    assert capfd.readouterr().err == ""
+
+
+def test_clients_that_reset_or_idle_print_nothing_and_hold_no_thread(files, monkeypatch, capfd):
+    """Items 5 and 10: connections reset mid-request print no traceback; idle ones are closed after the time-out,
+    so 60 of them hold no thread for long."""
+    import threading
+    import time
+
+    from fresnel_lut import view
+
+    monkeypatch.setattr(view._Handler, "timeout", 0.5)
+    with serving(files) as idle_server:
+        port = idle_server.server_address[1]
+        baseline = threading.active_count()
+        for _ in range(5):
+            connection = socket.create_connection(("127.0.0.1", port))
+            connection.sendall(b"GET /config.json HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+            connection.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+            connection.close()  # a reset
+        idle = [socket.create_connection(("127.0.0.1", port)) for _ in range(60)]
+        time.sleep(0.2)
+        assert threading.active_count() > baseline + 30
+        deadline = time.monotonic() + 10
+        while threading.active_count() > baseline + 2 and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert threading.active_count() <= baseline + 2
+        for connection in idle:
+            assert connection.recv(1) == b""  # closed by the server
+            connection.close()
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_the_server_listens_on_ipv6_loopback(files):
+    """Item 5: ``--host ::1``."""
+    if not socket.has_ipv6:
+        pytest.skip("no IPv6 on this machine")
+    try:
+        probe = socket.socket(socket.AF_INET6)
+        probe.bind(("::1", 0))
+        probe.close()
+    except OSError:
+        pytest.skip("no IPv6 loopback address here")
+    with serving(files, host="::1") as server6:
+        connection = http.client.HTTPConnection("::1", server6.server_address[1], timeout=10)
+        connection.request("GET", "/config.json")
+        assert connection.getresponse().status == 200
+        connection.close()
+
+
+def test_a_server_beyond_loopback_warns(monkeypatch):
+    """Item 5: bound beyond the loopback addresses, the command says so before it serves."""
+    from fresnel_lut import view
+
+    def refused(*arguments, **keywords):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(view, "page_files", lambda *arguments: {})
+    monkeypatch.setattr(view, "make_server", refused)
+    with pytest.warns(view.ServerWarning, match="other machines can open the page"), pytest.raises(KeyboardInterrupt):
+        view.serve(port=0, host="0.0.0.0")
+    assert view.is_loopback("127.0.0.2") and view.is_loopback("::1") and view.is_loopback("localhost")
+    assert not view.is_loopback("0.0.0.0") and not view.is_loopback("example.org")
+
+
+def test_a_missing_shipped_table_says_how_to_make_it(tmp_path, monkeypatch):
+    """Item 7: ``view`` over a checkout whose LTC table is gone names the command that makes it."""
+    from fresnel_lut import view
+
+    monkeypatch.setattr(view, "shipped_path", lambda name: tmp_path / name)
+    with pytest.raises(ValueError, match="does not exist.*make luts"):
+        view.page_files()
 
 
 def _write_exr(path: Path, rgb: np.ndarray) -> Path:
