@@ -741,14 +741,22 @@ def make_parser() -> argparse.ArgumentParser:
     scene.set_defaults(run=command_scene)
 
     render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")
-    render.add_argument("--out", default="report/render", help="output folder (default: report/render)")
+    render.add_argument(
+        "--out",
+        default="build/render",
+        help="output folder (default: build/render; the committed pictures are report/render: make render)",
+    )
     render.add_argument(
         "--quick", action="store_true", help="128x128 spheres, 128-spp lattice references, 2 roughnesses per scene"
     )
     render.set_defaults(run=command_render)
 
     report = commands.add_parser("report", help="error against run time: studies, tables and plots")
-    report.add_argument("--out", default="report", help="output folder (default: report)")
+    report.add_argument(
+        "--out",
+        default="build/report",
+        help="output folder (default: build/report; the committed snapshot is report/: make report REPORT_OUT=report)",
+    )
     report.add_argument(
         "--quick", action="store_true", help="small tables and sets (about 7 s; the full report about 70 s)"
     )

@@ -262,7 +262,9 @@ class _Handler(http.server.BaseHTTPRequestHandler):
     server_version = "fresnel-lut-view"
     sys_version = ""
     timeout = IDLE_TIMEOUT  # socket time-out of every read (StreamRequestHandler applies it)
-    default_request_version = "HTTP/1.0"  # an unreadable request line is answered with a status line, not HTTP/0.9's body
+    default_request_version = (
+        "HTTP/1.0"  # an unreadable request line is answered with a status line, not HTTP/0.9's body
+    )
 
     def _host_allowed(self) -> bool:
         value = self.headers.get("Host")

@@ -142,10 +142,10 @@ def _targets(lut: dict, models: dict, cost: list[dict], quick: bool) -> list[tup
     return rows
 
 
-def write_report(out="report", quick: bool = False) -> dict:
-    """Run every study and write ``out/README.md`` and the PNGs. Returns paths and run times."""
+def write_report(out="build/report", quick: bool = False) -> dict:
+    """Run every study and write ``out/README.md`` and the PNGs (the folder is made only then, with the files: an
+    interrupted or failed run leaves no folder behind). Returns paths and run times."""
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     env = environment()
     timings = {}

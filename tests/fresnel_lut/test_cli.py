@@ -359,6 +359,36 @@ def test_render_refuses_a_file_as_output_folder(tmp_path, capsys):
     assert target.read_text() == "x"
 
 
+def test_report_and_render_write_under_build_by_default():
+    """Issue 36 item 9: the defaults never overwrite the committed report/ (README suggests both commands)."""
+    parser = cli.make_parser()
+    assert parser.parse_args(["report", "--quick"]).out == "build/report"
+    assert parser.parse_args(["render", "--quick"]).out == "build/render"
+
+
+@pytest.mark.parametrize("study", ["lut_error_vs_time", "plot_model_error"])
+def test_an_interrupted_report_leaves_no_folder(tmp_path, monkeypatch, capsys, study):
+    """Issue 36 item 8: Ctrl-C during a study or while the plots are drawn leaves no new (empty) folder: the folder
+    is made with the files, in one transaction."""
+    from fresnel_lut.report import readme
+
+    def interrupted(*arguments, **keywords):
+        raise KeyboardInterrupt
+
+    if study == "plot_model_error":  # the studies run (quick); the interrupt comes once they are done
+        monkeypatch.setattr(readme, "lut_error_vs_time", lambda **keywords: {})
+        monkeypatch.setattr(readme, "model_error_study", lambda **keywords: {})
+        monkeypatch.setattr(readme, "basis_build_cost", lambda *arguments: {})
+        monkeypatch.setattr(readme, "basis_convergence", lambda **keywords: {})
+        monkeypatch.setattr(readme, "approximation_table", lambda **keywords: {})
+        monkeypatch.setattr(readme, "plot_lut_error", lambda result: b"")
+    monkeypatch.setattr(readme, study, interrupted)
+    out = tmp_path / "new" / "report"
+    assert run(["report", "--quick", "--out", out]) == 130
+    assert "no file was written" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_materials_refuses_a_folder_as_presets_before_any_work(tmp_path, capsys):
     assert run(["materials", "--presets", tmp_path]) == 2
     assert_one_line_error(capsys.readouterr().err)

@@ -323,7 +323,11 @@ def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_pa
         write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)
         assert (out / "scene_ggx_own_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
-    assert sorted(p.name for p in out.iterdir()) == ["scene_coefficients.json", "scene_ggx_schlick_rg.exr", "scene_report.md"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "scene_coefficients.json",
+        "scene_ggx_schlick_rg.exr",
+        "scene_report.md",
+    ]
 
 
 def test_a_scene_beside_a_default_build_leaves_the_builds_includes_alone(tmp_path):

@@ -41,7 +41,12 @@ def _crafted_journals(folder: Path) -> list[dict]:
     (folder / temporary).write_text("the attacker's text")
     fake = [1, 2, 3, 4]
     return [
-        {"format": "fresnel-basis/journal", "version": 2, "renames": [[temporary, "notes.txt"]], "removals": ["basis.json"]},
+        {
+            "format": "fresnel-basis/journal",
+            "version": 2,
+            "renames": [[temporary, "notes.txt"]],
+            "removals": ["basis.json"],
+        },
         {
             "format": "fresnel-basis/journal",
             "version": 3,
