@@ -224,12 +224,18 @@ class Basis:
         if not isinstance(data, dict) or data.get("format") != FORMAT:
             found = data.get("format") if isinstance(data, dict) else type(data).__name__
             raise BasisFileError(f"not a fresnel-basis basis file (format {found!r}, expected {FORMAT!r})")
+        training = data.get("training", {})
+        if not isinstance(training, dict):
+            raise BasisFileError(
+                f"basis file's training field must be an object (the training set's description), got "
+                f"{type(training).__name__}"
+            )
         try:
             basis = cls(
                 theta=np.asarray(data["theta"], dtype=np.float64),
                 curves=np.asarray(data["curves"], dtype=np.float64),
                 fit_angles=np.asarray(data["fit_angles"], dtype=np.float64),
-                training=dict(data.get("training", {})),
+                training=dict(training),
             )
         except KeyError as error:
             raise BasisFileError(f"basis file lacks the field {error}") from None

@@ -2,8 +2,8 @@
 
 Public objects: ``shipped_path``, ``temporary_sibling``, ``replace_together``, ``write_together``,
 ``Journal``, ``read_journal``, ``unfinished_group``, ``recover_folder``, ``write_text``, ``write_json``,
-``read_regular_file``, ``check_regular_file``, ``read_json_document``, ``nesting_depth``, ``MAX_NESTING``,
-``MAX_DOCUMENT_BYTES``, ``MAX_TABLE_BYTES``, ``FolderWarning``.
+``read_regular_file``, ``check_regular_file``, ``reading_folder``, ``read_json_document``, ``nesting_depth``, ``MAX_NESTING``,
+``MAX_DOCUMENT_BYTES``, ``MAX_TABLE_BYTES``, ``FolderWarning``, ``DuplicateKeyError``, ``parse_json``.
 
 Shipped data (``luts/basis.json``, ``luts/materials.json``, ``luts/spectral_ior.json``, the LUTs) is
 found beside the installed packages, never by importing ``luts``: a folder named ``luts`` in the working
@@ -51,9 +51,12 @@ __all__ = [
     "MAX_DOCUMENT_BYTES",
     "MAX_NESTING",
     "MAX_TABLE_BYTES",
+    "DuplicateKeyError",
     "FolderWarning",
+    "parse_json",
     "check_regular_file",
     "read_regular_file",
+    "reading_folder",
     "nesting_depth",
     "Journal",
     "read_journal",
@@ -320,7 +323,7 @@ def read_journal(folder) -> Journal | None:
         return None
     try:
         data = read_regular_file(path, "journal", MAX_JOURNAL_BYTES, follow_links=False)
-        document = json.loads(data.decode("utf-8"))
+        document = parse_json(data.decode("utf-8"))
     except ParameterError as refused:
         warnings.warn(f"{refused}; ignored", FolderWarning, stacklevel=2)
         return None
@@ -355,18 +358,34 @@ def read_journal(folder) -> Journal | None:
 
 
 @contextlib.contextmanager
-def _folder_lock(folder: Path) -> Iterator[None]:
-    """An exclusive advisory lock on the folder itself (no lock file is left behind): writers of one
-    folder take turns, so a group of files is never interleaved with another group."""
+def _folder_lock(folder: Path, shared: bool = False) -> Iterator[None]:
+    """An advisory lock on the folder itself (no lock file is left behind): exclusive for a writer, so that writers
+    of one folder take turns and a group of files is never interleaved with another group; shared for a reader
+    (:func:`reading_folder`)."""
     if fcntl is None:
         yield
         return
-    handle = os.open(folder, os.O_RDONLY)
     try:
-        fcntl.flock(handle, fcntl.LOCK_EX)
+        handle = os.open(folder, os.O_RDONLY)
+    except OSError:
+        if not shared:
+            raise
+        yield  # a folder this reader may search but not list: it reads without the lock
+        return
+    try:
+        fcntl.flock(handle, fcntl.LOCK_SH if shared else fcntl.LOCK_EX)
         yield
     finally:
         os.close(handle)
+
+
+@contextlib.contextmanager
+def reading_folder(folder) -> Iterator[None]:
+    """Hold off the folder's writers while a reader checks and reads its files: a writer renaming its group holds the
+    folder exclusively, so the reader waits for it and then sees the whole new set (or, before it, the old one);
+    a half-renamed group it finds under this lock is a killed writer's (:func:`unfinished_group`)."""
+    with _folder_lock(Path(folder), shared=True):
+        yield
 
 
 def _finish(folder: Path) -> None:
@@ -520,6 +539,35 @@ def write_json(path, document: dict) -> Path:
     return write_text(path, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
 
 
+class DuplicateKeyError(ValueError):
+    """A JSON object names one key twice (the last would silently win)."""
+
+
+def _unique_keys(pairs: list[tuple[str, object]]) -> dict:
+    keys = [key for key, _ in pairs]
+    if len(set(keys)) != len(keys):
+        twice = sorted({key for key in keys if keys.count(key) > 1})
+        names = ", ".join(map(repr, twice))
+        raise DuplicateKeyError(
+            f"the keys {names} appear twice" if len(twice) > 1 else f"the key {names} appears twice"
+        )
+    return dict(pairs)
+
+
+def parse_json(text: str):
+    """``json.loads`` that refuses an object naming a key twice (:class:`DuplicateKeyError`): every JSON file this
+    project reads (basis, presets, spectral data, scenes, journals) is parsed by it.
+
+    >>> parse_json('{"a": 1, "b": 2}')
+    {'a': 1, 'b': 2}
+    >>> parse_json('{"a": 1, "a": 2}')
+    Traceback (most recent call last):
+    ...
+    basis.storage.DuplicateKeyError: the key 'a' appears twice
+    """
+    return json.loads(text, object_pairs_hook=_unique_keys)
+
+
 #: Deepest nesting of lists and tables a document of this project may have (the deepest has 5).
 MAX_NESTING = 32
 
@@ -547,9 +595,11 @@ def read_json_document(
     except UnicodeDecodeError as cause:
         raise error(f"cannot read {what} {path}: not UTF-8 text ({cause})") from None
     try:
-        document = json.loads(text)
+        document = parse_json(text)
     except json.JSONDecodeError as cause:
         raise error(f"cannot read {what} {path}: not valid JSON (truncated?): {cause}") from None
+    except DuplicateKeyError as cause:
+        raise error(f"cannot read {what} {path}: {cause} in one object") from None
     except RecursionError:
         raise error(f"cannot read {what} {path}: nested deeper than Python's parser allows") from None
     if nesting_depth(document) > MAX_NESTING:

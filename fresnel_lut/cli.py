@@ -54,15 +54,30 @@ from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 from preintegrate.tables import write_default_build, write_model_build
 
+from .entry import INTERRUPTED, caused_by_interrupt
 from .progress import Progress, peak_rss_mib
 
 
+class _StoreOnce(argparse._StoreAction):
+    """An option's value, refused when the option is given twice (argparse would keep the last one silently)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in seen:
+            parser.error(f"{option_string or self.dest} is given twice; give it once")
+        seen.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (no usage dump, no traceback), and option values such as -1e-9 or -inf
-    taken as numbers (argparse reads only -1 and -1.5 so; the range checks then refuse them with the reason)."""
+    """argparse with one-line errors (no usage dump, no traceback), options that may be given once, and option
+    values such as -1e-9 or -inf taken as numbers (argparse reads only -1 and -1.5 so; the range checks then refuse
+    them with the reason)."""
 
     def __init__(self, *arguments, **keywords):
         super().__init__(*arguments, **keywords)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
         self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.I)
 
     def error(self, message):
@@ -151,7 +166,12 @@ def command_build(arguments) -> int:
     if arguments.ltc_size is not None and not arguments.ltc:
         raise ParameterError("--ltc-size goes with --ltc")
     ltc = (
-        LtcGrid(check_positive_int("--ltc-size", arguments.ltc_size or 64, low=2, high=1024), arguments.visibility)
+        LtcGrid(
+            check_positive_int(
+                "--ltc-size", 64 if arguments.ltc_size is None else arguments.ltc_size, low=2, high=1024
+            ),
+            arguments.visibility,
+        )
         if arguments.ltc
         else None
     )
@@ -789,11 +809,14 @@ def main(argv=None) -> int:
             warnings.showwarning = _show_warning
             return arguments.run(arguments)
     except KeyboardInterrupt:
-        print("\nfresnel-lut: interrupted; no file was written or replaced", file=sys.stderr)
+        print(INTERRUPTED, file=sys.stderr)
         return 130
     except BrokenPipeError:  # the reader of standard output went away (`… | head`): the console command ends quietly
         raise
     except (ValueError, OSError) as error:
+        if caused_by_interrupt(error):  # a library turned Ctrl-C into its own error
+            print(INTERRUPTED, file=sys.stderr)
+            return 130
         print(f"fresnel-lut: error: {_message(error)}", file=sys.stderr)
         return 2
 

@@ -1,11 +1,15 @@
 """The ``fresnel-lut`` console command.
 
-Public objects: ``main``.
+Public objects: ``console`` (the installed command), ``main``, ``caused_by_interrupt``, ``GRACE``.
 
 Ctrl-C at any moment ends the command with exit status 130 and one line, never a traceback. While the
 modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
 import (numpy's) would otherwise surface as a misleading ImportError — then honoured at once; a module
-loaded later, on first use (scipy), is covered by recognising such an ImportError by its cause. A closed pipe
+loaded later, on first use (scipy, matplotlib), is covered by recognising any error caused by the interrupt (an
+``ImportError: initialization failed``, importlib's ``RuntimeError: cannot release un-acquired lock``). Where a
+library swallows the KeyboardInterrupt (a bare ``except:`` around an optional import), a watchdog started by the
+first Ctrl-C ends the process after :data:`GRACE` seconds with the same line and status; what a write left
+half done is what a kill leaves, which the next writer finishes (:mod:`basis.storage`). A closed pipe
 on standard output (``fresnel-lut … | head``) ends the command quietly. Before numpy loads, its and OpenBLAS'
 kernels are pinned (:mod:`fresnel_lut.kernels`) so that the files the command writes are the same bytes on every
 x86-64 machine. Everything else is :func:`fresnel_lut.cli.main`.
@@ -15,13 +19,17 @@ from __future__ import annotations
 
 import sys
 
-__all__ = ["main"]
+__all__ = ["GRACE", "caused_by_interrupt", "console", "main"]
 
 INTERRUPTED = "\nfresnel-lut: interrupted; no file was written or replaced"
+#: Seconds between Ctrl-C and the watchdog's exit, where the interrupt did not end the command by itself.
+GRACE = 1.0
 
 try:  # Ctrl-C while this module's own imports load (the signal module itself takes ~10 ms on a busy machine)
     import os
     import signal
+    import threading
+    import time
 
     from .kernels import pin_numeric_kernels
 except KeyboardInterrupt:
@@ -42,24 +50,47 @@ def main() -> int:
     if held:
         print(INTERRUPTED, file=sys.stderr)
         return 130
+    reported = threading.Event()
+    if previous is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _interrupt_handler(reported))
     try:
-        return run()
-    except KeyboardInterrupt:
-        print(INTERRUPTED, file=sys.stderr)
-        return 130
-    except ImportError as error:  # a module loaded later (scipy, on first use): Ctrl-C inside its C extension
-        if not _caused_by_interrupt(error):
-            raise
-        print(INTERRUPTED, file=sys.stderr)
-        return 130
+        status = run()
     except BrokenPipeError:  # the reader of standard output went away: stop without a message
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
+        status = 1
+    except BaseException as error:
+        if not caused_by_interrupt(error):
+            raise
+        print(INTERRUPTED, file=sys.stderr)
+        status = 130
+    reported.set()  # the command has ended and said so: the watchdog has nothing left to do
+    return status
 
 
-def _caused_by_interrupt(error: BaseException) -> bool:
-    """Whether a KeyboardInterrupt is in the chain of causes of ``error`` (pybind11 and Cython module
-    initialisation turn it into ``ImportError: initialization failed``)."""
+def _interrupt_handler(reported: threading.Event):
+    """Ctrl-C: raise KeyboardInterrupt in the main thread, as Python's own handler does, and (the first time) start
+    a watchdog that ends the process after :data:`GRACE` seconds if the command is still running then."""
+    started = threading.Event()
+
+    def watchdog() -> None:
+        time.sleep(GRACE)
+        if not reported.is_set():  # the interrupt was swallowed, or the command hangs in a library
+            print(INTERRUPTED, file=sys.stderr, flush=True)
+            os._exit(130)
+
+    def handler(number, frame):
+        if not started.is_set():
+            started.set()
+            threading.Thread(target=watchdog, name="fresnel-lut Ctrl-C watchdog", daemon=True).start()
+        raise KeyboardInterrupt
+
+    return handler
+
+
+def caused_by_interrupt(error: BaseException) -> bool:
+    """Whether ``error`` is a KeyboardInterrupt or one is in its chain of causes and contexts (pybind11 and Cython
+    module initialisation turn it into ``ImportError: initialization failed``; an interrupt inside importlib's
+    module lock leaves ``RuntimeError: cannot release un-acquired lock``)."""
     seen = set()
     while error is not None and id(error) not in seen:
         if isinstance(error, KeyboardInterrupt):
@@ -69,5 +100,20 @@ def _caused_by_interrupt(error: BaseException) -> bool:
     return False
 
 
+def console() -> int:
+    """The ``fresnel-lut`` command: :func:`main`, and after an interrupt an exit without the interpreter's finalisation
+    (every file is already whole or untouched; a C extension whose import Ctrl-C cut short would print its own
+    reference-leak report there, after the one line)."""
+    status = main()
+    if status == 130:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):  # a closed pipe or stream: nothing more to say
+                pass
+        os._exit(130)
+    return status
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(console())

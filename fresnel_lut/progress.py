@@ -16,8 +16,16 @@ from pathlib import Path
 __all__ = ["Progress", "peak_rss_mib"]
 
 
+def _duration(seconds: float) -> str:
+    """``42 s``, ``3.5 min``, ``2.1 h``: an estimate as a person reads it."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    return f"{seconds / 60:.1f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
+
+
 class Progress:
-    """Callable ``progress(done, total)`` that reports ``label: 42% (done/total unit)``."""
+    """Callable ``progress(done, total)`` that reports ``label: 42% (done/total unit) 12.0s, about 16 s left`` (the
+    time left at the rate so far)."""
 
     def __init__(self, label: str, unit: str = "", delay: float = 1.0, interval: float = 5.0, stream=None):
         self.label, self.unit, self.delay, self.interval = label, unit, delay, interval
@@ -32,9 +40,11 @@ class Progress:
         if now - self.start < self.delay or (not self.tty and now - self.last < self.interval and done != total):
             return
         self.last = now
+        elapsed = now - self.start
         share = f"{100.0 * done / total:5.1f}% " if total else ""
         counts = f"({done}/{total} {self.unit})" if total else f"({done} {self.unit})"
-        text = f"{self.label}: {share}{counts} {now - self.start:.1f}s"
+        left = f", about {_duration(elapsed * (total - done) / done)} left" if total and 0 < done < total else ""
+        text = f"{self.label}: {share}{counts} {elapsed:.1f}s{left}"
         self.stream.write(("\r" + text) if self.tty else (text + "\n"))
         self.stream.flush()
         self.shown = True

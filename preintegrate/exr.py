@@ -21,7 +21,14 @@ from pathlib import Path
 import numpy as np
 import OpenEXR
 
-from basis.storage import JOURNAL, MAX_TABLE_BYTES, check_regular_file, unfinished_group, write_together
+from basis.storage import (
+    JOURNAL,
+    MAX_TABLE_BYTES,
+    check_regular_file,
+    reading_folder,
+    unfinished_group,
+    write_together,
+)
 from basis.validation import ParameterError, as_float_array, safe_line
 
 __all__ = [
@@ -35,6 +42,9 @@ __all__ = [
     "write_luts",
 ]
 
+#: Largest magnitude a texel of this project's tables may have (albedos of curves of order 1, LTC matrices divided by
+#: their middle entry: within ±2 in the shipped tables); a larger value is refused on reading as damage or an edit.
+MAX_TEXEL_MAGNITUDE = 1e3
 #: Prefix of this project's header attributes.
 ATTRIBUTE_PREFIX = "fresnel:"
 HALF_MAX = float(np.finfo(np.float16).max)
@@ -169,19 +179,20 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     if not isinstance(path, (str, os.PathLike)) or str(path) == "":
         raise LutFileError(f"path must name an EXR file (text or a path), got {type(path).__name__} {str(path)[:60]!r}")
     path = Path(path)
-    if unfinished_group(path) is not None:  # a reader never renames or removes: it refuses a mixed set
-        raise LutFileError(
-            f"{path} belongs to a group of files that a killed write left half-renamed in "
-            f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
-            "folder (its first step finishes the group)"
-        )
-    check_regular_file(path, "LUT file", MAX_TABLE_BYTES, LutFileError)  # a FIFO or a device would hang OpenEXR
-    try:
-        image = OpenEXR.File(str(path), separate_channels=True)  # else R,G,B,A come back merged as "RGBA"
-        header = image.header()
-        channels = image.channels()
-    except Exception as error:  # the bindings raise bare RuntimeError/OSError on bad files
-        raise LutFileError(f"cannot read EXR {path} (truncated or not an EXR?): {error}") from None
+    with reading_folder(path.parent):  # a build renaming its set into this folder finishes first
+        if unfinished_group(path) is not None:  # a reader never renames or removes: it refuses a mixed set
+            raise LutFileError(
+                f"{path} belongs to a group of files that a killed write left half-renamed in "
+                f"{path.parent} ({JOURNAL}); the set may mix two builds: rerun the build into that "
+                "folder (its first step finishes the group)"
+            )
+        check_regular_file(path, "LUT file", MAX_TABLE_BYTES, LutFileError)  # a FIFO or a device would hang OpenEXR
+        try:
+            image = OpenEXR.File(str(path), separate_channels=True)  # else R,G,B,A come back merged as "RGBA"
+            header = image.header()
+            channels = image.channels()
+        except Exception as error:  # the bindings raise bare RuntimeError/OSError on bad files
+            raise LutFileError(f"cannot read EXR {path} (truncated or not an EXR?): {error}") from None
     attributes = {
         key[len(ATTRIBUTE_PREFIX) :]: str(value) for key, value in header.items() if key.startswith(ATTRIBUTE_PREFIX)
     }
@@ -201,4 +212,9 @@ def read_lut(path, channel_names=None) -> tuple[np.ndarray, dict[str, str]]:
     table = np.stack([np.asarray(channels[name].pixels, dtype=np.float64) for name in names], axis=-1)
     if not np.all(np.isfinite(table)):
         raise LutFileError(f"{path} contains NaN or inf texels")
+    if np.max(np.abs(table), initial=0.0) > MAX_TEXEL_MAGNITUDE:
+        raise LutFileError(
+            f"{path} holds a texel of {np.max(np.abs(table)):.3g}: a table of this project holds albedos and normalised "
+            f"LTC matrices, within {MAX_TEXEL_MAGNITUDE:g} in magnitude"
+        )
     return table, attributes

@@ -499,7 +499,12 @@ def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = No
 
 # ----------------------------------------------------------------------------- the includes
 def _number(value: float) -> str:
-    text = f"{float(value):.9g}"
+    """A constant as a float32 literal of every shading language; a value that none can hold (NaN, inf, beyond
+    float32) is refused here, before any include is written, so that a generated include always compiles."""
+    value = float(value)
+    if not np.isfinite(value) or abs(value) > np.finfo(np.float32).max:
+        raise ParameterError(f"a shader constant must be a finite float32 number, got {value!r}")
+    text = f"{value:.9g}"
     return text if any(mark in text for mark in ".en") else text + ".0"
 
 

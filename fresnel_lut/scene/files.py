@@ -22,7 +22,7 @@ from basis.angles import cos_theta
 from basis.eigenbasis import Basis, resolve_basis
 from basis.materials import material_from_mapping
 from basis.presets import PRESET_SPACES
-from basis.storage import MAX_NESTING, nesting_depth, read_regular_file
+from basis.storage import MAX_NESTING, DuplicateKeyError, nesting_depth, parse_json, read_regular_file
 from basis.validation import ParameterError, check_choice, check_positive_int, check_range
 from preintegrate.ggx import VISIBILITIES
 
@@ -33,6 +33,9 @@ MAX_SIZE = 256
 #: Most materials one scene plans: every material adds its texel weights and curves to the plan (3,000 took 192 s
 #: and 880 MiB); a scene of a few dozen takes seconds.
 MAX_MATERIALS = 256
+#: Narrowest roughness range of a material (a wider one than 0 but narrower than this is one roughness: its table's
+#: row mapping, 1 / (high - low), would pass float32's range).
+MIN_ROUGHNESS_SPAN = 1e-6
 #: One 8-bit step: the default tolerance on F̄.
 DEFAULT_TOLERANCE = 1.0 / 255.0
 
@@ -96,6 +99,11 @@ def _roughness(name: str, value) -> tuple[float, float]:
     values = check_range(f"material {name!r}: roughness", values, 0.0, 1.0)
     if values.size == 2 and values[0] > values[1]:
         raise SceneError(f"material {name!r}: roughness range must be [low, high], got {value!r}")
+    if values.size == 2 and 0.0 < values[1] - values[0] < MIN_ROUGHNESS_SPAN:
+        raise SceneError(
+            f"material {name!r}: roughness range {value!r} is narrower than {MIN_ROUGHNESS_SPAN:g}: give one "
+            "roughness (a number) or a range at least that wide"
+        )
     return float(values.min()), float(values.max())
 
 
@@ -128,8 +136,8 @@ def read_scene(path, basis: Basis | None = None) -> Scene:
 
 def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
     try:
-        document = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
-    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
+        document = parse_json(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError, DuplicateKeyError) as error:
         raise SceneError(
             f"scene file {path} is not valid {'JSON' if path.suffix.lower() == '.json' else 'TOML'}: {error}"
         ) from None
@@ -188,6 +196,12 @@ def _read_scene(path: Path, text: str, basis: Basis) -> Scene:
             raise SceneError(f"material {name!r}: {error}") from None
         materials.append(
             SceneMaterial(name, description, np.asarray(curve, dtype=np.float64), _roughness(name, item["roughness"]))
+        )
+    low, high = min(m.roughness[0] for m in materials), max(m.roughness[1] for m in materials)
+    if 0.0 < high - low < MIN_ROUGHNESS_SPAN:
+        raise SceneError(
+            f"scene file {path}: the materials' roughnesses span {low:g} to {high:g}, narrower than "
+            f"{MIN_ROUGHNESS_SPAN:g} but not one roughness: give them one roughness, or a span at least that wide"
         )
     return Scene(
         tuple(materials),

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from basis.eigenbasis import Basis, resolve_basis
-from basis.storage import MAX_DOCUMENT_BYTES, read_regular_file, shipped_path
+from basis.storage import MAX_DOCUMENT_BYTES, parse_json, read_regular_file, shipped_path
 from basis.validation import check_choice, safe_line
 from preintegrate.formats import FORMATS, check_formats
 from preintegrate.ggx import VISIBILITIES
@@ -51,7 +51,7 @@ def _previous_files(coefficients_path: Path) -> set[str]:
     can remove nothing else (a build's ``ggx_…`` tables, a user's file)."""
     try:
         data = read_regular_file(coefficients_path, "scene coefficients", MAX_DOCUMENT_BYTES)
-        document = json.loads(data.decode("utf-8"))
+        document = parse_json(data.decode("utf-8"))
         names = {entry.get(key) for entry in document["materials"].values() for key in ("lut", "second_lut")}
         names.add((document.get("scene_basis") or {}).get("file"))
         includes = document.get("shader_includes") or []
@@ -246,7 +246,11 @@ def write_scene(
             "fresnelBasisLutUV)."
             if includes
             else "Shader includes: none (no table holds a whole basis); read the tables with luts/shaders/fresnel_basis.* "
-            f"at perceptual roughness (r - {low:g}) / ({high:g} - {low:g})."
+            + (
+                f"at perceptual roughness (r - {low:g}) / ({high:g} - {low:g})."
+                if high > low
+                else f"at any perceptual roughness (one row, r = {low:g})."
+            )
         ),
         (
             f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "

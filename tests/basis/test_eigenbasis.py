@@ -217,8 +217,8 @@ def test_nonexistent_path(tmp_path):
 
 
 def test_directory_instead_of_file(tmp_path):
-    """A directory at the path -> BasisFileError 'cannot read'."""
-    with pytest.raises(BasisFileError, match="cannot read"):
+    """A directory at the path -> BasisFileError naming it a folder, refused unread."""
+    with pytest.raises(BasisFileError, match="is a folder, not a regular file"):
         Basis.read(tmp_path)
 
 

@@ -559,7 +559,18 @@ def test_progress_reports_on_non_tty():
     lines = stream.getvalue().splitlines()
     assert len(lines) == 2 and "\r" not in stream.getvalue()
     assert lines[0].startswith("work:") and "50.0%" in lines[0] and "(5/10 items)" in lines[0]
-    assert "100.0%" in lines[1]
+    assert "100.0%" in lines[1] and "left" not in lines[1]
+
+
+def test_progress_estimates_the_time_left(monkeypatch):
+    """Issue 36 item 14: a long fit (``build --ltc --ltc-size 1024``, hours) says how long it has left at its rate."""
+    import fresnel_lut.progress as progress_module
+
+    clock = iter([100.0, 130.0])  # made at 100 s, a quarter done at 130 s: 90 s to go
+    monkeypatch.setattr(progress_module.time, "perf_counter", lambda: next(clock))
+    stream = io.StringIO()
+    Progress("fitting", "rows", delay=0.0, stream=stream)(256, 1024)
+    assert stream.getvalue() == "fitting:  25.0% (256/1024 rows) 30.0s, about 1.5 min left\n"
 
 
 @pytest.mark.parametrize("target", ["/dev/null", "folder"])

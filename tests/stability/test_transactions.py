@@ -178,3 +178,37 @@ def test_an_interrupted_removal_is_finished_by_the_next_build(tmp_path, monkeypa
     monkeypatch.undo()
     assert run(["build", "--size", "8", "--out", out]) == 0
     assert sorted(path.name for path in out.iterdir()) == sorted(DEFAULT_BUILD_FILES)
+
+
+_BUILDS = """
+import sys
+from fresnel_lut import cli
+for size in [6, 7] * 15:
+    assert cli.main(["build", "--size", str(size), "--out", sys.argv[1]]) == 0
+"""
+
+
+def test_a_reader_racing_healthy_builds_reads_the_old_set_or_the_new(tmp_path):
+    """Issue 36 item 14: readers racing a healthy build were told a write was killed (631 of 519,000 reads): a
+    writer holds the folder while it renames its set, and a reader waits for it, so every read finds a whole set."""
+    out = tmp_path / "luts"
+    assert run(["build", "--size", "6", "--out", out]) == 0
+    writer = subprocess.Popen(
+        [sys.executable, "-c", _BUILDS, str(out)],
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT), "OPENBLAS_NUM_THREADS": "1"},
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    reads, refused = 0, []
+    while writer.poll() is None:
+        for name in (BASIS_LUT, SCHLICK_LUT):
+            try:
+                table, header = read_lut(out / name)
+                assert table.shape[:2] in ((6, 6), (7, 7)) and header["width"] == str(table.shape[1])
+            except exr.LutFileError as error:
+                refused.append(str(error))
+            reads += 1
+    assert writer.returncode == 0, writer.stderr.read()
+    assert reads > 100 and refused == [], f"{len(refused)} of {reads} reads refused: {refused[:2]}"
