@@ -177,7 +177,7 @@ def _preset(mapping: Mapping, space: str) -> Material:
     extra = sorted(set(mapping) - {"preset"})
     if extra:
         raise ParameterError(
-            f"a preset material takes only preset (its working space is the scene's or --space), not {extra}"
+            f"a preset material takes only preset (its working space is the scene file's space key, or coeffs' --space), not {extra}"
         )
     name = mapping["preset"]
     if not isinstance(name, str):

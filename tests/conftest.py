@@ -81,7 +81,7 @@ def gpu_missing(what: str):
     import pytest
 
     if os.environ.get("CI") == "true":
-        pytest.fail(f"{what} is missing: the project's set-up installs it (make .venv/.installed-stamp as root)")
+        pytest.fail(f"{what} is missing: the project's set-up installs it (make test, as root on Debian)")
     pytest.skip(f"{what} is not installed here (the set-up installs it as root)")
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from basis.angles import cos_theta
 from basis.coefficients import coefficients_from_table, coefficients_least_squares_from_table
-from basis.eigenbasis import Basis
+from basis.eigenbasis import Basis, BasisFileError
 from basis.models import fresnel_model
 from basis.training import MIN_SPAN, refine_basis
 from preintegrate.channels import ChannelSet, basis_channels, model_channels, schlick_channels
@@ -191,7 +191,12 @@ def scene_basis_layouts(
         return []
     layouts = []
     for terms in SCENE_BASIS_TERMS:
-        trained = train_scene_basis(scene, basis, operators, terms)
+        try:
+            trained = train_scene_basis(scene, basis, operators, terms)
+        except BasisFileError as error:  # e.g. a four-point system the refinement left ill-conditioned
+            if progress is not None:
+                progress(f"scene basis of {terms} terms: not usable ({error}); planning with the fewer terms")
+            break
         layouts.append(Layout("scene", terms=terms, trained=trained))
         achieved = max(group["max_abs_error"] for group in trained.training["refinement"]["groups"].values())
         if progress is not None:

@@ -182,3 +182,22 @@ def test_a_scene_build_is_reproducible_whatever_the_blas_threads(tmp_path):
         outputs.append({path.name: path.read_bytes() for path in sorted((tmp_path / str(threads)).iterdir())})
     assert outputs[0].keys() == outputs[1].keys() and "scene_basis.json" in outputs[0]
     assert all(outputs[0][name] == outputs[1][name] for name in outputs[0])
+
+
+def test_a_scene_basis_that_cannot_be_used_leaves_the_plan_to_the_others(tmp_path, monkeypatch):
+    """Issue 36 item 14: a 256-material scene failed after 156 s with "four-point system … ill-conditioned" from a
+    trained scene basis; such a basis is left out (with a progress line saying why) and the plan goes on with the
+    others, naming a material only if none of them meets its tolerance."""
+    from basis.eigenbasis import BasisFileError
+    from fresnel_lut.scene import layout
+
+    def ill_conditioned(scene, basis, operators, terms):
+        raise BasisFileError("the four-point system at fit_angles [...] is singular or ill-conditioned")
+
+    monkeypatch.setattr(layout, "train_scene_basis", ill_conditioned)
+    lines = []
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[[material]]\nname = "g"\npreset = "Gold"\nroughness = [0.3, 0.5]\n', encoding="utf-8")
+    plan = plan_scene(read_scene(scene), progress=lines.append)
+    assert not any(name.startswith("scene-basis") for name in plan.tables)
+    assert any("not usable" in line and "ill-conditioned" in line for line in lines)
