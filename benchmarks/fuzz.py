@@ -1,9 +1,11 @@
 """Fuzz the inputs users and files give the project, and count what happens to each case.
 
 Run from the repository root: ``.venv/bin/python -m benchmarks.fuzz [--cases N] [--seed S] [--out FILE]``.
-Seeded mutations of valid inputs in ten categories — scene files, preset files (``materials.json``),
-basis files (``basis.json``), CLI options and API calls; and (issue 26) crafted journals, stale tables, deeply nested
-files, masked arrays and combinations of options — each end as one of:
+Seeded mutations of valid inputs in fourteen categories — scene files, preset files (``materials.json``),
+basis files (``basis.json``), CLI options and API calls; (issue 26) crafted journals, stale tables, deeply nested
+files, masked arrays and combinations of options; and (issue 36) hostile names into generated files, crafted output
+folders, FIFOs and endless files where a file is read, and HTTP request lines to the look-development server — each
+ends as one of:
 
 * **refused**: a one-line error (exit status 2 and one ``fresnel-lut: error: …`` line, or a
   ``ParameterError`` whose message is one line);
@@ -372,12 +374,17 @@ def _journal_document(rng) -> object:
         target = names[int(rng.integers(len(names)))]
         temporary = f".{target}.{''.join(rng.choice(list('abcdefgh12345678'), 8))}.tmp"
         renames.append([temporary if rng.random() < 0.7 else target, target])
-    document = {
-        "format": "fresnel-basis/journal",
-        "version": 2,
-        "renames": renames,
-        "removals": [names[int(rng.integers(len(names)))] for _ in range(int(rng.integers(0, 3)))],
-    }
+    removals = [names[int(rng.integers(len(names)))] for _ in range(int(rng.integers(0, 3)))]
+    if rng.random() < 0.5:  # the format before journals proved their files
+        document = {"format": "fresnel-basis/journal", "version": 2, "renames": renames, "removals": removals}
+    else:  # today's, with made-up identities (device, inode, change time, size)
+        identity = lambda: [int(value) for value in rng.integers(0, 2**40, 4)]  # noqa: E731
+        document = {
+            "format": "fresnel-basis/journal",
+            "version": 3,
+            "renames": [[*pair, identity()] for pair in renames],
+            "removals": [[name, identity()] for name in removals],
+        }
     return _mutate(rng, document) if rng.random() < 0.5 else document
 
 
@@ -449,6 +456,278 @@ def fuzz_stale_tables(rng, count: int, folder: Path, base: Path) -> Outcome:
                 "crashed", f"stale case {index} ({formats_asked}): left {leftovers}, notes kept: {'notes.txt' in names}"
             )
         shutil.rmtree(case)
+    return outcome
+
+
+#: What a hostile name is made of: line breaks of every kind, comment delimiters, a preprocessor line, backslashes,
+#: NUL, a bidi override, non-Latin-1 text and the marker that must never reach code.
+_HOSTILE_PARTS = [
+    "\n",
+    "\r",
+    "\r\n",
+    "\u2028",
+    "\u2029",
+    "\x0b",
+    "\x0c",
+    "\x85",
+    "*/",
+    "/*",
+    "#define",
+    "#pragma",
+    "\\",
+    "\x00",
+    "\u202e",
+    "\u91d1",
+    "\u00fc",
+    "\U0001f600",
+    "`",
+    '"',
+    "float injected() { return 1.0; }",
+    "injected",
+    " ",
+]
+
+
+def _hostile_name(rng) -> str:
+    return "".join(_HOSTILE_PARTS[int(index)] for index in rng.integers(0, len(_HOSTILE_PARTS), 6)) + "injected"
+
+
+def _inert_everywhere(files: dict[str, bytes]) -> str:
+    """'' where no written file carries the hostile text as anything but a comment or an attribute, else why."""
+    for name, data in files.items():
+        if name.endswith((".glsl", ".hlsl", ".wgsl")):
+            text = data.decode("utf-8")
+            for line in text.splitlines():
+                if "injected" in line and (not line.lstrip().startswith("//") or line.endswith("\\")):
+                    return f"{name}: code line {line[:80]!r}"
+            if not text.isascii() or "\r" in text or "\x00" in text:
+                return f"{name}: a control or non-ASCII character"
+        elif name.endswith(".h"):
+            text = data.decode("utf-8")
+            comment, _, rest = text.partition("*/")
+            if "injected" in rest or "*/" in rest or not text.isascii():
+                return f"{name}: the comment closes early or holds non-ASCII text"
+        elif name.endswith(".md"):
+            title = data.decode("utf-8").splitlines()[0]
+            if not title.isascii():
+                return f"{name}: title {title[:80]!r}"
+    return ""
+
+
+def fuzz_generated_names(rng, count: int, folder: Path) -> Outcome:
+    """Issue 36: hostile text as a command line (the includes' comment, every table format's attributes) and as a
+    scene file's name (through ``fresnel-lut scene``): every file written carries it inert, and reads back."""
+    from preintegrate.shaders import shader_includes
+    from preintegrate.tables import Table, write_tables
+
+    outcome = Outcome()
+    for index in range(count):
+        name = _hostile_name(rng)
+        case = folder / f"names{index}"
+        try:
+            files = {file: text.encode("utf-8") for file, text in shader_includes(command=f"fresnel-lut scene {name}")}
+            table = Table("ggx_fuzzed", np.full((2, 3, 1), 0.5), ("Y",), {"generator": name, "channels": "Y"})
+            for path in write_tables([table], case, list(formats.FORMATS)):
+                files[path.name] = path.read_bytes()
+            exr.read_lut(case / "ggx_fuzzed.exr")
+        except Exception:  # noqa: BLE001 - every exception is a crash here: the text must be written, not refused
+            outcome.add("crashed", f"names case {index} {name!r}: {traceback.format_exc().strip().splitlines()[-1]}")
+            continue
+        problem = _inert_everywhere(files)
+        outcome.add("crashed" if problem else "accepted", f"names case {index} {name!r}: {problem}")
+        shutil.rmtree(case, ignore_errors=True)
+    for index in range(max(1, count // 20)):  # the slow path: a real scene file so named, through the command
+        name = _hostile_name(rng).replace("/", "").replace("\x00", "")
+        case = folder / f"scene_names{index}"
+        case.mkdir()
+        scene = case / name
+        scene.write_text('[[material]]\nname = "g"\npreset = "Gold"\nroughness = [0.3, 0.5]\n', encoding="utf-8")
+        _cli_outcome(outcome, ["scene", "--out", str(case / "out"), "--format", "exr,header", "--", str(scene)])
+        written = {path.name: path.read_bytes() for path in (case / "out").iterdir()} if (case / "out").exists() else {}
+        problem = _inert_everywhere(written)
+        if problem:
+            outcome.add("crashed", f"scene named {name!r}: {problem}")
+        shutil.rmtree(case, ignore_errors=True)
+    return outcome
+
+
+#: A user's files in an output folder, which no command may replace or remove.
+_USER_FILES = {"notes.txt": b"a user's notes", "basis.json": b"{}", "materials.json": b"{}", ".keep": b""}
+
+
+def fuzz_crafted_folders(rng, count: int, folder: Path, base: Path) -> Outcome:
+    """Issue 36: a built folder with a user's files, a crafted journal naming them (v2 or v3, some as FIFOs or links
+    to /dev/zero) and a crafted ``scene_coefficients.json`` listing the build's tables: a build and a scene into it
+    end (within a bound) with 0 or one line, and leave the user's files and the build's tables as they were."""
+    outcome = Outcome()
+    targets = ["notes.txt", "basis.json", "materials.json", ".keep", "ggx_basis_rgba.exr", "ggx_ltc.exr"]
+    (folder / "gold.toml").write_text('[[material]]\nname = "g"\npreset = "Gold"\nroughness = 0.5\n', encoding="utf-8")
+    for index in range(count):
+        case = folder / f"crafted{index}"
+        shutil.copytree(base, case)
+        for name, data in _USER_FILES.items():
+            (case / name).write_bytes(data)
+        journal = case / ".fresnel-lut-journal.json"
+        kind = rng.random()
+        if kind < 0.2:
+            os.mkfifo(journal)
+        elif kind < 0.3:
+            journal.symlink_to("/dev/zero")
+        else:
+            chosen = [targets[int(i)] for i in rng.integers(0, len(targets), 3)]
+            identity = [int(value) for value in rng.integers(0, 2**40, 4)]
+            for target in chosen:
+                (case / f".{target}.abcdefgh.tmp").write_bytes(rng.bytes(16))
+            journal.write_text(
+                json.dumps(
+                    {
+                        "format": "fresnel-basis/journal",
+                        "version": int(rng.choice([2, 3])),
+                        "renames": [[f".{target}.abcdefgh.tmp", target, identity] for target in chosen],
+                        "removals": [[target, identity] for target in chosen],
+                    }
+                ),
+                encoding="utf-8",
+            )
+        (case / "scene_coefficients.json").write_text(
+            json.dumps({"materials": {"m": {"lut": targets[int(rng.integers(len(targets)))]}}}), encoding="utf-8"
+        )
+        kept = {name: (case / name).read_bytes() for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")}
+        _cli_outcome_within(outcome, ["scene", str(folder / "gold.toml"), "--out", str(case)], 60)
+        changed = [name for name, data in kept.items() if (case / name).read_bytes() != data]
+        _cli_outcome_within(outcome, [*_BUILD, "--out", str(case)], 60)
+        changed += [
+            name
+            for name, data in _USER_FILES.items()
+            if not (case / name).is_file() or (case / name).read_bytes() != data
+        ]
+        if changed:
+            outcome.add("crashed", f"crafted case {index}: {changed} replaced or removed")
+        shutil.rmtree(case, ignore_errors=True)
+    return outcome
+
+
+def _within(seconds: float, call):
+    """(finished, the call's result or exception): the call in a daemon thread, abandoned after ``seconds``."""
+    import threading
+
+    box: dict = {}
+
+    def target():
+        try:
+            box["result"] = call()
+        except BaseException as error:  # noqa: BLE001 - handed back to the caller
+            box["error"] = error
+
+    worker = threading.Thread(target=target, daemon=True)
+    worker.start()
+    worker.join(seconds)
+    return not worker.is_alive(), box
+
+
+def _cli_outcome_within(outcome: Outcome, argv: list[str], seconds: float) -> None:
+    finished, _ = _within(seconds, lambda: _cli_outcome(outcome, argv))
+    if not finished:
+        outcome.add("crashed", f"{argv}: still running after {seconds} s")
+
+
+def fuzz_special_files(rng, count: int, folder: Path) -> Outcome:
+    """Issue 36: FIFOs, devices that never end, links to them and folders where a basis, presets, scene, table or
+    environment file is expected: each is refused with one line within a second, never read."""
+    from basis.presets import material_presets
+    from fresnel_lut.view import read_environment
+
+    readers = {
+        "basis": lambda path: Basis.read(path),
+        "presets": lambda path: material_presets(path),
+        "scene": lambda path: read_scene(path),
+        "table": lambda path: exr.read_lut(path),
+        "environment": lambda path: read_environment(path),
+    }
+    outcome = Outcome()
+    for index in range(count):
+        kind = ["fifo", "zero", "link", "folder", "urandom"][int(rng.integers(5))]
+        path = folder / f"special{index}.json"
+        if kind == "fifo":
+            os.mkfifo(path)
+        elif kind == "folder":
+            path.mkdir()
+        elif kind == "link":
+            path.symlink_to("/dev/zero")
+        else:
+            path = Path("/dev/zero" if kind == "zero" else "/dev/urandom")
+        reader = list(readers)[int(rng.integers(len(readers)))]
+        finished, box = _within(5.0, lambda: readers[reader](path))
+        if not finished:
+            outcome.add("crashed", f"{reader} of a {kind}: still reading after 5 s")
+        elif isinstance(box.get("error"), ParameterError) and len(str(box["error"]).splitlines()) == 1:
+            outcome.add("refused")
+        else:
+            outcome.add("crashed", f"{reader} of a {kind}: {box.get('error') or 'accepted'!r}")
+        if kind == "folder":
+            path.rmdir()
+        elif kind in ("fifo", "link"):
+            path.unlink()
+    return outcome
+
+
+def _request_line(rng) -> bytes:
+    """A request as a browser, a scanner or an attacker sends it: odd methods, paths, versions, Host headers."""
+    methods = [b"GET", b"HEAD", b"POST", b"BREW", b"", b"G\x00T", b"get"]
+    paths = [
+        b"/",
+        b"/config.json",
+        b"http://[/",
+        b"/%00",
+        b"/..%2f..%2fetc/passwd",
+        b"*",
+        b"/" + b"a" * 5000,
+        b"\xff\xfe",
+    ]
+    versions = [b"HTTP/1.1", b"HTTP/1.0", b"HTTP/9.9", b"", b"HTTP/1.1 extra", b"FTP/1.0"]
+    hosts = [b"127.0.0.1", b"localhost", b"evil.example", b"[::1", b"", b"127.0.0.1:1", b"a" * 300]
+    pick = lambda options: options[int(rng.integers(len(options)))]  # noqa: E731
+    line = b" ".join(part for part in (pick(methods), pick(paths), pick(versions)) if part)
+    headers = b"" if rng.random() < 0.2 else b"Host: " + pick(hosts) + b"\r\n"
+    if rng.random() < 0.2:
+        headers += bytes(rng.integers(0, 256, int(rng.integers(1, 200)), dtype=np.uint8))
+    return line + b"\r\n" + headers + b"\r\n"
+
+
+def fuzz_http_requests(rng, count: int) -> Outcome:
+    """Issue 36: request lines and headers sent to ``fresnel-lut view``'s server as they are: every one gets an HTTP
+    status line (or, for a client that sends nothing readable, a closed connection), nothing is printed, and the
+    server still serves the page afterwards."""
+    import socket
+
+    from fresnel_lut.view import serving
+
+    outcome = Outcome()
+    files = {"/": (b"page", "text/html"), "/config.json": (b"{}", "application/json")}
+    printed = io.StringIO()
+    with contextlib.redirect_stderr(printed), serving(files) as server:
+        port = server.server_address[1]
+        for index in range(count):
+            request = _request_line(rng)
+            try:
+                with socket.create_connection(("127.0.0.1", port), timeout=5) as connection:
+                    connection.sendall(request)
+                    connection.shutdown(socket.SHUT_WR)
+                    answer = b""
+                    while chunk := connection.recv(65536):
+                        answer += chunk
+            except OSError as error:
+                outcome.add("crashed", f"request {request[:60]!r}: {error}")
+                continue
+            if re.match(rb"HTTP/1\.[01] [1-5]\d\d ", answer):
+                outcome.add("refused" if not answer.startswith(b"HTTP/1.0 200") else "accepted")
+            else:
+                outcome.add("crashed", f"request {request[:60]!r}: answered {answer[:60]!r}")
+        with socket.create_connection(("127.0.0.1", port), timeout=5) as connection:
+            connection.sendall(b"GET / HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n")
+            alive = connection.recv(64).startswith(b"HTTP/1.0 200")
+    if not alive or printed.getvalue():
+        outcome.add("crashed", f"after the requests: serving {alive}, printed {printed.getvalue()[:200]!r}")
     return outcome
 
 
@@ -591,6 +870,10 @@ def fuzz(cases: int = 1000, seed: int = 17) -> dict[str, Outcome]:
             "nested files": fuzz_nested_files(rng, max(1, cases // 5), folder),
             "masked arrays": fuzz_masked_arrays(rng, cases),
             "option combinations": fuzz_option_combinations(rng, max(1, cases // 5), folder),
+            "names into generated files": fuzz_generated_names(rng, max(1, cases // 10), folder),
+            "crafted folders": fuzz_crafted_folders(rng, max(1, cases // 20), folder, base),
+            "FIFOs, devices, endless files": fuzz_special_files(rng, max(1, cases // 10), folder),
+            "HTTP requests": fuzz_http_requests(rng, cases),
         }
 
 
