@@ -54,7 +54,7 @@ from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 from preintegrate.tables import write_default_build, write_model_build
 
-from .entry import INTERRUPTED, caused_by_interrupt
+from .interrupts import INTERRUPTED, caused_by_interrupt
 from .progress import Progress, peak_rss_mib
 
 

@@ -1,6 +1,6 @@
 """The ``fresnel-lut`` console command.
 
-Public objects: ``console`` (the installed command), ``main``, ``caused_by_interrupt``, ``GRACE``.
+Public objects: ``console`` (the installed command), ``main``, ``GRACE``.
 
 Ctrl-C at any moment ends the command with exit status 130 and one line, never a traceback. While the
 modules load (0.1–0.4 s) the interrupt is held until they are loaded — an interrupt inside a C extension's
@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import sys
 
-__all__ = ["GRACE", "caused_by_interrupt", "console", "main"]
+from .interrupts import INTERRUPTED, caused_by_interrupt  # standard library only: loaded before numpy
 
-INTERRUPTED = "\nfresnel-lut: interrupted; no file was written or replaced"
+__all__ = ["GRACE", "console", "main"]
+
 #: Seconds between Ctrl-C and the watchdog's exit, where the interrupt did not end the command by itself.
 GRACE = 1.0
 
@@ -85,19 +86,6 @@ def _interrupt_handler(reported: threading.Event):
         raise KeyboardInterrupt
 
     return handler
-
-
-def caused_by_interrupt(error: BaseException) -> bool:
-    """Whether ``error`` is a KeyboardInterrupt or one is in its chain of causes and contexts (pybind11 and Cython
-    module initialisation turn it into ``ImportError: initialization failed``; an interrupt inside importlib's
-    module lock leaves ``RuntimeError: cannot release un-acquired lock``)."""
-    seen = set()
-    while error is not None and id(error) not in seen:
-        if isinstance(error, KeyboardInterrupt):
-            return True
-        seen.add(id(error))
-        error = error.__cause__ or error.__context__
-    return False
 
 
 def console() -> int:
