@@ -35,10 +35,11 @@ import numpy as np
 from basis.colorimetry import delta_E_2000
 from basis.storage import shipped_path, write_together
 from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sphere_geometry, to_srgb8, tone_map
-from preintegrate.exr import read_lut
+from handoff.exr import read_lut
+from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.ltc import AXES, LtcGrid, fit_ltc, stored_lobe_error
-from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT, lut_lookup
+from preintegrate.lut import lut_lookup
 from preintegrate.quadrature import directional_albedo
 from tests.references.area_light import rect_light_reference
 

@@ -42,7 +42,8 @@ from basis.presets import material_preset, material_presets, shipped_presets_pat
 from basis.validation import ParameterError
 from fresnel_lut import cli
 from fresnel_lut.scene import read_scene
-from preintegrate import exr, formats, multiple_scattering
+from handoff import exr, formats, shipped
+from preintegrate import multiple_scattering
 
 #: Values that break naive readers: every JSON/TOML type, non-finite and extreme numbers, odd text.
 ODD = [
@@ -334,7 +335,9 @@ API = {
     "compensated_albedo": lambda r: multiple_scattering.compensated_albedo(
         _random_value(r), _random_value(r), _random_value(r)
     ),
-    "basis_albedo": lambda r: multiple_scattering.basis_albedo(_random_value(r), _random_value(r), _random_value(r)),
+    "basis_albedo": lambda r: multiple_scattering.basis_albedo(
+        _random_value(r), _random_value(r), _random_value(r), shipped.shipped_tables()
+    ),
     "average_albedo": lambda r: multiple_scattering.average_albedo(_random_value(r)),
     "ktx2_bytes": lambda r: formats.ktx2_bytes(_random_value(r), {}, half=bool(r.integers(2))),
 }
@@ -517,8 +520,8 @@ def _inert_everywhere(files: dict[str, bytes]) -> str:
 def fuzz_generated_names(rng, count: int, folder: Path) -> Outcome:
     """Issue 36: hostile text as a command line (the includes' comment, every table format's attributes) and as a
     scene file's name (through ``fresnel-lut scene``): every file written carries it inert, and reads back."""
-    from preintegrate.shaders import shader_includes
-    from preintegrate.tables import Table, write_tables
+    from handoff.shaders import shader_includes
+    from handoff.tables import Table, write_tables
 
     outcome = Outcome()
     for index in range(count):

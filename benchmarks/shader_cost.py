@@ -57,9 +57,7 @@ from basis.models import fresnel_model
 from basis.training import holdout_materials
 from benchmarks.gpu_compiler import compiler_estimates
 from benchmarks.output import machine, publish
-from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
-from preintegrate.multiple_scattering import shipped_tables
-from preintegrate.shaders import (
+from handoff.shaders import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
@@ -68,6 +66,8 @@ from preintegrate.shaders import (
     unwarped_cosine,
     warped_cosine,
 )
+from handoff.shipped import shipped_tables
+from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 
 SIZE = 128
 #: Texels of the diagnostic direct-light table: the fewest (in powers of two) at which linear interpolation in the
@@ -193,7 +193,7 @@ def fragment_source(variant: str, version: str = "330") -> str:
     the variant's lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan compiler)."""
     return (
         f"#version {version}\n"
-        + dict(shader_includes())["fresnel_basis_material.glsl"]
+        + dict(shader_includes())["fresnel_basis.glsl"]
         + f"const float CURVE_TABLE_SCALE = {(CURVE_TABLE_SIZE - 1) / CURVE_TABLE_SIZE!r};\n"
         + f"const float CURVE_TABLE_OFFSET = {0.5 / CURVE_TABLE_SIZE!r};\n"
         + SPLIT_SUM
@@ -344,7 +344,7 @@ def projection_errors() -> dict[str, tuple[float, float]]:
     """Per linear model of the include: (max |ΔF| over θ, max |ΔF̄| over the table) of its projection onto the basis
     against the model's own linear form, over a grid of its parameters in [0, 1]: the price of one shader for every
     model; beyond it, ``fresnel-lut build --model NAME`` writes the model's exact table."""
-    from preintegrate.shaders import PER_PIXEL_MODELS, linear_model_curve
+    from handoff.shaders import PER_PIXEL_MODELS, linear_model_curve
 
     basis = default_basis()
     mu = np.cos(basis.theta)

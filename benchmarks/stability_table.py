@@ -41,10 +41,12 @@ from basis.coefficients import (
 from basis.eigenbasis import MAX_FIT_CONDITION, Basis, shipped_basis_path
 from basis.training import MIN_SPAN, NOTEBOOK_ANGLES, TALK_ANGLES, GramAccumulator
 from basis.validation import ParameterError
+from benchmarks.fault_cases import BAD_BASIS, BASES, FUZZ, option_named, rehashed
 from fresnel_lut import cli
+from handoff.exr import read_lut, write_lut
+from handoff.shipped import BASIS_LUT, SCHLICK_LUT
 from preintegrate.channels import basis_channels, combine, schlick_table_channels
-from preintegrate.exr import read_lut, write_lut
-from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, build_table
+from preintegrate.lut import build_table
 from preintegrate.quadrature import QuadratureOrder, directional_albedo
 from tests.references.fresnel import fresnel_complex, fresnel_decimal, one_minus_fresnel_complex
 
@@ -555,7 +557,6 @@ def storage(folder: Path):
 
 # ============================================================================= CLI fuzz
 def cli_fuzz(folder: Path):
-    from tests.stability.test_faults import FUZZ, option_named
 
     tried, broken = 0, []
     previous = os.getcwd()
@@ -601,8 +602,6 @@ def _listing(folder: Path):
 def cli_faults(folder: Path):
     """Corrupt/foreign --basis files, awkward --out paths, determinism: rows of the main table."""
     import json
-
-    from tests.stability.test_faults import BAD_BASIS, BASES, rehashed
 
     previous = os.getcwd()
     os.chdir(folder)

@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from basis.storage import shipped_path, write_together
+from benchmarks.browser import browser_page, chromium
 from fresnel_lut import render
 from fresnel_lut.view import page_files, serving
-from preintegrate.exr import read_lut, stored_values
-from tests.conftest import browser_page, chromium
+from handoff.exr import read_lut, stored_values
 
 MODES = {"schlick": "Schlick split sum", "basis": "basis split sum", "multiple": "basis + multiple scattering"}
 
@@ -100,7 +100,7 @@ def markdown(result: dict) -> str:
         f"{timings['reference'] / timings['schlick']:.2f}x |",
         "",
         "The Python side is `fresnel_lut.render.render_split_sum` on the shipped tables as the page's KTX2 stores them "
-        "(half floats, subnormal halves written as 0: `preintegrate.exr.stored_values`); the differences are float32 "
+        "(half floats, subnormal halves written as 0: `handoff.exr.stored_values`); the differences are float32 "
         "and the GPU's bilinear weights (tests/fresnel_lut/test_view.py holds them to 3e-3 of the value). "
         "The ΔE2000 numbers are the report's measure (tone-mapped linear sRGB, "
         "`fresnel_lut.render.tone_map`) against the page's own Monte-Carlo reference, which still carries its noise "

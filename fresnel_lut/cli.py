@@ -47,12 +47,13 @@ from basis.training import FIT_ANGLE_CHOICES, build_basis
 from basis.training.builder import MAX_GRID
 from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
-from preintegrate.formats import FORMATS, MAX_HEADER_VALUES, check_formats
+from handoff.formats import FORMATS, MAX_HEADER_VALUES, check_formats
+from handoff.shipped import SCHLICK_LUT, model_lut_name
+from handoff.tables import write_default_build, write_model_build
 from preintegrate.ggx import VISIBILITIES
 from preintegrate.ltc import LtcGrid
-from preintegrate.lut import SCHLICK_LUT, LutGrid, model_lut_name
+from preintegrate.lut import LutGrid
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
-from preintegrate.tables import write_default_build, write_model_build
 
 from .interrupts import INTERRUPTED, caused_by_interrupt
 from .progress import Progress, peak_rss_mib

@@ -14,7 +14,7 @@ Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENE
   (the default grid's coordinates, clamp to edge, as a GPU): Schlick's two channels with F0 = F(0°), or the basis'
   four with the material's coefficients.
 * **Point light**: L ρ(ωo, ωl) μl with the GGX BRDF ρ = D G2 F / (4 μo μl), F(ωo·h) three ways: Schlick's,
-  the basis' (the shaders' direct-light curves, :func:`preintegrate.shaders.direct_fresnel`, with the
+  the basis' (the shaders' direct-light curves, :func:`handoff.shaders.direct_fresnel`, with the
   material's coefficients: one material, one curve for the environment and the lamp) and the exact curve
   (the reference of a punctual light needs no integral).
 * **Rectangular light**: linearly transformed cosines (Heitz 2016; :mod:`preintegrate.ltc`) times F̄ three ways:
@@ -47,13 +47,13 @@ from basis.eigenbasis import default_basis
 from basis.materials import material_from_mapping
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import check_choice, check_positive_int, check_range
+from handoff.shaders import direct_fresnel
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
 from preintegrate.ltc import LtcGrid, rect_light_integral
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
-from preintegrate.shaders import direct_fresnel
 
 __all__ = [
     "DEFAULT_SCENES",

@@ -9,8 +9,8 @@ outside that set can be read (``..``, encoded or not, is simply not one of the n
 
 * ``/`` — ``fresnel_lut/page/index.html`` with ``view.js``, ``view.css`` and ``view.glsl`` (the page's own shaders:
   the sphere, the studio, the reference, ΔE2000 and the tone map);
-* ``/shaders/fresnel_basis.glsl`` and ``/shaders/fresnel_basis_material.glsl`` — the shipped includes, verbatim;
-* ``/tables/NAME.ktx2`` — the shipped tables as half-float KTX2 (:func:`preintegrate.formats.ktx2_bytes`, the bytes
+* ``/shaders/fresnel_basis.glsl`` — the shipped include, verbatim;
+* ``/tables/NAME.ktx2`` — the shipped tables as half-float KTX2 (:func:`handoff.formats.ktx2_bytes`, the bytes
   ``fresnel-lut build --format ktx2 --half`` writes), which WebGL 2 filters without any extension;
 * ``/config.json`` — what the page needs from Python: the presets (sRGB coefficients and their exact curves sampled
   at 1024 values of μ, since a preset's curve is spectral), the studio's spherical Gaussians, the lights of
@@ -48,9 +48,9 @@ from basis.materials import material_from_mapping
 from basis.presets import material_presets
 from basis.storage import MAX_DOCUMENT_BYTES, MAX_TABLE_BYTES, check_regular_file, read_regular_file, shipped_path
 from basis.validation import ParameterError, check_positive_int
-from preintegrate.exr import LutFileError, read_lut
-from preintegrate.formats import ktx2_bytes
-from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT
+from handoff.exr import LutFileError, read_lut
+from handoff.formats import ktx2_bytes
+from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 
 from .render import (
     FIGURE2,
@@ -83,8 +83,8 @@ _PAGE_FILES = {
     "view.css": "text/css; charset=utf-8",
     "view.glsl": "text/plain; charset=utf-8",
 }
-#: The shipped includes the page compiles, verbatim.
-_INCLUDES = ("shaders/fresnel_basis.glsl", "fresnel_basis_material.glsl")
+#: The shipped include the page compiles, verbatim.
+_INCLUDES = ("fresnel_basis.glsl",)
 #: Samples of each preset's exact curve over μ = cos θ in [0, 1] (linear interpolation: < 2e-5 from the curve).
 CURVE_SAMPLES = 1024
 #: The sphere's size in pixels (the canvas shows four of them side by side in the gallery view).

@@ -1,7 +1,7 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_LUT``, ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
-``ltc_table``, ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
+Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
+``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
@@ -53,14 +53,12 @@ from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int
 
 from .ggx import VISIBILITIES, g1, ndf, sample_vndf, view_vector, visibility_g2
-from .lut import LTC_LUT
 from .quadrature import directional_albedo
 
 __all__ = [
     "ALPHA_FLOOR",
     "AXES",
     "LTC_CHANNELS",
-    "LTC_LUT",
     "MU_FLOOR",
     "LtcFit",
     "LtcGrid",
@@ -68,7 +66,6 @@ __all__ = [
     "lobe_error",
     "ltc_density",
     "ltc_inverse",
-    "ltc_table",
     "polygon_integral",
     "rect_light_integral",
     "shading_frame",
@@ -169,6 +166,11 @@ class LtcFit:
     parameters: np.ndarray
     inverse: np.ndarray
     error: np.ndarray
+
+    @property
+    def method(self) -> str:
+        """How the table was fitted, as its header states it."""
+        return f"L2 by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel"
 
 
 def _midpoints(count: int) -> np.ndarray:
@@ -516,23 +518,3 @@ def rect_light_integral(stored, normal, view, position, corners) -> np.ndarray:
     )
     transformed = np.einsum("...ij,...vj->...vi", ltc_inverse(stored), local)
     return np.maximum(polygon_integral(transformed), 0.0)
-
-
-def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> tuple[np.ndarray, tuple[str, ...], dict]:
-    """The values (size, size, 4), channel names and header of a fitted table, for :class:`preintegrate.tables.Table`."""
-    from .lut import GENERATOR
-
-    grid = fit.grid
-    header = {
-        "convention": grid.convention,
-        "width": str(grid.size),
-        "height": str(grid.size),
-        "generator": f"{GENERATOR} ({command})",
-        "channel_set": "ltc",
-        "channels": ",".join(LTC_CHANNELS),
-        "combination": "specular = polygon integral of the LTC x split sum of the basis table (sum_k c_k b_k)",
-        "ltc_fit": f"L2 by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel",
-        "ltc_lobe_error_max": f"{float(np.max(fit.error)):.6g}",
-        "ltc_lobe_error_mean": f"{float(np.mean(fit.error)):.6g}",
-    }
-    return fit.inverse, LTC_CHANNELS, header

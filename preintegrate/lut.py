@@ -1,8 +1,8 @@
-"""Split-sum LUT tables: the texel grid and its convention, building a table, the header, the GPU's lookup.
+"""Split-sum LUT tables: the texel grid and its convention, building a table, the GPU's lookup (the files, their
+names and headers are :mod:`handoff`'s).
 
-Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``PIXEL_CONVENTION``, ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``,
-``model_lut_name``, ``RGBA``, ``texel_centres``, ``lut_texel_weights``,
-``shipped_lut``, ``build_table``, ``LUT_METHODS``, ``lut_attributes``, ``interpolation_weights``, ``lut_lookup``.
+Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``PIXEL_CONVENTION``, ``texel_centres``,
+``lut_texel_weights``, ``build_table``, ``LUT_METHODS``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ √μo = i/(W − 1), row j ↔ perceptual roughness r = j/(H − 1) with α = r² (the default build; a scene's
 rows span its materials' roughness range; other placements for comparison: :class:`LutGrid`); row 0 is first in the
@@ -16,11 +16,9 @@ from __future__ import annotations
 import dataclasses
 import inspect
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 
-from basis.storage import shipped_path
 from basis.validation import (
     ParameterError,
     as_float_array,
@@ -36,49 +34,17 @@ from .ggx import VISIBILITIES, roughness_to_alpha
 from .quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
 
 __all__ = [
-    "AVERAGE_LUT",
-    "BASIS_LUT",
     "COLUMN_PLACEMENTS",
-    "RGBA",
     "LUT_METHODS",
     "PIXEL_CONVENTION",
-    "SCHLICK_LUT",
-    "LTC_LUT",
-    "SHIPPED_LUTS",
     "build_table",
     "LutGrid",
     "ROW_PLACEMENTS",
     "interpolation_weights",
-    "lut_attributes",
     "lut_texel_weights",
     "lut_lookup",
-    "model_lut_name",
-    "shipped_lut",
     "texel_centres",
 ]
-
-#: File names of the default build's tables (``luts/``).
-BASIS_LUT = "ggx_basis_rgba.exr"
-SCHLICK_LUT = "ggx_schlick_rgb.exr"
-#: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
-AVERAGE_LUT = "ggx_albedo_average.exr"
-#: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).
-LTC_LUT = "ggx_ltc.exr"
-SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
-
-
-def model_lut_name(model: str, shape=()) -> str:
-    """File name of a linear model's own table, its shape parameters in the name (``ggx_generalized-schlick_exponent6.exr``),
-    so that tables of one model with two shapes never overwrite each other."""
-    return f"ggx_{model}" + "".join(f"_{key}{value:g}" for key, value in dict(shape).items()) + ".exr"
-
-
-#: Channels of one texture an engine samples.
-RGBA = ("R", "G", "B", "A")
-
-
-#: Written into every header: what produced the file.
-GENERATOR = "fresnel-basis 0.1.0"
 
 #: How a table's rows sample perceptual roughness: at the end points of a range (the default build over 0–1, and a
 #: scene's tables over what their materials use: a lookup at either end reads its own row) or at texel centres over
@@ -266,11 +232,6 @@ class LutGrid:
 PIXEL_CONVENTION = LutGrid(2, 2).convention
 
 
-def shipped_lut(name: str = BASIS_LUT) -> Path:
-    """Path of a LUT shipped with the package (``luts/`` beside it), whatever the working folder."""
-    return shipped_path(check_choice("shipped LUT", name, SHIPPED_LUTS))
-
-
 def texel_centres(count: int) -> np.ndarray:
     """(i + 0.5) / count, i = 0 … count − 1: the texel centres of one axis (unchecked)."""
     return (np.arange(count) + 0.5) / count
@@ -339,23 +300,6 @@ def build_table(
     if unknown:
         raise ParameterError(f"method {method!r} takes the options {accepted + ['visibility']}, got {unknown}")
     return compute(channels.functions, grid.mu_o[None, :], grid.alpha[:, None], progress, grid.visibility, **options)
-
-
-def lut_attributes(
-    channels: ChannelSet, width: int, height: int, command: str, convention: str = PIXEL_CONVENTION, **extra
-) -> dict[str, str]:
-    """The header of a table of ``channels``: convention, size, channel names, the engine's combination
-    rule, the generating command and any ``extra`` attributes (quadrature, basis hash, …)."""
-    return {
-        "convention": convention,
-        "width": str(width),
-        "height": str(height),
-        "generator": f"{GENERATOR} ({command})",
-        "channel_set": channels.name,
-        "channels": ",".join(channels.channel_names),
-        "combination": channels.combination,
-        **{key: str(value) for key, value in extra.items()},
-    }
 
 
 def interpolation_weights(points, centres) -> np.ndarray:

@@ -1,7 +1,6 @@
 """Multiple-scattering compensation of single-scattering GGX, from the same LUTs, exact in the furnace.
 
-Public objects: ``compensated_albedo``, ``compensate_lookup``, ``basis_albedo``, ``average_albedo``,
-``shipped_tables``.
+Public objects: ``compensated_albedo``, ``compensate_lookup``, ``basis_albedo``, ``average_albedo``.
 
 Single-scattering GGX loses the energy that bounces more than once on the microsurface: its albedo without
 Fresnel, E(μo, α) (the Schlick table's B channel), is below 1 at high roughness. Engines add it back with
@@ -32,20 +31,14 @@ import numpy as np
 from basis.eigenbasis import Basis, resolve_basis
 from basis.validation import ParameterError, as_float_array, check_broadcast, check_range, check_shape_last
 
-from .exr import read_lut
 from .ggx import roughness_to_alpha
-from .lut import SCHLICK_LUT, lut_lookup, shipped_lut
+from .lut import lut_lookup
 from .quadrature import DEFAULT_ORDER, directional_albedo
 
-__all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo", "shipped_tables"]
+__all__ = ["average_albedo", "basis_albedo", "compensate_lookup", "compensated_albedo"]
 
 #: Gauss–Legendre nodes in μ for E_avg: μ E(μ) is smooth; 64 nodes agree with 128 to 2.2e-9 over r in [0, 1].
 AVERAGE_NODES = 64
-
-
-def shipped_tables() -> tuple[np.ndarray, np.ndarray]:
-    """(basis table, Schlick table) of the shipped LUTs, as :func:`preintegrate.exr.read_lut` checks them."""
-    return read_lut(shipped_lut())[0], read_lut(shipped_lut(SCHLICK_LUT))[0]
 
 
 def average_albedo(roughness, visibility: str = "height-correlated", order=DEFAULT_ORDER) -> np.ndarray:
@@ -80,15 +73,13 @@ def basis_albedo(
     coefficients,
     mu_o,
     roughness,
+    tables: tuple[np.ndarray, np.ndarray],
     basis: Basis | None = None,
     multiple_scattering: bool = True,
-    tables: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> np.ndarray:
-    """F̄ per colour channel (..., 3) of a material's coefficients (3, K) at (μo, r) from the shipped LUTs
-    (or ``tables`` = (basis table, Schlick table)), bilinear as a GPU reads them, compensated for multiple
-    scattering unless ``multiple_scattering`` is False."""
-    if tables is None and basis is not None and resolve_basis(basis).content_hash != resolve_basis(None).content_hash:
-        raise ParameterError("the shipped LUTs belong to the shipped basis: pass the tables built for this basis")
+    """F̄ per colour channel (..., 3) of a material's coefficients (3, K) at (μo, r) from ``tables`` = (basis table,
+    Schlick table) of ``basis`` (the shipped ones: :func:`handoff.shipped.shipped_tables`), bilinear as a GPU reads
+    them, compensated for multiple scattering unless ``multiple_scattering`` is False."""
     basis = resolve_basis(basis)
     coefficients = check_shape_last("coefficients", as_float_array("coefficients", coefficients), basis.n_terms)
     if coefficients.ndim < 2 or coefficients.shape[-2] != 3:
@@ -97,7 +88,7 @@ def basis_albedo(
         )
     mu_o = check_range("mu_o", mu_o, 0.0, 1.0)
     roughness = check_range("roughness", roughness, 0.0, 1.0)
-    basis_table, schlick_table = _check_tables(shipped_tables() if tables is None else tables, basis.n_terms)
+    basis_table, schlick_table = _check_tables(tables, basis.n_terms)
     single = lut_lookup(basis_table, mu_o, roughness) @ np.swapaxes(coefficients, -1, -2)
     if not multiple_scattering:
         return single

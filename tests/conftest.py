@@ -4,7 +4,6 @@ from one another; the deliberately independent references are ``tests.references
 
 from __future__ import annotations
 
-import contextlib
 import subprocess
 import sys
 
@@ -85,55 +84,12 @@ def gpu_missing(what: str):
     pytest.skip(f"{what} is not installed here (the set-up installs it as root)")
 
 
-#: Headless Chromium on SwiftShader (WebGL 2 on the CPU), nothing from the network, a fresh profile each time.
-CHROMIUM_FLAGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
-
-
-@contextlib.contextmanager
 def chromium(viewport=(1280, 900)):
-    """Debian's Chromium driven by Playwright for Python (no browser download) in a fresh profile; a missing browser or
+    """Debian's Chromium driven by Playwright for Python (:func:`benchmarks.browser.chromium`); a missing browser or
     Playwright skips, or fails under ``CI=true`` (:func:`gpu_missing`)."""
-    import shutil
-    import tempfile
+    from benchmarks.browser import chromium as launch
 
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        gpu_missing("Playwright for Python (the 'browser' extra)")
-    executable = shutil.which("chromium") or shutil.which("chromium-browser")
-    if executable is None:
-        gpu_missing("Chromium (Debian chromium)")
-    with sync_playwright() as playwright, tempfile.TemporaryDirectory() as profile:
-        browser = playwright.chromium.launch_persistent_context(
-            profile,
-            executable_path=executable,
-            args=CHROMIUM_FLAGS,
-            headless=True,
-            viewport={"width": viewport[0], "height": viewport[1]},
-        )
-        try:
-            yield browser
-        finally:
-            browser.close()
-
-
-def browser_page(browser):
-    """(a new page, the list its console errors and page errors go to: (kind, text) pairs)."""
-    page = browser.new_page()
-    messages = []
-    page.on("console", lambda message: messages.append((message.type, message.text)))
-    page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
-    return page, messages
+    return launch(viewport, missing=gpu_missing)
 
 
 GL_VERTEX = """#version 330
@@ -226,12 +182,12 @@ PER_PIXEL_GLSL_MAIN = (
 
 
 def per_pixel_expected(inputs, constants=None):
-    """The Python mirrors (preintegrate.shaders) of every call of :data:`PER_PIXEL_CALLS` for the texels as float32
+    """The Python mirrors (handoff.shaders) of every call of :data:`PER_PIXEL_CALLS` for the texels as float32
     holds them, (1024, L) each: the K terms zero-padded to the L = 4 (K ≤ 4) or 8 lanes the shaders return, the
     table coordinates (u, v, u, v)."""
     import numpy as np
 
-    from preintegrate.shaders import (
+    from handoff.shaders import (
         coefficients_per_pixel_gulbrandsen,
         coefficients_per_pixel_model,
         coefficients_per_pixel_nk,
@@ -268,7 +224,7 @@ def assert_per_pixel_outputs(outputs, inputs, where: str, constants=None) -> dic
     1e-4, the coordinates within 1e-6; the errors."""
     import numpy as np
 
-    from preintegrate.shaders import direct_fresnel, shader_constants
+    from handoff.shaders import direct_fresnel, shader_constants
 
     constants = shader_constants() if constants is None else constants
     k, mu = constants.n_terms, np.linspace(0.0, 1.0, 257)

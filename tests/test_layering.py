@@ -1,8 +1,11 @@
 """The import structure the design fixes, read from the code (ast) and from a fresh interpreter:
 
-* ``basis`` never imports ``preintegrate`` (Fresnel curves know nothing of GGX);
-* neither ``basis`` nor the integration core ``preintegrate`` imports the application layer ``fresnel_lut``
-  (the command, scenes, the renderer, the report);
+* ``basis`` never imports ``preintegrate`` or ``handoff`` (Fresnel curves know nothing of GGX or of files for
+  engines);
+* the integrals (``preintegrate``) never import the hand-off (``handoff``: tables in files, formats, shader text):
+  they read and write no files;
+* none of ``basis``, ``preintegrate`` and ``handoff`` imports the application layer ``fresnel_lut`` (the command,
+  scenes, the renderer, the report);
 * no product module imports the report (``fresnel_lut.report``); only the CLI may, inside a command;
 * no private name (``_name``) is imported from another module of the project;
 * ``import basis`` and ``from basis import coefficients_from_nk`` load neither colour-science nor matplotlib.
@@ -16,7 +19,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("basis", "preintegrate", "fresnel_lut")
+PACKAGES = ("basis", "preintegrate", "handoff", "fresnel_lut")
 MODULES = sorted(path for package in PACKAGES for path in (ROOT / package).rglob("*.py"))
 
 
@@ -57,8 +60,10 @@ def test_layering(path):
     problems = []
     for line, target, names in _imports(path):
         targets = [target] + [f"{target}.{name}" for name in names]
-        if me.startswith("basis") and target.startswith("preintegrate"):
+        if me.startswith("basis") and target.startswith(("preintegrate", "handoff")):
             problems.append(f"line {line}: basis imports {target}")
+        if me.startswith("preintegrate") and target.startswith("handoff"):
+            problems.append(f"line {line}: the integrals import the hand-off ({target})")
         if not me.startswith("fresnel_lut") and target.startswith("fresnel_lut"):
             problems.append(f"line {line}: the core imports the application layer ({target})")
         if not _is_report(me) and me != "fresnel_lut.cli" and any(_is_report(t) for t in targets):

@@ -32,7 +32,7 @@ def test_readme_offline_coefficient_maps_are_the_shaders_numbers():
     """README's maps solved at import (its second ```python block, run as written) are three RGBA float32 maps whose
     texels are the include's per-pixel solve of the same texels (its Python mirror, operation for operation) within
     float32 rounding."""
-    from preintegrate.shaders import coefficients_per_pixel_gulbrandsen
+    from handoff.shaders import coefficients_per_pixel_gulbrandsen
 
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
     block = next(block for block in blocks if "coefficients_from_gulbrandsen(reflectivity" in block)
@@ -67,7 +67,7 @@ void main() {{
 
 
 def test_readme_glsl_snippets_compile_against_the_shipped_includes(tmp_path):
-    """Every ```glsl block of README compiles (glslangValidator, GLSL 3.30) after the includes a build writes, with
+    """Every ```glsl block of README compiles (glslangValidator, GLSL 3.30) after the include a build writes, with
     the engine's own names declared: a function renamed or dropped in the include fails here."""
     import shutil
     import subprocess
@@ -78,10 +78,7 @@ def test_readme_glsl_snippets_compile_against_the_shipped_includes(tmp_path):
     glslang = shutil.which("glslangValidator")
     if glslang is None:
         gpu_missing("glslangValidator (Debian glslang-tools)")
-    includes = "\n".join(
-        shipped_path(name).read_text(encoding="utf-8")
-        for name in ("shaders/fresnel_basis.glsl", "fresnel_basis_material.glsl")
-    )
+    includes = shipped_path("fresnel_basis.glsl").read_text(encoding="utf-8")
     blocks = re.findall(r"```glsl\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
     assert len(blocks) >= 4
     for index, block in enumerate(blocks):
@@ -165,7 +162,7 @@ def test_readme_conventions_are_what_the_build_writes(tmp_path):
     """Item 15: README said "row 0 is r = 0.5/H … u = NdotV" after the tables had moved to end-point rows and √μo
     columns (the Figure 2 material read 0.41 off). Each statement of a convention in README is paired with the text
     of the header a fresh build writes: both must hold."""
-    from preintegrate.exr import read_lut
+    from handoff.exr import read_lut
     from tests.conftest import run
 
     assert run(["build", "--size", "8", "--ltc", "--ltc-size", "4", "--out", tmp_path]) == 0

@@ -14,8 +14,8 @@ import os
 import pytest
 
 from basis.storage import shipped_path
-from preintegrate.lut import LTC_LUT
-from preintegrate.tables import DEFAULT_BUILD_FILES
+from handoff.shipped import LTC_LUT
+from handoff.tables import DEFAULT_BUILD_FILES
 from tests.conftest import run_subprocess
 
 ROOT = shipped_path("").parent

@@ -1,6 +1,6 @@
 //! common
 // The look-development page's shaders (fresnel_lut/page/view.js puts "#version 300 es", the precision lines and the
-// shipped includes fresnel_basis.glsl and fresnel_basis_material.glsl before this text, verbatim). One programme per
+// shipped include fresnel_basis.glsl before this text, verbatim). One programme per
 // "//! name" section below, each after this common part. Float32 throughout; nothing here returns NaN or inf.
 
 const float PI = 3.14159265358979;
@@ -396,9 +396,8 @@ void main()
         vec3 prefiltered = (u_environmentKind == 0) ? studioPrefiltered(R, alpha)
                                                      : mapBilinear(u_prefiltered, ivec2(0), u_prefilteredSize, equirectUV(R));
         vec3 Fbar = (u_mode == 0) ? fresnelSchlickSplitSum(u_schlickLut, NdotV, r, f0)
-                  : ((u_mode == 1) ? fresnelBasisSplitSumUV(u_basisLut, NdotV, r, cR, cG, cB)
-                                   : fresnelBasisMultipleScattering(u_basisLut, u_schlickLut, NdotV, r, cR, cG, cB,
-                                                                    FRESNEL_BASIS_AVERAGES));
+                  : ((u_mode == 1) ? fresnelBasisSplitSum(u_basisLut, NdotV, r, cR, cG, cB)
+                                   : fresnelBasisMultipleScattering(u_basisLut, NdotV, r, cR, cG, cB));
         color += prefiltered * Fbar;
     }
     if (u_rectOn)

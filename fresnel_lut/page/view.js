@@ -1,6 +1,6 @@
 // The look-development page of fresnel-basis (served by `fresnel-lut view`, fresnel_lut/view.py).
 //
-// WebGL 2 runs the shipped includes verbatim (luts/shaders/fresnel_basis.glsl, luts/fresnel_basis_material.glsl)
+// WebGL 2 runs the shipped include verbatim (luts/fresnel_basis.glsl)
 // on the shipped tables as half-float KTX2, with the page's own shaders (view.glsl): a unit sphere under the
 // renderer's studio or the user's equirectangular map (prefiltered here on the GPU), a point light and a rectangular
 // light; four pictures (Schlick's split sum, the basis', the basis' with multiple scattering, and a Monte-Carlo
@@ -205,21 +205,20 @@
     if (!gl.getExtension("EXT_color_buffer_float")) {
       throw new Error("This page needs float render targets (EXT_color_buffer_float), which this browser's WebGL 2 lacks.");
     }
-    const [config, staticInclude, materialInclude, pageShaders, ...tables] = await Promise.all([
+    const [config, include, pageShaders, ...tables] = await Promise.all([
       fetched("config.json", "json"),
       fetched("shaders/fresnel_basis.glsl", "text"),
-      fetched("shaders/fresnel_basis_material.glsl", "text"),
       fetched("view.glsl", "text"),
       ...["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"].map((name) => fetched(`tables/${name}.ktx2`, "buffer")),
     ]);
     const [basisTable, schlickTable, ltcTable] = tables.map((buffer, i) =>
       parseKtx2(buffer, ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"][i] + ".ktx2"));
-    const includeHash = (/FRESNEL_BASIS_HASH = 0x([0-9a-f]+)u/.exec(materialInclude) || [])[1];
+    const includeHash = (/FRESNEL_BASIS_HASH = 0x([0-9a-f]+)u/.exec(include) || [])[1];
     const tableHash = basisTable.keys["fresnel:basis_hash"] || "";
     if (!includeHash || !tableHash.startsWith(includeHash) || tableHash !== config.basis_hash) {
       throw new Error(`ggx_basis_rgba.ktx2 belongs to basis ${tableHash || "(none)"}, the shader include to ` +
         `${includeHash || "(none)"}… and the presets to ${config.basis_hash}: a table from another basis ` +
-        "(rebuild the tables and the includes together: fresnel-lut build)");
+        "(rebuild the tables and the include together: fresnel-lut build)");
     }
     const size = Math.max(8, Math.min(2048, Number(parameters.get("size")) || config.size));
     const samplesPerFrame = Math.max(1, Math.min(256, Number(parameters.get("spp")) || 4));
@@ -228,7 +227,7 @@
     const parts = sections(pageShaders);
     const programs = {};
     for (const name of ["shade", "prefilter", "display", "statistics"]) {
-      programs[name] = compile(gl, name, head + staticInclude + materialInclude + parts.common + parts[name]);
+      programs[name] = compile(gl, name, head + include + parts.common + parts[name]);
     }
 
     const quad = gl.createBuffer();

@@ -23,8 +23,8 @@ import numpy as np
 from basis.angles import cos_theta
 from basis.colorimetry import delta_E_2000
 from basis.models.formulas import schlick_curve  # unchecked: an sRGB F0 may leave [0, 1]
-from preintegrate.exr import write_luts
-from preintegrate.multiple_scattering import shipped_tables
+from handoff.exr import write_luts
+from handoff.shipped import shipped_tables
 
 from ..render import (
     DEFAULT_SCENES,

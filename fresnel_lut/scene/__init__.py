@@ -30,12 +30,11 @@ RGBA table, ``<name>_2.exr``) — and, for a material given by a linear model of
 Adobe, generalized Schlick, …), that model's own exact split-sum table (``build --model``; exact while its
 clamp is inactive). The scene basis is written beside its tables as ``scene_basis.json`` (curves, fit
 angles, content hash; every table and material entry names that hash), so the coefficients and the table
-always travel together. A table that holds a whole basis (the scene's own, or the generic one's every term)
-comes with the shader includes generated from that basis and the scene's grid (:mod:`preintegrate.shaders`:
-per-pixel coefficients, direct light, ``fresnelBasisLutUV`` on the cropped rows), ``fresnel_basis_scene.{glsl,
-hlsl,wgsl}``, named apart from the default build's ``fresnel_basis_material.*`` so that a scene written beside a
-build never replaces that build's includes, and listed in ``scene_coefficients.json`` as ``shader_includes``;
-the other tables read through the shipped ``luts/shaders/fresnel_basis.*`` at the roughness (r − lo)/(hi − lo).
+always travel together. Every scene comes with the shader include generated for its grid (:mod:`handoff.shaders`:
+``fresnelBasisLutUV`` on the cropped rows, the split sums, and the per-pixel coefficients and direct light of the
+scene's own basis where a table holds it, else of the generic one), ``fresnel_basis_scene.{glsl,hlsl,wgsl}``, named
+apart from the default build's ``fresnel_basis.*`` so that a scene written beside a build never replaces that
+build's include, and listed in ``scene_coefficients.json`` as ``shader_includes``.
 **Accuracy first**: a material that some layout holds to one 10-bit step
 (:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'

@@ -22,9 +22,9 @@ from basis.coefficients import coefficients_from_table, coefficients_least_squar
 from basis.eigenbasis import Basis, BasisFileError
 from basis.models import fresnel_model
 from basis.training import MIN_SPAN, refine_basis
+from handoff.shipped import model_lut_name
 from preintegrate.channels import ChannelSet, basis_channels, model_channels, schlick_channels
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import model_lut_name
 from preintegrate.quadrature import texel_weights
 
 from .files import Scene, SceneMaterial

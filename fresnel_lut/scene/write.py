@@ -1,7 +1,7 @@
 """Write a planned scene: its tables, ``scene_coefficients.json``, ``scene_report.md``, when a table holds
-the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), and, when a table holds a whole basis
-(the generic one's every term or the scene's own), the shader includes generated from that basis and the scene's
-grid (:mod:`preintegrate.shaders`), as one transaction.
+the scene's own basis, ``scene_basis.json`` (its curves, fit angles and hash), and the shader include
+``fresnel_basis_scene.*`` on the scene's grid (:mod:`handoff.shaders`; of the scene's own basis where a table holds
+it, else of the generic one), as one transaction.
 
 Public objects: ``write_scene``, ``build_scene``.
 """
@@ -18,11 +18,11 @@ from pathlib import Path
 from basis.eigenbasis import Basis, resolve_basis
 from basis.storage import MAX_DOCUMENT_BYTES, parse_json, read_regular_file, shipped_path
 from basis.validation import check_choice, safe_line
-from preintegrate.formats import FORMATS, check_formats
+from handoff.formats import FORMATS, check_formats
+from handoff.shaders import INCLUDE_STEM, SHADER_INCLUDES, shader_includes
+from handoff.shipped import BASIS_LUT, SCHLICK_LUT, lut_attributes
+from handoff.tables import Table, rgba_tables, table_file_name, write_tables
 from preintegrate.ggx import VISIBILITIES
-from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_attributes
-from preintegrate.shaders import SHADER_INCLUDES, shader_includes
-from preintegrate.tables import Table, rgba_tables, table_file_name, write_tables
 
 from .files import SceneError, read_scene
 from .layout import SCENE_TABLE_PREFIX
@@ -33,12 +33,12 @@ __all__ = ["build_scene", "write_scene"]
 
 #: The scene basis beside its table: the coefficients of ``scene_coefficients.json`` are on these curves.
 SCENE_BASIS_FILE = "scene_basis.json"
-#: A scene's generated includes are named apart from the default build's (``fresnel_basis_material.*``), so that a
-#: scene written into a build's folder never replaces the includes of that build's tables.
-_INCLUDE_STEM, _SCENE_INCLUDE_STEM = "fresnel_basis_material", "fresnel_basis_scene"
+#: A scene's include is named apart from the default build's (``fresnel_basis.*``), so that a scene written into a
+#: build's folder never replaces the include of that build's tables.
+SCENE_INCLUDE_STEM = "fresnel_basis_scene"
 #: The suffixes of every table format.
 FORMAT_SUFFIXES = frozenset(fmt.suffix for fmt in FORMATS.values())
-_INCLUDE_FILES = frozenset(name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM) for name, _ in SHADER_INCLUDES.values())
+_INCLUDE_FILES = frozenset(name.replace(INCLUDE_STEM, SCENE_INCLUDE_STEM) for name, _ in SHADER_INCLUDES.values())
 
 
 #: The scene tables of the builds before they were named apart (``scene_ggx_…``): names no build writes.
@@ -77,15 +77,14 @@ def _previous_files(coefficients_path: Path) -> set[str]:
     }
 
 
-def _include_basis(plan: ScenePlan, basis: Basis) -> Basis | None:
-    """The basis of the plan's table that holds a whole basis (the generic basis with all its terms, or the scene's
-    own), whose includes the scene gets; None where no table does (Schlick, a model's own, fewer generic terms)."""
+def _include_basis(plan: ScenePlan, basis: Basis) -> Basis:
+    """The basis of the scene's include: the scene's own where a table holds it, else the generic one (whose first
+    terms a basis table holds; a Schlick or model table is read through the include's coordinates alone)."""
     for table in plan.tables:
         layout = plan.candidates[table]
-        whole = layout.trained if layout.kind == "scene" else basis if layout.kind == "basis" else None
-        if whole is not None and plan.table_values[table].shape[-1] == whole.n_terms:
-            return whole
-    return None
+        if layout.kind == "scene":
+            return layout.trained
+    return basis
 
 
 def write_scene(
@@ -133,14 +132,10 @@ def write_scene(
     if scene_basis is not None:
         texts.append((SCENE_BASIS_FILE, json.dumps(scene_basis.to_dict(), indent=1) + "\n"))
     include_basis = _include_basis(plan, basis)
-    includes = (
-        []
-        if include_basis is None
-        else [
-            (name.replace(_INCLUDE_STEM, _SCENE_INCLUDE_STEM), text)
-            for name, text in shader_includes(include_basis, command, grid)
-        ]
-    )
+    includes = [
+        (name.replace(INCLUDE_STEM, SCENE_INCLUDE_STEM), text)
+        for name, text in shader_includes(include_basis, command, grid)
+    ]
     texts += includes
     materials = {
         material.name: {
@@ -241,16 +236,11 @@ def write_scene(
         )
         + ".",
         (
-            f"Shader includes: {', '.join(name for name, _ in includes)}, generated from basis "
-            f"{include_basis.content_hash} on these tables' grid (per-pixel coefficients, direct light, "
-            "fresnelBasisLutUV)."
-            if includes
-            else "Shader includes: none (no table holds a whole basis); read the tables with luts/shaders/fresnel_basis.* "
-            + (
-                f"at perceptual roughness (r - {low:g}) / ({high:g} - {low:g})."
-                if high > low
-                else f"at any perceptual roughness (one row, r = {low:g})."
-            )
+            f"Shader include: {', '.join(name for name, _ in includes)}, generated from basis "
+            f"{include_basis.content_hash} on these tables' grid: fresnelBasisLutUV addresses every table above (its "
+            "rows span roughness "
+            + (f"{low:g}-{high:g}" if high > low else f"{low:g} alone, one row")
+            + "), with the per-pixel coefficients and direct light of that basis."
         ),
         (
             f"Bytes: {sum(exr_bytes.values()):,} of EXR written against {sum(full.values()):,} for the full default "

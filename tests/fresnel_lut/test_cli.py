@@ -22,11 +22,12 @@ from basis import coefficients_from_gulbrandsen, coefficients_from_nk, coefficie
 from basis.eigenbasis import shipped_basis_path
 from fresnel_lut import cli
 from fresnel_lut.progress import Progress
-from preintegrate import exr, tables
+from handoff import exr, tables
+from handoff.exr import read_lut
+from handoff.shipped import BASIS_LUT, SCHLICK_LUT, SHIPPED_LUTS
+from handoff.tables import DEFAULT_BUILD_FILES
 from preintegrate.channels import basis_channels, schlick_table_channels
-from preintegrate.exr import read_lut
-from preintegrate.lut import BASIS_LUT, PIXEL_CONVENTION, SCHLICK_LUT, SHIPPED_LUTS
-from preintegrate.tables import DEFAULT_BUILD_FILES
+from preintegrate.lut import PIXEL_CONVENTION
 from tests.conftest import assert_one_line_error, fail_on_call, run, run_subprocess
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
 
@@ -280,8 +281,8 @@ def test_build_model_table(tmp_path, capsys):
     """build --model f82 writes a 3-channel table whose texels equal the integrator's (float32), with the
     combination rule in the header; build --model generalized-schlick --exponent 2 records p and names the file by it (issue 26 item 9)."""
     from basis.models import fresnel_model
+    from handoff.exr import read_lut
     from preintegrate.channels import channel_set
-    from preintegrate.exr import read_lut
     from preintegrate.quadrature import directional_albedo
 
     assert run(["build", "--model", "f82", "--size", 8, "--out", tmp_path]) == 0
@@ -634,11 +635,11 @@ def test_build_ltc_writes_the_area_light_table_with_its_set(tmp_path, capsys):
     assert table.shape == (6, 6, 4) and np.all(np.isfinite(table))
     assert header["channels"] == "m00,m20,m02,m22" and "sqrt(1 - mu_o) = j / (size - 1)" in header["convention"]
     assert float(header["ltc_lobe_error_max"]) < 1.0
-    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis.glsl").read_text()
     ltc = (tmp_path / "ggx_ltc.exr").read_bytes()
     assert run(["build", "--size", "8", "--out", tmp_path]) == 0
     assert (tmp_path / "ggx_ltc.exr").read_bytes() == ltc
-    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis_material.glsl").read_text()
+    assert "const float FRESNEL_LTC_SIZE = 6.0;" in (tmp_path / "fresnel_basis.glsl").read_text()
     assert run(["build", "--size", "8", "--visibility", "separable", "--out", tmp_path]) == 2
     error = capsys.readouterr().err
     assert_one_line_error(error)

@@ -22,8 +22,8 @@ from fresnel_lut.render import (
     tone_map,
 )
 from fresnel_lut.report.renders import render_study
+from handoff.shipped import shipped_tables
 from preintegrate.lut import lut_lookup
-from preintegrate.multiple_scattering import shipped_tables
 
 
 def test_prefiltered_radiance_against_monte_carlo_of_the_lobe():
@@ -221,9 +221,9 @@ def test_rect_light_against_the_area_reference(scene, roughness):
     Schlick's."""
     from basis.storage import shipped_path
     from fresnel_lut.render import RECT_LIGHT, render_rect_light, sphere_geometry
-    from preintegrate.exr import read_lut
+    from handoff.exr import read_lut
+    from handoff.shipped import LTC_LUT
     from preintegrate.ggx import roughness_to_alpha
-    from preintegrate.lut import LTC_LUT
     from preintegrate.quadrature import directional_albedo
     from tests.references.area_light import rect_light_reference
 

@@ -14,10 +14,11 @@ from basis.models import fresnel_model
 from basis.storage import shipped_path
 from fresnel_lut import cli
 from fresnel_lut.scene import DEFAULT_TOLERANCE, SceneError, plan_scene, read_scene, write_scene
+from handoff.exr import read_lut
+from handoff.shipped import BASIS_LUT
 from preintegrate.channels import basis_channels
 from preintegrate.estimators import monte_carlo_albedo
-from preintegrate.exr import read_lut
-from preintegrate.lut import BASIS_LUT, LutGrid, build_table
+from preintegrate.lut import LutGrid, build_table
 from preintegrate.quadrature import directional_albedo
 
 SIZE = 32
@@ -77,6 +78,7 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     assert plan.tables == ("schlick",) and set(plan.layouts.values()) == {"schlick"}
     result = write_scene(plan, tmp_path / "out")
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        *(f"fresnel_basis_scene.{language}" for language in ("glsl", "hlsl", "wgsl")),
         "scene_coefficients.json",
         "scene_ggx_schlick_rg.exr",
         "scene_report.md",
@@ -94,10 +96,8 @@ def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     assert abs(fbar - mean) < 4.0 * error + 1e-6
     assert max(plan.errors.values()) <= DEFAULT_TOLERANCE
     assert "Left out: basis-4" in result["text"]
-    assert (
-        "Shader includes: none" in result["text"]
-        and "at perceptual roughness (r - 0.3) / (0.8 - 0.3)" in result["text"]
-    )
+    assert "Shader include: fresnel_basis_scene.glsl" in result["text"]
+    assert "fresnelBasisLutUV addresses every table above (its rows span roughness 0.3-0.8)" in result["text"]
 
 
 def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):
@@ -324,6 +324,7 @@ def test_rebuilding_into_a_used_folder_removes_the_previous_scenes_tables(tmp_pa
         assert (out / "scene_ggx_own_basis_rgba.exr").exists() and (out / "scene_basis.json").exists()
     write_scene(plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY))), out)
     assert sorted(p.name for p in out.iterdir()) == [
+        *(f"fresnel_basis_scene.{language}" for language in ("glsl", "hlsl", "wgsl")),
         "scene_coefficients.json",
         "scene_ggx_schlick_rg.exr",
         "scene_report.md",
@@ -336,7 +337,7 @@ def test_a_scene_beside_a_default_build_leaves_the_builds_includes_alone(tmp_pat
     one basis."""
     out = tmp_path / "out"
     out.mkdir()
-    shipped = {name: shipped_path(name).read_bytes() for name in ("fresnel_basis_material.glsl", BASIS_LUT)}
+    shipped = {name: shipped_path(name).read_bytes() for name in ("fresnel_basis.glsl", BASIS_LUT)}
     for name, data in shipped.items():
         (out / name).write_bytes(data)
     result = write_scene(plan_scene(read_scene(scene_file(tmp_path, DIELECTRICS))), out)

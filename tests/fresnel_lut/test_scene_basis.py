@@ -17,8 +17,8 @@ from basis.coefficients import coefficients_from_table, fit_condition_number
 from basis.eigenbasis import Basis, default_basis
 from fresnel_lut.scene import plan_scene, read_scene, write_scene
 from fresnel_lut.scene.plan import ACCURACY_GOAL, LOOKUP_SHARE, lookup_floor
+from handoff.exr import read_lut
 from preintegrate.estimators import monte_carlo_albedo
-from preintegrate.exr import read_lut
 from preintegrate.quadrature import directional_albedo
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

@@ -39,12 +39,13 @@ import pytest
 from basis.colorimetry import delta_E_2000
 from basis.materials import material_from_mapping
 from basis.storage import shipped_path
+from benchmarks.browser import browser_page
 from fresnel_lut import render
 from fresnel_lut.view import page_files, read_environment, serving
-from preintegrate.exr import read_lut, stored_values
-from preintegrate.formats import ktx2_bytes
+from handoff.exr import read_lut, stored_values
+from handoff.formats import ktx2_bytes
 from preintegrate.ggx import roughness_to_alpha
-from tests.conftest import browser_page, chromium
+from tests.conftest import chromium
 from tests.references.area_light import rect_light_reference
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -151,11 +152,10 @@ def _get(server, path: str, method: str = "GET"):
     return response, body
 
 
-def test_the_server_serves_the_shipped_includes_and_tables(server, files):
+def test_the_server_serves_the_shipped_include_and_tables(server, files):
     assert server.server_address[0] == "127.0.0.1"
-    for include in ("shaders/fresnel_basis.glsl", "fresnel_basis_material.glsl"):
-        response, body = _get(server, f"/shaders/{Path(include).name}")
-        assert response.status == 200 and body == shipped_path(include).read_bytes()
+    response, body = _get(server, "/shaders/fresnel_basis.glsl")
+    assert response.status == 200 and body == shipped_path("fresnel_basis.glsl").read_bytes()
     table, header = read_lut(shipped_path("ggx_basis_rgba.exr"))
     attributes = {key: value for key, value in header.items() if key not in ("content_hash", "pixel_type")}
     response, body = _get(server, "/tables/ggx_basis_rgba.ktx2")

@@ -1,10 +1,9 @@
-"""The shader hand-off (luts/shaders/*.glsl, *.hlsl) against the Python API, through a numpy transcription.
+"""The shader hand-off (luts/fresnel_basis.{glsl,hlsl,wgsl}) against the Python API, through a numpy transcription.
 
 The real compilers and GPU run are tests/luts/test_shaders_gpu.py; the transcription below follows the shader
-line by line (a level-0 fetch with
-bilinear filtering and clamp-to-edge, then dot products), and the tests check both that
-the shader text still has those lines and that the transcription reproduces the Python API. The coordinates are
-the half-texel remap of end-point texels, u = (x (size − 1) + 0.5)/size of x = (√NdotV, r).
+(a level-0 fetch with bilinear filtering and clamp-to-edge at the half-texel remap of end-point texels,
+u = (x (size − 1) + 0.5)/size of x = (√NdotV, r), then dot products), and the tests check both that the include's
+remap constants are that remap in every language and that the transcription reproduces the Python API.
 """
 
 import re
@@ -17,13 +16,14 @@ from basis import coefficients_from_nk, default_basis
 from basis.angles import cos_theta
 from basis.fresnel import fresnel_conductor
 from basis.gulbrandsen import gulbrandsen_to_nk
+from handoff.exr import read_lut
 from preintegrate.channels import basis_channels, schlick_channels
-from preintegrate.exr import read_lut
 from preintegrate.quadrature import directional_albedo
 
 LUTS = Path(__file__).resolve().parents[2] / "luts"
-GLSL = (LUTS / "shaders" / "fresnel_basis.glsl").read_text(encoding="utf-8")
-HLSL = (LUTS / "shaders" / "fresnel_basis.hlsl").read_text(encoding="utf-8")
+INCLUDES = {
+    language: (LUTS / f"fresnel_basis.{language}").read_text(encoding="utf-8") for language in ("glsl", "hlsl", "wgsl")
+}
 BASIS_LUT, BASIS_HEADER = read_lut(LUTS / "ggx_basis_rgba.exr")
 SCHLICK_LUT, _ = read_lut(LUTS / "ggx_schlick_rgb.exr")
 GOLD = (np.array([0.18, 0.42, 1.37]), np.array([3.42, 2.35, 1.77]))
@@ -63,18 +63,26 @@ def fresnel_schlick_split_sum(n_dot_v, roughness, f0) -> np.ndarray:
     return f0 * scale_bias[..., :1] + scale_bias[..., 1:2]  # .rg: R = scale, G = bias (B = E is not used here)
 
 
-def test_shader_text_matches_the_transcription():
-    """GLSL and HLSL both clamp the coordinates to [0, 1], remap them by the texture's size, fetch once, and
-    combine as transcribed here."""
-    assert "vec2 x = vec2(sqrt(clamp(NdotV, 0.0, 1.0)), clamp(perceptualRoughness, 0.0, 1.0));" in GLSL
-    assert "return (x * (size - 1.0) + 0.5) / size;" in GLSL and "textureSize(basisLut, 0)" in GLSL
-    assert "return vec3(dot(cR, b), dot(cG, b), dot(cB, b));" in GLSL
-    assert "return F0 * scaleBias.x + scaleBias.y;" in GLSL
-    assert "float2 x = float2(sqrt(saturate(NdotV)), saturate(perceptualRoughness));" in HLSL
-    assert "return (x * (size - 1.0) + 0.5) / size;" in HLSL and "lut.GetDimensions(width, height);" in HLSL
-    assert "return float3(dot(cR, b), dot(cG, b), dot(cB, b));" in HLSL
-    assert "return F0 * scaleBias.x + scaleBias.y;" in HLSL
-    assert "fresnel:basis_hash" in GLSL and BASIS_HEADER["basis_hash"] == default_basis().content_hash
+def _constant(text: str, name: str) -> np.ndarray:
+    """The numbers of the constant ``name`` as an include of any language writes it."""
+    found = re.search(rf"{name}\b[^=]*=\s*\w*\(([^)]*)\)", text)
+    assert found, name
+    return np.array([float(value) for value in found.group(1).split(",")])
+
+
+@pytest.mark.parametrize("language", ["glsl", "hlsl", "wgsl"])
+def test_the_include_remaps_as_the_transcription(language):
+    """Every language's include reads the tables through u = x (W − 1)/W + 0.5/W of x = √NdotV and
+    v = r (H − 1)/H + 0.5/H of r in [0, 1] (FRESNEL_LUT_COLUMNS, FRESNEL_LUT_ROWS), the transcription's remap, and
+    states the tables' basis."""
+    text = INCLUDES[language]
+    height, width = BASIS_LUT.shape[:2]
+    np.testing.assert_allclose(_constant(text, "FRESNEL_LUT_COLUMNS"), [(width - 1) / width, 0.5 / width], rtol=1e-8)
+    rows = [0.0, 1.0, (height - 1) / height, 0.5 / height]
+    np.testing.assert_allclose(_constant(text, "FRESNEL_LUT_ROWS"), rows, rtol=1e-8)
+    assert "sqrt(fresnelSanitize(NdotV, 1.0, 0.0, 1.0))" in text
+    assert f"fresnel:basis_hash = {BASIS_HEADER['basis_hash']}" in text
+    assert BASIS_HEADER["basis_hash"] == default_basis().content_hash
 
 
 @pytest.mark.parametrize("i, j", [(0, 0), (5, 77), (64, 64), (127, 3), (90, 127)])
@@ -123,5 +131,5 @@ def test_schlick_texel_equals_quadrature():
 def test_hlsl_types_the_schlick_table_one_way():
     """Issue 26 item 20: the HLSL include typed the Schlick table Texture2D<float2> in one function and <float4> in
     another, so one texture could not serve both."""
-    declarations = re.findall(r"Texture2D<(\w+)> schlickLut", HLSL)
+    declarations = re.findall(r"Texture2D<(\w+)> schlickLut", INCLUDES["hlsl"])
     assert declarations and set(declarations) == {"float4"}

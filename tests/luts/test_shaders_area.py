@@ -1,6 +1,6 @@
 """The generated includes' rectangular light (``fresnelBasisRectLight``, ``fresnelSchlickRectLight``,
 ``fresnelLtcRect``, ``fresnelLtcUV``) run for real with the shipped tables and match their Python mirrors
-(preintegrate/shaders.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
+(handoff/shaders.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
 (the WebGL 2 path: tests/luts/test_shaders_webgl.py).
 
 1024 shading points: normals and views spanning the hemisphere (views at and beyond grazing, along the normal),
@@ -13,10 +13,11 @@ the normal, float32's N·V (within 6e-8 of 1) moves it by up to 2.4e-4, 0.016 te
 import numpy as np
 
 from basis.storage import shipped_path
-from preintegrate.exr import read_lut
+from handoff.exr import read_lut
+from handoff.shaders import ltc_coordinates, rect_light_specular, shader_includes
+from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ltc import LtcGrid, rect_light_integral
-from preintegrate.lut import BASIS_LUT, LTC_LUT, SCHLICK_LUT, LutGrid
-from preintegrate.shaders import ltc_coordinates, rect_light_specular, shader_includes
+from preintegrate.lut import LutGrid
 from tests.conftest import gl_draw, wgpu_compute, wgpu_device
 
 INCLUDES = dict(shader_includes())
@@ -109,7 +110,7 @@ def test_glsl_rect_light_on_mesa_llvmpipe_matches_the_mirrors():
     uniforms.update({f"c{colour}": tuple(COEFFICIENTS[k]) for k, colour in enumerate("RGB")})
     uniforms["light"] = [tuple(corner) for corner in LIGHT]
     outputs = gl_draw(
-        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + GLSL_MAIN,
+        "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + GLSL_MAIN,
         [ltc, basis, schlick, a.reshape(32, 32, 4), b.reshape(32, 32, 4)],
         uniforms,
         3,
@@ -172,7 +173,7 @@ def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
         )
         views.append(texture.create_view())
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
-    code = INCLUDES["fresnel_basis_material.wgsl"] + WGSL_MAIN
+    code = INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN
     for colour, row in zip("RGB", COEFFICIENTS):
         code = code.replace(f"COEFFICIENTS_{colour}", ", ".join(f"{value:.9g}" for value in row))
     code = code.replace("vec3f(F0)", "vec3f(" + ", ".join(f"{value:.9g}" for value in F0) + ")")

@@ -1,4 +1,4 @@
-"""The shader includes run for real, against the Python API on a grid of (NdotV, r) that holds texel centres,
+"""The shipped shader include runs for real, against the Python API on a grid of (NdotV, r) that holds texel centres,
 midpoints, edges and values out of range:
 
 * GLSL: compiled by glslangValidator (GLSL 330, 450, ES 300 and SPIR-V for Vulkan) and executed on OpenGL
@@ -20,15 +20,16 @@ import subprocess
 import numpy as np
 import pytest
 
-from basis import coefficients_from_nk, default_basis
+from basis import coefficients_from_nk
 from basis.storage import shipped_path
-from preintegrate.exr import read_lut
-from preintegrate.formats import ktx2_bytes
-from preintegrate.lut import BASIS_LUT, SCHLICK_LUT, lut_lookup, shipped_lut
-from preintegrate.multiple_scattering import basis_albedo, shipped_tables
+from handoff.exr import read_lut
+from handoff.formats import ktx2_bytes
+from handoff.shipped import BASIS_LUT, SCHLICK_LUT, shipped_lut, shipped_tables
+from preintegrate.lut import LutGrid, lut_lookup
+from preintegrate.multiple_scattering import basis_albedo
 from tests.conftest import gl_draw, gpu_missing, wgpu_compute, wgpu_device
 
-INCLUDE = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
+INCLUDE = shipped_path("fresnel_basis.glsl").read_text(encoding="utf-8")
 GOLD = coefficients_from_nk([0.18, 0.42, 1.37], [3.42, 2.35, 1.77])  # (3, 4)
 F0 = np.array([0.9, 0.6, 0.3])
 
@@ -55,7 +56,7 @@ void main() {{
     vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
     basisOut = vec4(fresnelBasisSplitSum(basisLut, q.x, q.y, cR, cG, cB), 1.0);
     schlickOut = vec4(fresnelSchlickSplitSum(schlickLut, q.x, q.y, F0), 1.0);
-    multipleOut = vec4(fresnelBasisMultipleScattering(basisLut, schlickLut, q.x, q.y, cR, cG, cB, averages), 1.0);
+    multipleOut = vec4(fresnelBasisMultipleScattering(basisLut, q.x, q.y, cR, cG, cB), 1.0);
 }}
 """
 
@@ -75,7 +76,6 @@ def _render(mipmaps: bool) -> list[np.ndarray]:
         "schlickLut": 1,
         **{name: tuple(GOLD[k]) for k, name in enumerate(("cR", "cG", "cB"))},
         "F0": tuple(F0),
-        "averages": tuple(default_basis().hemispherical_averages),
     }
     return _draw(FRAGMENT.format(include=INCLUDE), shipped_tables(), uniforms, outputs=3, mipmaps=mipmaps)
 
@@ -98,15 +98,16 @@ uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec4 eR; uniform vec4
 layout(location = 0) out vec4 basisOut;
 void main() {{
     vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
-    basisOut = vec4(fresnelBasisSplitSum8(basisLut, basisLut2, q.x, q.y, cR, cG, cB, eR, eG, eB), 1.0);
+    FresnelTerms8 tR = fresnelTerms8(cR, eR), tG = fresnelTerms8(cG, eG), tB = fresnelTerms8(cB, eB);
+    basisOut = vec4(fresnelBasisSplitSum(basisLut, basisLut2, q.x, q.y, tR, tG, tB), 1.0);
 }}
 """
 
 
 def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path):
     """A six-term basis (``basis --terms 6``, then ``build``): terms 0-3 in ggx_basis_rgba.exr, 4-5 in the R, G
-    of ggx_basis_rgba_2.exr, a two-channel texture whose A reads as 1 (its coefficient is 0). Measured:
-    max |GPU − Python| 1.4e-7."""
+    of ggx_basis_rgba_2.exr, a two-channel texture whose A reads as 1 (its coefficient is 0), read by the include
+    that build writes (FresnelTerms8 per channel, two textures). Measured: max |GPU − Python| 1.4e-7."""
     from basis.training import build_basis
     from fresnel_lut.cli import main
 
@@ -125,9 +126,11 @@ def test_six_terms_in_two_tables_on_mesa_llvmpipe_match_the_python_api(tmp_path)
         **{f"c{colour}": tuple(coefficients[k, :4]) for k, colour in enumerate("RGB")},
         **{f"e{colour}": tuple(extra[k]) for k, colour in enumerate("RGB")},
     }
-    (gpu,) = _draw(SIX_TERMS_FRAGMENT.format(include=INCLUDE), (first, second), uniforms, outputs=1)
+    include = (tmp_path / "fresnel_basis.glsl").read_text(encoding="utf-8")
+    (gpu,) = _draw(SIX_TERMS_FRAGMENT.format(include=include), (first, second), uniforms, outputs=1)
     clipped = [np.clip(values, 0.0, 1.0) for values in _grid()]
-    expected = lut_lookup(np.concatenate([first, second], axis=-1), *clipped) @ coefficients.T
+    grid = LutGrid(32, 32)
+    expected = grid.lookup(np.concatenate([first, second], axis=-1), *clipped) @ coefficients.T
     np.testing.assert_allclose(gpu, expected, rtol=0, atol=1e-6)
 
 
@@ -173,8 +176,7 @@ def test_glsl_include_compiles(version, tmp_path):
         + """
 void main() {
     colour = vec4(fresnelBasisSplitSum(lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25))
-                  + fresnelBasisSplitSum8(lut, lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25), vec4(0.1), vec4(0.2),
-                                          vec4(0.3))
+                  + fresnelBasisMultipleScattering(lut, 0.5, 0.3, vec4(1.0), vec4(0.5), vec4(0.25))
                   + fresnelSchlickSplitSum(lut, 0.5, 0.3, vec3(0.04)), 1.0);
 }
 """,
@@ -194,19 +196,18 @@ def test_hlsl_include_compiles_to_spirv(tmp_path):
     validator = _validator()
     source = tmp_path / "lut.hlsl"
     source.write_text(
-        shipped_path("shaders/fresnel_basis.hlsl").read_text(encoding="utf-8")
+        shipped_path("fresnel_basis.hlsl").read_text(encoding="utf-8")
         + """
 Texture2D<float4> basisLut : register(t0);
 Texture2D<float4> schlickLut : register(t1);
 SamplerState linearClamp : register(s0);
 float4 PixelMain(float4 position : SV_Position) : SV_Target
 {
-    return float4(FresnelBasisSplitSum(basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0), float4(0, 1, 0, 0),
+    return float4(fresnelBasisSplitSum(basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0), float4(0, 1, 0, 0),
                                        float4(0, 0, 1, 0))
-                  + FresnelBasisSplitSum8(basisLut, basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0),
-                                          float4(0, 1, 0, 0), float4(0, 0, 1, 0), float4(1, 0, 0, 0), float4(0, 1, 0, 0),
-                                          float4(0, 0, 1, 0))
-                  + FresnelSchlickSplitSum(schlickLut, linearClamp, 0.5, 0.3, float3(0.04, 0.04, 0.04)), 1.0);
+                  + fresnelBasisMultipleScattering(basisLut, linearClamp, 0.5, 0.3, float4(1, 0, 0, 0),
+                                                   float4(0, 1, 0, 0), float4(0, 0, 1, 0))
+                  + fresnelSchlickSplitSum(schlickLut, linearClamp, 0.5, 0.3, float3(0.04, 0.04, 0.04)), 1.0);
 }
 """,
         encoding="utf-8",
@@ -277,7 +278,7 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_python_api(monkeypatch):
     )
     data = wgpu_compute(
         device,
-        shipped_path("shaders/fresnel_basis.wgsl").read_text(encoding="utf-8") + WGSL_MAIN,
+        shipped_path("fresnel_basis.wgsl").read_text(encoding="utf-8") + WGSL_MAIN,
         [
             view(BASIS_LUT),
             view(SCHLICK_LUT),

@@ -1,5 +1,5 @@
-"""The generated per-pixel includes (luts/fresnel_basis_material.{glsl,hlsl,wgsl}) run for real and match their
-Python mirrors (preintegrate/shaders.py) and the Python API:
+"""The generated include's per-pixel functions (luts/fresnel_basis.{glsl,hlsl,wgsl}) run for real and match their
+Python mirrors (handoff/shaders.py) and the Python API:
 
 * GLSL on Mesa's llvmpipe (headless EGL): every per-pixel function over 1024 texels of (η, κ) and (r, g) that span
   the documented ranges, their edges (η → 1, η < 1 inside a dielectric, κ → 10⁴, r → 1, g at 0 and 1) and bad
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk, reconstruct
-from preintegrate.shaders import (
+from handoff.shaders import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_nk,
     direct_fresnel,
@@ -68,7 +68,7 @@ def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors():
     """Measured on llvmpipe: see the errors in the assertion message when it fails; the bounds are the module's."""
     inputs = per_pixel_inputs()
     outputs = gl_draw(
-        "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + PER_PIXEL_GLSL_MAIN,
+        "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + PER_PIXEL_GLSL_MAIN,
         [inputs.reshape(32, 32, 4)],
         {"inputs": 0},
         OUTPUTS,
@@ -96,7 +96,7 @@ def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
     output_buffer = device.create_buffer(size=len(inputs) * OUTPUTS * 16, usage=usage.STORAGE | usage.COPY_SRC)
     data = wgpu_compute(
         device,
-        INCLUDES["fresnel_basis_material.wgsl"] + WGSL_MAIN,
+        INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN,
         [{"buffer": input_buffer}, {"buffer": output_buffer}],
         output_buffer,
         len(inputs),
@@ -115,10 +115,10 @@ void main() {
     vec2 uv = (gl_FragCoord.xy + shift) / vec2(textureSize(reflectivityMap, 0));
     vec4 cR, cG, cB;
     fresnelCoefficientsGulbrandsen3(texture(reflectivityMap, uv).rgb, texture(edgeTintMap, uv).rgb, cR, cG, cB);
-    perPixelIbl = vec4(fresnelBasisSplitSumUV(basisLut, NdotV, roughness, cR, cG, cB), 1.0);
+    perPixelIbl = vec4(fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB), 1.0);
     perPixelLight = vec4(fresnelBasisDirect(VdotH, cR, cG, cB), 1.0);
     vec4 oR = texture(coefficientsRed, uv), oG = texture(coefficientsGreen, uv), oB = texture(coefficientsBlue, uv);
-    offlineIbl = vec4(fresnelBasisSplitSumUV(basisLut, NdotV, roughness, oR, oG, oB), 1.0);
+    offlineIbl = vec4(fresnelBasisSplitSum(basisLut, NdotV, roughness, oR, oG, oB), 1.0);
     offlineLight = vec4(fresnelBasisDirect(VdotH, oR, oG, oB), 1.0);
 }
 """
@@ -131,7 +131,7 @@ def test_coefficients_solved_offline_read_as_textures_match_the_per_pixel_solve(
     at every texel. Between texels the textures filter the coefficients, and so F itself (linear in them): at the
     midpoint of two texels each channel's F̄ is the mean of theirs, where the per-pixel solve of the filtered (r, g)
     is not."""
-    from preintegrate.multiple_scattering import shipped_tables
+    from handoff.shipped import shipped_tables
 
     rng = np.random.default_rng(5)
     reflectivity = rng.uniform(0.0, 0.95, (32, 32, 3))
@@ -141,7 +141,7 @@ def test_coefficients_solved_offline_read_as_textures_match_the_per_pixel_solve(
     coefficients = coefficients_from_gulbrandsen(reflectivity, edge_tint)  # (32, 32, 3, 4), as README solves them
     textures = [reflectivity, edge_tint, shipped_tables()[0], *(coefficients[..., k, :] for k in range(3))]
     names = ("reflectivityMap", "edgeTintMap", "basisLut", "coefficientsRed", "coefficientsGreen", "coefficientsBlue")
-    source = "#version 330\n" + INCLUDES["fresnel_basis_material.glsl"] + OFFLINE_GLSL_MAIN
+    source = "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + OFFLINE_GLSL_MAIN
     view = {"NdotV": 0.37, "roughness": 0.45, "VdotH": 0.21}
     at_texels = gl_draw(source, textures, {**dict(zip(names, range(6))), **view, "shift": (0.0, 0.0)}, 4)
     for per_pixel, offline in ((at_texels[0], at_texels[2]), (at_texels[1], at_texels[3])):
@@ -175,7 +175,7 @@ def test_glsl_include_compiles(head, tmp_path):
     body = PER_PIXEL_GLSL_MAIN.replace("uniform sampler2D inputs;", "uniform highp sampler2D inputs;")
     if "450" in head:
         body = body.replace("uniform highp sampler2D inputs;", "layout(binding = 0) uniform sampler2D inputs;")
-    source.write_text(head + INCLUDES["fresnel_basis_material.glsl"] + body, encoding="utf-8")
+    source.write_text(head + INCLUDES["fresnel_basis.glsl"] + body, encoding="utf-8")
     arguments = [_validator(), str(source)] + (["-V", "-o", str(tmp_path / "m.spv")] if "450" in head else [])
     checked = subprocess.run(arguments, capture_output=True, text=True)
     assert checked.returncode == 0, checked.stdout + checked.stderr
@@ -184,7 +184,7 @@ def test_glsl_include_compiles(head, tmp_path):
 def test_hlsl_include_compiles_to_spirv(tmp_path):
     source = tmp_path / "material.hlsl"
     source.write_text(
-        INCLUDES["fresnel_basis_material.hlsl"]
+        INCLUDES["fresnel_basis.hlsl"]
         + """
 float4 PixelMain(float4 position : SV_Position) : SV_Target
 {

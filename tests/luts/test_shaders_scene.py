@@ -17,11 +17,10 @@ import pytest
 
 from basis.angles import theta_spline
 from basis.eigenbasis import Basis, default_basis
-from basis.storage import shipped_path
 from fresnel_lut.scene import plan_scene, read_scene, write_scene
-from preintegrate.exr import read_lut
+from handoff.exr import read_lut
+from handoff.shaders import shader_constants
 from preintegrate.quadrature import directional_albedo
-from preintegrate.shaders import shader_constants
 from tests.conftest import PER_PIXEL_CALLS, PER_PIXEL_GLSL_MAIN, assert_per_pixel_outputs, gl_draw, per_pixel_inputs
 
 #: The shipped dielectrics example (four measured presets, r 0.15–0.4) on 32 columns: its own four-term basis holds
@@ -49,7 +48,7 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
         assert f"fresnel:basis_hash = {trained.content_hash}" in text and "fresnel-lut scene scene.toml" in text
     report = (out / "scene_report.md").read_text(encoding="utf-8")
     assert (
-        f"Shader includes: fresnel_basis_scene.glsl, fresnel_basis_scene.hlsl, fresnel_basis_scene.wgsl, generated from basis {trained.content_hash}"
+        f"Shader include: fresnel_basis_scene.glsl, fresnel_basis_scene.hlsl, fresnel_basis_scene.wgsl, generated from basis {trained.content_hash}"
         in report
     )
 
@@ -97,13 +96,13 @@ uniform vec4 cB;
 out vec4 colour;
 void main() {{
     vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
-    colour = vec4(fresnelBasisSplitSumUV(lut, q.x, q.y, cR, cG, cB), 1.0);
+    colour = vec4(fresnelBasisSplitSum(lut, q.x, q.y, cR, cG, cB), 1.0);
 }}
 """
 
 
 def test_the_include_reads_the_written_table_to_the_exact_split_sum(built):
-    """The written EXR on llvmpipe through fresnelBasisSplitSumUV with the JSON's coefficients, at the plan's error
+    """The written EXR on llvmpipe through fresnelBasisSplitSum with the JSON's coefficients, at the plan's error
     grid of each material (μo from 0 to 1, the columns and the midpoints in √μo; of 33 roughnesses over the
     scene's range those in the material's, and its end points), against F̄ of the material's exact curve
     integrated directly: within the error the plan reports for it, plus float32's 1e-6 (measured: the plan's own
@@ -128,28 +127,26 @@ SCHLICK_FRAGMENT = """#version 330
 uniform sampler2D lut;
 uniform sampler2D inputs;
 uniform vec3 f0;
-uniform vec2 roughnessRange;
 out vec4 colour;
 void main() {{
     vec2 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0).rg;
-    float x = (q.y - roughnessRange.x) / (roughnessRange.y - roughnessRange.x);
-    colour = vec4(fresnelSchlickSplitSum(lut, q.x, x, f0), 1.0);
+    colour = vec4(fresnelSchlickSplitSum(lut, q.x, q.y, f0), 1.0);
 }}
 """
 
 
-def test_the_shipped_split_sum_include_reads_a_schlick_scene_at_its_remapped_roughness(tmp_path):
-    """The shipped Schlick example on 32 columns: scene_ggx_schlick_rg.exr through luts/shaders/fresnel_basis.glsl's
-    fresnelSchlickSplitSum at (r − lo)/(hi − lo), F0 from the JSON (its weights are (F0, 1)), against each material's
-    exact split sum on the plan's error grid: within the plan's error plus float32's 1e-6."""
+def test_a_schlick_scene_reads_through_its_own_include(tmp_path):
+    """The shipped Schlick example on 32 columns: scene_ggx_schlick_rg.exr through the scene's own include
+    (fresnel_basis_scene.glsl: its rows' remap built in, the roughness given as it is), F0 from the JSON (its weights
+    are (F0, 1)), against each material's exact split sum on the plan's error grid: within the plan's error plus
+    float32's 1e-6."""
     (tmp_path / "scene.toml").write_text(
         "size = 32\n" + (EXAMPLE.parent / "schlick_only.toml").read_text(encoding="utf-8"), encoding="utf-8"
     )
     plan = plan_scene(read_scene(tmp_path / "scene.toml"))
     assert plan.tables == ("schlick",)
     write_scene(plan, tmp_path / "out")
-    assert not list((tmp_path / "out").glob("fresnel_basis_scene.*"))
-    include = shipped_path("shaders/fresnel_basis.glsl").read_text(encoding="utf-8")
+    include = (tmp_path / "out" / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     document = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
     table, header = read_lut(tmp_path / "out" / "scene_ggx_schlick_rg.exr")
     low, high = (float(value) for value in header["roughness_range"].split(","))
@@ -159,7 +156,7 @@ def test_the_shipped_split_sum_include_reads_a_schlick_scene_at_its_remapped_rou
         mu, r = _error_grid(plan, material)
         inputs = np.zeros((64 * 64, 4), dtype=np.float32)
         inputs[: mu.size, 0], inputs[: mu.size, 1] = mu, r
-        uniforms = {"lut": 0, "inputs": 1, "f0": tuple(weights[:, 0]), "roughnessRange": (low, high)}
+        uniforms = {"lut": 0, "inputs": 1, "f0": tuple(weights[:, 0])}
         (gpu,) = gl_draw(SCHLICK_FRAGMENT.format(include=include), [table, inputs.reshape(64, 64, 4)], uniforms, 1, 64)
         error = float(np.max(np.abs(gpu[: mu.size, :3] - _exact_split_sum(material, mu, r))))
         assert error <= plan.errors[material.name] + 1e-6, (material.name, error, plan.errors[material.name])

@@ -20,8 +20,8 @@ import pytest
 
 from basis import coefficients_from_gulbrandsen, coefficients_from_nk
 from basis.training import build_basis
-from preintegrate.shaders import coefficients_per_pixel_gulbrandsen, coefficients_per_pixel_nk, shader_constants
-from preintegrate.shaders import shader_includes as includes_of
+from handoff.shaders import coefficients_per_pixel_gulbrandsen, coefficients_per_pixel_nk, shader_constants
+from handoff.shaders import shader_includes as includes_of
 from tests.conftest import (
     PER_PIXEL_CALLS,
     assert_per_pixel_outputs,
@@ -86,7 +86,7 @@ def _glsl_main(calls, wide: bool) -> str:
 
 
 def test_glsl_on_mesa_llvmpipe_matches_the_mirrors(basis):
-    include = dict(includes_of(basis))["fresnel_basis_material.glsl"]
+    include = dict(includes_of(basis))["fresnel_basis.glsl"]
     inputs = per_pixel_inputs()
     wide = _wide(basis)
     groups = [PER_PIXEL_CALLS[:4], PER_PIXEL_CALLS[4:]]  # at most 8 attachments per draw
@@ -108,7 +108,7 @@ def test_glsl_on_mesa_llvmpipe_matches_the_mirrors(basis):
 def test_wgsl_on_webgpu_lavapipe_matches_the_mirrors(basis, monkeypatch):
     import wgpu
 
-    include = dict(includes_of(basis))["fresnel_basis_material.wgsl"]
+    include = dict(includes_of(basis))["fresnel_basis.wgsl"]
     lanes = 2 if _wide(basis) else 1
     stride = len(PER_PIXEL_CALLS) * lanes
     body = ""
@@ -160,10 +160,10 @@ float4 PixelMain(float4 position : SV_Position) : SV_Target
     fresnelCoefficientsGulbrandsen3(float3(0.9, 0.8, 0.5), float3(0.9, 0.9, 0.2), cR, cG, cB);
     {kind} tint = fresnelCoefficientsF82Tint(0.5, 0.5);
     float3 light = fresnelBasisDirect(0.5, cR, cG, tint) + fresnelBasisAverage(cR, cG, cB);
-    return float4(light + fresnelBasisSplitSumUV(lut, {second[0]}linearClamp, 0.5, 0.3, cR, cG, cB), 1.0);
+    return float4(light + fresnelBasisSplitSum(lut, {second[0]}linearClamp, 0.5, 0.3, cR, cG, cB), 1.0);
 }}
 """
-    (tmp_path / "material.hlsl").write_text(includes["fresnel_basis_material.hlsl"] + hlsl, encoding="utf-8")
+    (tmp_path / "material.hlsl").write_text(includes["fresnel_basis.hlsl"] + hlsl, encoding="utf-8")
     arguments = ["-D", "-V", "-e", "PixelMain", "-S", "frag", str(tmp_path / "material.hlsl")]
     compiled = subprocess.run([_validator(), *arguments, "-o", str(tmp_path / "m.spv")], capture_output=True, text=True)
     assert compiled.returncode == 0, compiled.stdout + compiled.stderr
@@ -176,10 +176,10 @@ void main()
     {kind.replace("float4", "vec4")} cR, cG, cB;
     fresnelCoefficientsNK3(vec3(0.18, 0.42, 1.37), vec3(3.42, 2.35, 1.77), cR, cG, cB);
     vec3 light = fresnelBasisDirect(0.5, cR, cG, cB) + fresnelBasisAverage(cR, cG, cB);
-    colour = vec4(light + fresnelBasisSplitSumUV(lut, {second[1]}0.5, 0.3, cR, cG, cB), 1.0);
+    colour = vec4(light + fresnelBasisSplitSum(lut, {second[1]}0.5, 0.3, cR, cG, cB), 1.0);
 }}
 """
     head = "#version 300 es\nprecision highp float;\nprecision highp int;\n"
-    (tmp_path / "material.frag").write_text(head + includes["fresnel_basis_material.glsl"] + glsl, encoding="utf-8")
+    (tmp_path / "material.frag").write_text(head + includes["fresnel_basis.glsl"] + glsl, encoding="utf-8")
     checked = subprocess.run([_validator(), str(tmp_path / "material.frag")], capture_output=True, text=True)
     assert checked.returncode == 0, checked.stdout + checked.stderr

@@ -8,8 +8,9 @@ browser or Playwright fails the test (the set-up installs both).
 
 import numpy as np
 
-from preintegrate.shaders import shader_includes
-from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, browser_page, chromium, per_pixel_inputs
+from benchmarks.browser import browser_page
+from handoff.shaders import shader_includes
+from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, chromium, per_pixel_inputs
 
 FRAGMENT = """#version 300 es
 precision highp float;
@@ -89,7 +90,7 @@ def _render_in_webgl2(fragment: str, texels: list, modes: int) -> dict:
 
 
 def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
-    include = dict(shader_includes())["fresnel_basis_material.glsl"]
+    include = dict(shader_includes())["fresnel_basis.glsl"]
     branches = "\n".join(
         f"    {'if' if k == 0 else 'else if'} (mode == {k}) result = {call};" for k, call in enumerate(PER_PIXEL_CALLS)
     )
@@ -105,21 +106,22 @@ AREA_BODY = """
     vec3 shift = vec3((gl_FragCoord.x - 16.0) * 0.25, (gl_FragCoord.y - 16.0) * 0.1, -1.5);
     vec3 corners[4] = vec3[4](vec3(-1.0, -0.5, 2.0) + shift, vec3(-1.0, 0.5, 2.0) + shift, vec3(1.0, 0.5, 2.0) + shift,
                               vec3(1.0, -0.5, 2.0) + shift);
-    mat3 m = mat3(vec3(q.x, 0.0, q.y), vec3(0.0, 1.0, 0.0), vec3(q.z, 0.0, q.w));
-    result = vec4(fresnelLtcQuad(m, corners), 0.0, 0.0, 0.0);
+    vec3 p[4];
+    for (int i = 0; i < 4; ++i) p[i] = fresnelLtcTransform(q, corners[i]);
+    result = vec4(fresnelLtcQuad(p), 0.0, 0.0, 0.0);
 """
 
 
 def test_glsl_es_area_light_in_webgl2_matches_the_mirror():
-    """``fresnelLtcQuad`` (transform, horizon clipping, Lambert's edges) in WebGL 2 for the shipped LTC table's
+    """``fresnelLtcTransform`` and ``fresnelLtcQuad`` (horizon clipping, Lambert's edges) in WebGL 2 for the shipped LTC table's
     matrices, under a light that slides across the horizon pixel by pixel: within 1e-5 of
     :func:`preintegrate.ltc.polygon_integral` in float64 (the table fetch is tested on llvmpipe and lavapipe)."""
     from basis.storage import shipped_path
-    from preintegrate.exr import read_lut
+    from handoff.exr import read_lut
+    from handoff.shipped import LTC_LUT
     from preintegrate.ltc import ltc_inverse, polygon_integral
-    from preintegrate.lut import LTC_LUT
 
-    include = dict(shader_includes())["fresnel_basis_material.glsl"]
+    include = dict(shader_includes())["fresnel_basis.glsl"]
     table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(25)
     stored = table.reshape(-1, 4)[rng.integers(0, table.shape[0] * table.shape[1], 1024)].astype(np.float32)

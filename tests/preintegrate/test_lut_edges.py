@@ -12,10 +12,11 @@ llvmpipe, lavapipe and SwiftShader). ``python -m benchmarks.lut_edges`` measures
 import numpy as np
 import pytest
 
+from handoff.exr import read_lut
+from handoff.shipped import shipped_lut
 from preintegrate.channels import basis_channels
-from preintegrate.exr import read_lut
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import LutGrid, build_table, lut_lookup, shipped_lut
+from preintegrate.lut import LutGrid, build_table, lut_lookup
 from preintegrate.quadrature import directional_albedo
 
 CHANNELS = basis_channels()

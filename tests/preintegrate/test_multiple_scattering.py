@@ -15,11 +15,12 @@ from basis.eigenbasis import default_basis
 from basis.fresnel import fresnel_conductor, fresnel_dielectric
 from basis.presets import material_coefficients
 from basis.validation import ParameterError
+from handoff.exr import read_lut
+from handoff.shipped import shipped_lut, shipped_tables
 from preintegrate.estimators import monte_carlo_albedo
-from preintegrate.exr import read_lut
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.lut import LutGrid, shipped_lut
-from preintegrate.multiple_scattering import average_albedo, basis_albedo, compensated_albedo, shipped_tables
+from preintegrate.lut import LutGrid
+from preintegrate.multiple_scattering import average_albedo, basis_albedo, compensated_albedo
 
 
 @pytest.fixture(scope="module")
@@ -115,17 +116,6 @@ def test_basis_albedo_refuses_wrong_shapes(tables):
         basis_albedo(material_coefficients("Gold"), 0.5, 1.5, tables=tables)
 
 
-def test_basis_albedo_refuses_the_shipped_tables_for_another_basis():
-    from basis.eigenbasis import Basis
-
-    shipped = default_basis()
-    curves = shipped.curves.copy()
-    curves[3] *= 1.01
-    other = Basis(theta=shipped.theta, curves=curves, fit_angles=shipped.fit_angles)
-    with pytest.raises(ParameterError, match="belong to the shipped basis"):
-        basis_albedo(material_coefficients("Gold"), 0.5, 0.5, basis=other)
-
-
 def test_average_albedo_against_the_shipped_table_and_its_limits(tables):
     """E_avg(r) = 2 ∫ E μ dμ = 4 ∫ E x³ dx (x = √μo) against the trapezoid rule over the shipped table's 128
     columns of E (B channel, uniform in x; rule error ≤ 2e-4 here); 1 at the mirror; falling with roughness."""
@@ -179,13 +169,15 @@ def test_against_a_random_walk_on_the_microsurface(mu_o, roughness, gap):
     alpha = float(roughness_to_alpha(roughness))
     white, white_single, white_error, white_single_error = random_walk_albedo(mu_o, alpha, [1e-3], [1e5], seed=1)
     assert white[0] == pytest.approx(1.0, abs=4.0 * white_error[0] + 1e-9)
-    table = basis_albedo(np.array([[1.0, 0.0, 0.0, 0.0]] * 3), mu_o, roughness, multiple_scattering=False)
+    table = basis_albedo(
+        np.array([[1.0, 0.0, 0.0, 0.0]] * 3), mu_o, roughness, tables=shipped_tables(), multiple_scattering=False
+    )
     assert abs(white_single[0] - table[0]) < 4.0 * white_single_error[0] + 2e-4
 
     total, single, total_error, single_error = random_walk_albedo(mu_o, alpha, _GOLD_ETA, _GOLD_KAPPA, seed=3)
     coefficients = coefficients_from_nk(_GOLD_ETA, _GOLD_KAPPA)
-    split_sum = basis_albedo(coefficients, mu_o, roughness, multiple_scattering=False)
-    compensated = basis_albedo(coefficients, mu_o, roughness)
+    split_sum = basis_albedo(coefficients, mu_o, roughness, tables=shipped_tables(), multiple_scattering=False)
+    compensated = basis_albedo(coefficients, mu_o, roughness, tables=shipped_tables())
     assert np.all(np.abs(split_sum - single) < 4.0 * single_error + 5e-3)
     assert np.all(np.abs(compensated - total) < np.abs(split_sum - total))
     assert np.all(np.abs(compensated - total) < gap + 4.0 * total_error)
@@ -194,7 +186,7 @@ def test_against_a_random_walk_on_the_microsurface(mu_o, roughness, gap):
 def test_shipped_average_table_is_the_api_and_reads_with_its_header():
     """luts/ggx_albedo_average.exr: one column of E_avg at the rows' roughness (float32 of the API's
     values), a single Y channel, its own convention; the roughest row loses about 59 % (0.41 measured)."""
-    from preintegrate.lut import AVERAGE_LUT
+    from handoff.shipped import AVERAGE_LUT
 
     table, header = read_lut(shipped_lut(AVERAGE_LUT))
     assert table.shape == (128, 1, 1) and header["channels"] == "Y" and header["convention"].startswith("one column")

@@ -1,6 +1,6 @@
 """A KTX2 reader typed from the specification alone (KTX 2.0 §3; Khronos Data Format 1.3 §5), checking
 every rule a validator checks for an uncompressed, single-level 2-D float texture, independent of
-preintegrate.formats. No maintained KTX2 reader installs here: libktx's Python binding (pyktx) builds
+handoff.formats. No maintained KTX2 reader installs here: libktx's Python binding (pyktx) builds
 only against an installed libktx, and pyktx2 0.3.1 computes key/value padding modulo 8 instead of 4.
 """
 

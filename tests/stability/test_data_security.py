@@ -14,10 +14,10 @@ import pytest
 from basis.eigenbasis import Basis, BasisFileError, shipped_basis_path
 from basis.presets import PresetFileError, content_hash, material_presets, shipped_presets_path
 from basis.storage import JOURNAL, read_journal
-from preintegrate.exr import LutFileError, read_lut
-from preintegrate.formats import payload_hash
-from preintegrate.lut import SHIPPED_LUTS
-from preintegrate.tables import DEFAULT_BUILD_FILES
+from handoff.exr import LutFileError, read_lut
+from handoff.formats import payload_hash
+from handoff.shipped import SHIPPED_LUTS
+from handoff.tables import DEFAULT_BUILD_FILES
 from tests.conftest import assert_one_line_error, run
 from tests.references.ktx2 import read_ktx2
 
@@ -181,7 +181,7 @@ def test_ktx2_png_and_header_carry_pixel_type_and_content_hash(tmp_path, capsys)
 
 def _rewritten_exr(source, target, **changes):
     """The EXR ``source`` with header attributes changed and its content hash recomputed (a consistent edit)."""
-    from preintegrate.exr import content_hash as exr_hash
+    from handoff.exr import content_hash as exr_hash
 
     image = OpenEXR.File(str(source), separate_channels=True)
     header = dict(image.header())
@@ -293,11 +293,11 @@ def test_one_supported_range_of_terms_end_to_end(tmp_path, capsys):
         lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((4, 4, 2)), "0.5", 0.5),
         lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((4, 4, 2)), True, 0.5),
         lambda: __import__("preintegrate.lut", fromlist=["lut_lookup"]).lut_lookup(np.zeros((1, 4, 2)), 0.5, 0.5),
-        lambda: __import__("preintegrate.formats", fromlist=["png16_encoding"]).png16_encoding([1.0, 2.0]),
+        lambda: __import__("handoff.formats", fromlist=["png16_encoding"]).png16_encoding([1.0, 2.0]),
         lambda: read_lut(3),
         lambda: read_lut(b"ggx_basis_rgba.exr"),
         lambda: __import__("preintegrate.multiple_scattering", fromlist=["basis_albedo"]).basis_albedo(
-            np.zeros(4), 0.5, 0.5
+            np.zeros(4), 0.5, 0.5, __import__("handoff.shipped", fromlist=["shipped_tables"]).shipped_tables()
         ),
     ],
     ids=[

@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from basis.storage import JOURNAL, FolderWarning, read_journal
-from preintegrate.exr import read_lut
-from preintegrate.lut import BASIS_LUT, SHIPPED_LUTS
+from handoff.exr import read_lut
+from handoff.shipped import BASIS_LUT, SHIPPED_LUTS
 from tests.conftest import assert_one_line_error, run, run_subprocess
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -140,7 +140,7 @@ def test_a_crafted_scene_list_removes_no_build_table(built, tmp_path, capsys):
                     "m": {"lut": "ggx_basis_rgba.exr", "second_lut": "ggx_schlick_rgb.exr"},
                     "n": {"lut": "notes.png", "second_lut": "ggx_ltc.exr"},
                 },
-                "scene_basis": {"file": "fresnel_basis_material.glsl"},
+                "scene_basis": {"file": "fresnel_basis.glsl"},
                 "shader_includes": ["ggx_albedo_average.exr", "../d1/ggx_basis_rgba.exr"],
             }
         ),

@@ -17,10 +17,10 @@ import pytest
 
 from basis import default_basis
 from basis.validation import safe_line
-from preintegrate.exr import read_lut
-from preintegrate.formats import FORMATS, payload_hash
-from preintegrate.shaders import shader_includes
-from preintegrate.tables import Table, write_tables
+from handoff.exr import read_lut
+from handoff.formats import FORMATS, payload_hash
+from handoff.shaders import shader_includes
+from handoff.tables import Table, write_tables
 from tests.conftest import gpu_missing, read_png16, run
 from tests.references.ktx2 import read_ktx2
 

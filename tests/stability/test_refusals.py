@@ -15,9 +15,9 @@ from basis.eigenbasis import Basis, BasisFileError, shipped_basis_path
 from basis.presets import PresetFileError, material_presets, shipped_presets_path
 from basis.validation import ParameterError
 from fresnel_lut.scene import SceneError, read_scene
-from preintegrate.exr import LutFileError, exr_writer, read_lut
+from handoff.exr import LutFileError, exr_writer, read_lut
+from handoff.shaders import shader_includes
 from preintegrate.lut import LutGrid
-from preintegrate.shaders import shader_includes
 from tests.conftest import assert_one_line_error, run
 
 

@@ -15,8 +15,8 @@ import pytest
 
 from basis.eigenbasis import shipped_basis_path
 from basis.validation import ParameterError
+from handoff.exr import read_lut, write_lut
 from preintegrate.channels import basis_channels, combine, schlick_table_channels
-from preintegrate.exr import read_lut, write_lut
 from preintegrate.lut import build_table
 
 SIZE = 128

@@ -16,10 +16,10 @@ from pathlib import Path
 import pytest
 
 from basis.storage import recover_folder
-from preintegrate import exr
-from preintegrate.exr import read_lut
-from preintegrate.lut import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, SHIPPED_LUTS
-from preintegrate.tables import DEFAULT_BUILD_FILES
+from handoff import exr
+from handoff.exr import read_lut
+from handoff.shipped import AVERAGE_LUT, BASIS_LUT, SCHLICK_LUT, SHIPPED_LUTS
+from handoff.tables import DEFAULT_BUILD_FILES
 from tests.conftest import assert_one_line_error, fail_on_call, run
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -1,4 +1,4 @@
-"""LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`preintegrate.exr`.)
+"""LUT files for engines that do not read EXR: KTX2, 16-bit PNG and a C/C++ header. (EXR is :mod:`handoff.exr`.)
 
 Public objects: ``FORMATS``, ``MAX_HEADER_VALUES``, ``Format``, ``check_formats``, ``file_family``, ``payload_hash``, ``ktx2_bytes``, ``png16_encoding``, ``png16_bytes``, ``c_identifier``, ``c_header``.
 
@@ -85,7 +85,7 @@ def _bytes_writer(data: bytes) -> Callable[[Path], None]:
 
 
 def _half_rounded(table, half: bool) -> np.ndarray:
-    """The table as a ``--half`` build stores it (:func:`preintegrate.exr.stored_values`), so that every format of
+    """The table as a ``--half`` build stores it (:func:`handoff.exr.stored_values`), so that every format of
     one build holds the same values."""
     return stored_values(table, True).astype(np.float64) if half else table
 

@@ -1,4 +1,4 @@
-"""LUT files beside EXR (preintegrate/formats.py), read back by consumers that share no code with the writers:
+"""LUT files beside EXR (handoff/formats.py), read back by consumers that share no code with the writers:
 16-bit PNG decoded by pypng, the C header compiled and run by gcc, KTX2 read by a reader typed from the
 specification (tests/references/ktx2.py). Each round-trips to the EXR within its precision: the PNG
 within half a 16-bit step of its stated scale, the header and KTX2 exactly (float32, or half as the
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from preintegrate.exr import read_lut
+from handoff.exr import read_lut
 from tests.conftest import assert_one_line_error, read_png16, run
 
 
@@ -76,7 +76,7 @@ def test_png16_reads_the_same_in_the_loaders_engines_use(built, name, reader):
 def test_png16_stores_unit_channels_as_they_are(built):
     """Channels in [0, 1] keep offset 0 and scale 1 (README), also b̄0, Schlick's scale and E, which the quadrature
     takes 2e-8 past 1 at normal incidence (issue 26 item 19: they were given offsets of 0.31 and 0.019)."""
-    from preintegrate.formats import PNG16_SLACK, png16_encoding
+    from handoff.formats import PNG16_SLACK, png16_encoding
 
     for name, unit in (("ggx_basis_rgba", [0, 1, 2]), ("ggx_schlick_rgb", [0, 1, 2]), ("ggx_albedo_average", [0])):
         table, _ = read_lut(built / f"{name}.exr")
@@ -125,9 +125,9 @@ def test_formats_are_checked_before_the_work_and_png_alone_works(tmp_path, capsy
     assert not (tmp_path / "x").exists()
     assert run(["build", "--size", 8, "--format", "png16", "--out", tmp_path / "png"]) == 0
     assert sorted(path.name for path in (tmp_path / "png").iterdir()) == [
-        "fresnel_basis_material.glsl",  # the shader includes of the basis go with every default build
-        "fresnel_basis_material.hlsl",
-        "fresnel_basis_material.wgsl",
+        "fresnel_basis.glsl",  # the shader includes of the basis go with every default build
+        "fresnel_basis.hlsl",
+        "fresnel_basis.wgsl",
         "ggx_albedo_average.png",
         "ggx_basis_rgba.png",
         "ggx_schlick_rgb.png",
@@ -164,7 +164,7 @@ def test_ktx2_is_valid_and_round_trips_to_the_exr(tmp_path_factory, name, half):
 
 def test_ktx2_refuses_tables_it_cannot_hold():
     from basis.validation import ParameterError
-    from preintegrate.formats import c_header, ktx2_bytes, png16_bytes
+    from handoff.formats import c_header, ktx2_bytes, png16_bytes
 
     with pytest.raises(ParameterError, match="NaN or inf"):
         ktx2_bytes(np.full((2, 2, 4), np.nan), {})

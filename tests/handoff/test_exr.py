@@ -1,4 +1,4 @@
-"""EXR LUT I/O (preintegrate.exr): exact round trips, headers, refusal of bad data, atomic writes.
+"""EXR LUT I/O (handoff.exr): exact round trips, headers, refusal of bad data, atomic writes.
 
 References: numpy's own float32/float16 casts (IEEE round-to-nearest-even), the raw OpenEXR bindings,
 and byte comparison of files.
@@ -13,8 +13,8 @@ import OpenEXR
 import pytest
 
 from basis.validation import ParameterError
-from preintegrate import exr
-from preintegrate.exr import LutFileError, read_lut, write_lut, write_luts
+from handoff import exr
+from handoff.exr import LutFileError, read_lut, write_lut, write_luts
 
 RGBA = ("R", "G", "B", "A")
 RG = ("R", "G")

@@ -1,14 +1,14 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
 Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
-``ltc_build_table``, ``kept_ltc_grid``, ``table_file_name``,
+``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
 channel names and its header. :func:`default_tables` is the list a default build writes (the basis table, split
 into RGBA files of four terms; Schlick's scale, bias and E; the one-column E_avg), :func:`model_table` a linear
 model's own exact table; :func:`write_tables` writes any list in every format of
-:data:`preintegrate.formats.FORMATS` as one transaction that owns its set (:func:`basis.storage.write_together`).
+:data:`handoff.formats.FORMATS` as one transaction that owns its set (:func:`basis.storage.write_together`).
 ``fresnel-lut build`` and ``fresnel-lut scene`` both write through it, and so does every later table.
 """
 
@@ -26,8 +26,7 @@ from basis.eigenbasis import Basis, resolve_basis
 from basis.models import fresnel_model
 from basis.storage import write_together
 from basis.validation import ParameterError, check_positive_int
-
-from .channels import (
+from preintegrate.channels import (
     ChannelSet,
     average_albedo_channels,
     basis_channels,
@@ -35,24 +34,16 @@ from .channels import (
     model_channels,
     schlick_table_channels,
 )
+from preintegrate.ggx import VISIBILITIES
+from preintegrate.ltc import LTC_CHANNELS, LtcFit, LtcGrid, fit_ltc
+from preintegrate.lut import LutGrid, build_table
+from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
+from preintegrate.quadrature import DEFAULT_ORDER
+
 from .exr import read_lut
 from .formats import FORMATS, check_formats, file_family
-from .ggx import VISIBILITIES
-from .ltc import LtcGrid, fit_ltc, ltc_table
-from .lut import (
-    AVERAGE_LUT,
-    BASIS_LUT,
-    LTC_LUT,
-    RGBA,
-    SCHLICK_LUT,
-    LutGrid,
-    build_table,
-    lut_attributes,
-    model_lut_name,
-)
-from .multiple_scattering import AVERAGE_NODES, average_albedo
-from .quadrature import DEFAULT_ORDER
-from .shaders import SHADER_INCLUDES, shader_includes
+from .shaders import LANGUAGES, SHADER_INCLUDES, shader_includes
+from .shipped import AVERAGE_LUT, BASIS_LUT, LTC_LUT, RGBA, SCHLICK_LUT, lut_attributes, model_lut_name, table_header
 
 __all__ = [
     "DEFAULT_BUILD_FILES",
@@ -61,6 +52,7 @@ __all__ = [
     "default_tables",
     "kept_ltc_grid",
     "ltc_build_table",
+    "ltc_table",
     "model_table",
     "rgba_tables",
     "table_file_name",
@@ -91,12 +83,14 @@ def _stem(file_name: str) -> str:
 DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
 
 
-#: Every file of a default build of a four-term basis: the tables and the generated shader includes.
+#: Every file of a default build of a four-term basis: the tables and the generated shader include.
 DEFAULT_BUILD_FILES = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT, *(name for name, _ in SHADER_INCLUDES.values()))
+#: The includes of the builds before one include per build (December 2026): a build removes them with its set.
+LEGACY_INCLUDES = tuple(f"fresnel_basis_material.{language}" for language in LANGUAGES)
 
 
 def table_file_name(name: str, format_name: str = "exr") -> str:
-    """The file a table of stem ``name`` is written to in a format of :data:`~preintegrate.formats.FORMATS`."""
+    """The file a table of stem ``name`` is written to in a format of :data:`~handoff.formats.FORMATS`."""
     return name + FORMATS[check_formats([format_name])[0]].suffix
 
 
@@ -179,7 +173,7 @@ def model_table(
     command: str = "fresnel-lut build --model",
 ) -> tuple[Table, ChannelSet]:
     """The exact split-sum table of a linear model with its shape parameters (defaults filled in), named by both
-    (:func:`preintegrate.lut.model_lut_name`), and its channel set (whose ``combination`` says how to read it)."""
+    (:func:`handoff.shipped.model_lut_name`), and its channel set (whose ``combination`` says how to read it)."""
     grid = LutGrid(128, 128) if grid is None else grid
     found = fresnel_model(model)
     given = dict(shape or {})
@@ -252,7 +246,7 @@ def write_default_build(
     ltc_progress: Callable[[int, int], None] | None = None,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
-    the shader includes generated from the same basis (:mod:`preintegrate.shaders`) in the same
+    the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
     area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too."""
     formats = check_formats(formats)  # refused before the work
@@ -274,7 +268,7 @@ def write_default_build(
         half,
         texts=includes,
         owned=DEFAULT_SET + ((_stem(LTC_LUT),) if ltc is not None else ()),
-        owned_files=[name for name, _ in SHADER_INCLUDES.values()],
+        owned_files=[*(name for name, _ in SHADER_INCLUDES.values()), *LEGACY_INCLUDES],
     )
 
 
@@ -301,8 +295,26 @@ def kept_ltc_grid(out, visibility: str) -> LtcGrid | None:
 
 def ltc_build_table(grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:
     """The area lights' LTC table (:mod:`preintegrate.ltc`) as a :class:`Table` named after :data:`LTC_LUT`."""
-    values, names, header = ltc_table(fit_ltc(grid, progress))
-    return Table(_stem(LTC_LUT), values, names, header)
+    return ltc_table(fit_ltc(grid, progress))
+
+
+def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:
+    """A fitted LTC table: the stored M⁻¹ entries (size, size, 4), their names and the header with the fit's method
+    and lobe error."""
+    grid = fit.grid
+    header = table_header(
+        "ltc",
+        LTC_CHANNELS,
+        "specular = polygon integral of the LTC x split sum of the basis table (sum_k c_k b_k)",
+        grid.size,
+        grid.size,
+        command,
+        grid.convention,
+        ltc_fit=fit.method,
+        ltc_lobe_error_max=f"{float(np.max(fit.error)):.6g}",
+        ltc_lobe_error_mean=f"{float(np.mean(fit.error)):.6g}",
+    )
+    return Table(_stem(LTC_LUT), fit.inverse, LTC_CHANNELS, header)
 
 
 def write_model_build(

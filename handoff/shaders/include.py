@@ -1,0 +1,393 @@
+"""The shader include of a build: one self-contained file per language, every function written once.
+
+Public objects: ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_source``, ``shader_includes``.
+
+The include is assembled in the project's GLSL subset (:mod:`handoff.shaders.translate`) and printed in each
+language: the header, the constants of :class:`~handoff.shaders.constants.ShaderConstants`, the few functions whose
+statements depend on the basis (the fit angles' exact Fresnel, the solve, the curves' Horner steps, the terms
+record of a basis of five to eight terms), then the bodies of ``source/*.glsl`` with their placeholders filled in:
+
+* ``{{terms}}``: one channel's coefficients and terms: ``vec4`` for K ≤ 4, ``FresnelTerms8`` (``.lo`` terms 0-3,
+  ``.hi`` 4-7) for K > 4;
+* ``{{solve}}``, ``{{linear}}``, ``{{curves}}``, ``{{fetch}}``, ``{{averages}}``, ``{{albedo}}``, ``{{column}}``:
+  statements or expressions generated from the basis and the grid;
+* a texture ``lut2`` (the second table of a basis of five to eight terms) and every argument passing it exist only
+  where K > 4.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from basis.eigenbasis import Basis
+from basis.models.formulas import F82_MU, lazanyi_dip
+from basis.validation import ParameterError, safe_line
+from preintegrate.lut import LutGrid
+
+from .constants import ShaderConstants, segment_map, shader_constants
+from .translate import LANGUAGES, translate
+
+__all__ = ["INCLUDE_STEM", "SHADER_INCLUDES", "shader_includes", "shader_source"]
+
+#: The bodies, in the order the include holds them (each may call only what stands before it).
+SOURCES = ("fresnel.glsl", "coefficients.glsl", "direct.glsl", "tables.glsl", "area.glsl")
+SOURCE_FOLDER = Path(__file__).resolve().parent / "source"
+#: The include's file name without its suffix (a scene's: ``fresnel_basis_scene``).
+INCLUDE_STEM = "fresnel_basis"
+_DESCRIPTIONS = {"glsl": "GLSL 3.30 / 4.50 / ES 3.00", "hlsl": "HLSL", "wgsl": "WGSL"}
+
+
+def _number(value: float) -> str:
+    """A constant as a float32 literal of every shading language; a value that none can hold (NaN, inf, beyond
+    float32) is refused here, before any include is written, so that a generated include always compiles."""
+    value = float(value)
+    if not np.isfinite(value) or abs(value) > np.finfo(np.float32).max:
+        raise ParameterError(f"a shader constant must be a finite float32 number, got {value!r}")
+    text = f"{value:.9g}"
+    return text if any(mark in text for mark in ".en") else text + ".0"
+
+
+def _exponent(value: float, digits: int = 0) -> str:
+    """1e-5, 3.1e-5: a tolerance as the comments write it."""
+    return f"{value:.{digits}e}".replace("e-0", "e-").replace("e+0", "e")
+
+
+def _vector_type(width: int) -> str:
+    return "float" if width == 1 else f"vec{width}"
+
+
+def _value(values) -> str:
+    values = np.atleast_1d(np.asarray(values, dtype=np.float64))
+    if len(values) == 1:
+        return _number(values[0])
+    return f"{_vector_type(len(values))}(" + ", ".join(_number(value) for value in values) + ")"
+
+
+def _constant(name: str, values, comment: str = "") -> str:
+    width = np.atleast_1d(values).size
+    return f"const {_vector_type(width)} {name} = {_value(values)};" + (f"  // {comment}" if comment else "")
+
+
+def _terms_constants(name: str, values, wide: bool, comment: str) -> list[str]:
+    """``values`` (K,) as one vec4 ``name`` (zero-padded), and ``name_HI`` (terms 4-7) for K > 4."""
+    padded = np.zeros(8 if wide else 4)
+    padded[: len(values)] = values
+    return [_constant(name, padded[:4], comment)] + ([_constant(f"{name}_HI", padded[4:], "terms 4-7")] if wide else [])
+
+
+def _terms_value(expressions: list[str], wide: bool) -> str:
+    """The terms record of up to eight scalar expressions (zero-padded)."""
+    padded = list(expressions) + ["0.0"] * ((8 if wide else 4) - len(expressions))
+    low = f"vec4({', '.join(padded[:4])})"
+    return f"fresnelTerms8({low}, vec4({', '.join(padded[4:])}))" if wide else low
+
+
+def _fit_chunks(n_angles: int) -> list[tuple[str, slice]]:
+    """The fit angles θ_2 … θ_(K−1) in vectors of at most four: (constant suffix, angles); none for K = 2."""
+    if n_angles == 0:
+        return []
+    if n_angles <= 4:
+        return [("", slice(0, n_angles))]
+    return [("", slice(0, 4)), ("_HI", slice(4, n_angles))]
+
+
+def _fit_parts(c: ShaderConstants) -> tuple[list[str], str, str]:
+    """(constants, functions, the solve's statements) of the K − 2 fit angles: exact Fresnel at each vector of at
+    most four angles (Hoffman's Fs times (1 + Fp/Fs) / 2, the angle terms constant: one division), then
+    c_(2+j) = Σ_i S⁻¹[j, i] (F(θ_i) − c0 − c1 b1(θ_i))."""
+    chunks = _fit_chunks(len(c.fit_mu))
+    constants, functions, rests = [], [], []
+    for suffix, part in chunks:
+        mu = c.fit_mu[part]
+        width, kind = len(mu), _vector_type(len(mu))
+        m, m2, s2 = (f"FRESNEL_FIT_MU_ROOT2{suffix}", f"FRESNEL_FIT_MU2{suffix}", f"FRESNEL_FIT_SIN2{suffix}")
+        constants += [
+            _constant(m, np.sqrt(2.0) * mu, "sqrt(2) cos(theta_i) of the fit angles"),
+            _constant(m2, mu**2, "cos^2"),
+            _constant(s2, (1.0 - mu) * (1.0 + mu), "sin^2"),
+            _constant(f"FRESNEL_FIT_B1{suffix}", c.fit_b1[part], "b1 at the fit angles"),
+        ]
+        name = "fresnelAtFitAngles" + ("Hi" if suffix else "")
+        if c.grazing_fit_angles:  # every angle beyond 45 degrees: eta^2 - kappa^2 - sin^2 as (eta - 1)(eta + 1) ...
+            difference = [f"    {kind} t = (eta - 1.0) * (eta + 1.0) - kappa2 + {m2};  // eta^2 - kappa^2 - sin^2"]
+        else:
+            difference = [
+                "    bool nearOne = abs(eta - 1.0) < 0.5;",
+                "    float base = (nearOne ? (eta - 1.0) * (eta + 1.0) : eta * eta) - kappa2;",
+                f"    {kind} t = base + (nearOne ? {m2} : -{s2});",
+            ]
+        components = "xyzw"[:width]
+        two_a2 = (
+            "fresnelTwoA2(t, u, e4)"
+            if width == 1
+            else f"{kind}(" + ", ".join(f"fresnelTwoA2(t.{axis}, u.{axis}, e4)" for axis in components) + ")"
+        )
+        body = [
+            *difference,
+            "    float e4 = 4.0 * eta * eta * kappa2;",
+            f"    {kind} s = sqrt(t * t + e4);",
+            f"    {kind} u = s + abs(t);",
+            f"    {kind} twoAMu = {m} * sqrt({two_a2});  // 2 a mu",
+            f"    {kind} r = s * {m2} + {s2} * {s2};",
+        ]
+        if width == 2:  # one division for both angles: den.x den.y < 1e31 over the documented (eta, kappa)
+            body += [
+                f"    {kind} den = (s + {m2} + twoAMu) * (r + twoAMu * {s2});",
+                "    float inverse = 1.0 / (den.x * den.y);",
+                f"    return (s + {m2} - twoAMu) * r * den.yx * inverse;",
+            ]
+        else:
+            body.append(f"    return (s + {m2} - twoAMu) * r / ((s + {m2} + twoAMu) * (r + twoAMu * {s2}));")
+        functions.append("\n".join([f"{kind} {name}(float eta, float kappa2)", "{", *body, "}", ""]))
+        rest = "rest" + ("Hi" if suffix else "")
+        rests.append(f"    {kind} {rest} = {name}(eta, kappa2) - f0 - (f90 - f0) * FRESNEL_FIT_B1{suffix};")
+    solved = []
+    for j, row in enumerate(c.inverse):
+        terms = []
+        for suffix, part in chunks:
+            width = part.stop - part.start
+            name = f"FRESNEL_FIT_INVERSE_{j}{suffix}"
+            constants.append(_constant(name, row[part], f"row {j} of S^-1" if not suffix else ""))
+            rest = "rest" + ("Hi" if suffix else "")
+            terms.append(f"{name} * {rest}" if width == 1 else f"dot({name}, {rest})")
+        solved.append(" + ".join(terms))
+    wide = c.n_terms > 4
+    statements = "\n".join([*rests, f"    return {_terms_value(['f0', 'f90 - f0', *solved], wide)};"])
+    return constants, "\n".join(functions), statements
+
+
+def _choose(conditions: list[str], values: list[str]) -> str:
+    """The value of the first true condition, else the last value: nested conditionals (values[i] where
+    conditions[i] is the first that holds), branch-free and with every index a literal."""
+    if len(values) == 1:
+        return values[0]
+    return f"({conditions[0]} ? {values[0]} : {_choose(conditions[1:], values[1:])})"
+
+
+def _curve_parts(c: ShaderConstants) -> tuple[list[str], str]:
+    """(constants, statements) of the direct-light curves b_1 … b_(K−1) (b_0 = 1 is not evaluated): the warped
+    cosine x, the segment of x, s on it, then the Horner steps of the polynomials, terms 1-3 in FRESNEL_CURVES and
+    4-7 in FRESNEL_CURVES_HI. With segments, each power's coefficients are chosen by conditionals on literal
+    indices: an index that varies per pixel into a constant array is an indirect load per lane (llvmpipe measured it
+    at half the cost of Schlick's whole pass; divergent constant-memory reads on GPUs)."""
+    edges, d, k = c.curve_segments, c.curve_degree, c.n_terms
+    wide = k > 4
+    polynomial = c.curve_polynomials.reshape(-1, k)  # (segments · (degree + 1), K)
+    parts = [("", "b" if not wide else "bLo", polynomial[:, 1 : min(k, 4)])]
+    if wide:
+        parts.append(("_HI", "bHi", polynomial[:, 4:]))
+    count = polynomial.shape[0]
+    constants = []
+    if c.curve_warp:
+        constants.append(_constant("FRESNEL_CURVE_WARP", c.curve_warp, "w of x = mu (1 + w) / (1 + w mu)"))
+    if len(edges) == 4:
+        constants.append(_constant("FRESNEL_CURVE_EDGES", edges, "segment edges in x"))
+        inner = [f"FRESNEL_CURVE_EDGES.{axis}" for axis in "yz"]
+    elif len(edges) > 2:
+        values = ", ".join(_number(edge) for edge in edges)
+        constants.append(f"const float FRESNEL_CURVE_EDGES[{len(edges)}] = float[{len(edges)}]({values});")
+        inner = [f"FRESNEL_CURVE_EDGES[{i}]" for i in range(1, len(edges) - 1)]
+    else:
+        inner = []
+    constants.append(f"const int FRESNEL_CURVE_DEGREE = {d};")
+    constants.append(
+        f"// b_1 .. b_{k - 1} (b_0 = 1) on segment j of x: sum_p FRESNEL_CURVES[j * {d + 1} + p] * s^p, "
+        "s = 2 (x - lo) / (hi - lo) - 1"
+    )
+    for suffix, _, rows in parts:
+        kind = _vector_type(rows.shape[1])
+        body = ",\n".join("    " + _value(row) for row in rows)
+        constants.append(f"const {kind} FRESNEL_CURVES{suffix}[{count}] = {kind}[{count}](\n{body}\n);")
+    x = "mu * (1.0 + FRESNEL_CURVE_WARP) / (1.0 + FRESNEL_CURVE_WARP * mu)" if c.curve_warp else "mu"
+    statements = [f"    float x = {x};"]
+    conditions = [f"below{i}" for i in range(1, len(edges) - 1)]
+    statements += [f"    bool {name} = x < {edge};" for name, edge in zip(conditions, inner)]
+    scale, offset = segment_map(edges)
+    if conditions:
+        s = (
+            f"x * {_choose(conditions, [_number(value) for value in scale])} "
+            f"+ {_choose(conditions, [_number(value) for value in offset])}"
+        )
+    else:
+        s = f"x * {_number(scale[0])} {'-' if offset[0] < 0 else '+'} {_number(abs(offset[0]))}"
+    statements.append(f"    float s = {s};")
+    segments = len(edges) - 1
+
+    def coefficient(suffix: str, power: int) -> str:
+        return _choose(conditions, [f"FRESNEL_CURVES{suffix}[{j * (d + 1) + power}]" for j in range(segments)])
+
+    for suffix, name, rows in parts:
+        statements.append(f"    {_vector_type(rows.shape[1])} {name} = {coefficient(suffix, d)};")
+    for power in range(d - 1, -1, -1):
+        statements += [f"    {name} = {name} * s + {coefficient(suffix, power)};" for suffix, name, _ in parts]
+    low = f"vec4(1.0, {parts[0][1]}{', 0.0' * (4 - min(k, 4))})"
+    result = low if not wide else f"fresnelTerms8({low}, vec4(bHi{', 0.0' * (8 - k)}))"
+    statements.append(f"    return {result};")
+    return constants, "\n".join(statements)
+
+
+def _header(c: ShaderConstants, language: str, command: str) -> str:
+    k, m = c.n_terms, c.n_terms - 2
+    solve = (
+        f"exact Fresnel at the {m} fit angle{'s' if m != 1 else ''} + a constant {m}x{m} inverse"
+        if m
+        else "F(0), 1 - F(0)"
+    )
+    kind = "one vec4 per channel" if k <= 4 else "a FresnelTerms8 per channel (.lo terms 0-3, .hi terms 4-7)"
+    textures = "lut" if k <= 4 else "lut, lut2 (the build's two basis tables)"
+    sampler = {"glsl": "", "hlsl": " (and one SamplerState linearClamp after them)", "wgsl": " (and one sampler)"}
+    return "\n".join(
+        [
+            f"// fresnel-basis: Fresnel of basis {c.basis_hash} for real-time rendering ({_DESCRIPTIONS[language]}, "
+            f"{k} terms). Generated by",
+            f"// `{safe_line(command)}` from the basis and the tables' grid: do not edit, regenerate it. Self-contained:",
+            f"// use it beside the tables whose header says fresnel:basis_hash = {c.basis_hash}.",
+            "//",
+            "// Per pixel, per colour channel, " + kind + ' (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):',
+            f"//   fresnelCoefficientsNK(eta, kappa)               {solve}",
+            "//   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same",
+            "//   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)",
+            "//   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82",
+            "//   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)",
+            "//   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5",
+            "// then, with the same coefficients: image-based light fresnelBasisSplitSum (or",
+            "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights",
+            f"// fresnelBasisRectLight. Tables: {textures}{sampler[language]}, read at level 0 through",
+            "// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps); the Schlick table for fresnelSchlickSplitSum.",
+            "// Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to",
+            "// [0, 0.9999], the rest to [0, 1]).",
+            f"// Float32: coefficients within {_exponent(c.float32_tolerance)} of float64, the Fresnel curve they give "
+            f"within {_exponent(c.float32_curve_tolerance)}; the",
+            f"// direct-light curves within {_exponent(c.curve_error, 1)} of the basis' spline (float64; tests/luts/ "
+            "measures all three",
+            "// on the GPU).",
+            "",
+        ]
+    )
+
+
+def _record(wide: bool) -> str:
+    """The terms record and its dot product (one vec4 for K ≤ 4; FresnelTerms8 of two for K > 4)."""
+    if not wide:
+        return "\n".join(
+            [
+                "// One channel's coefficients times the terms: sum_k c_k x_k.",
+                "float fresnelTermsDot(vec4 c, vec4 x)",
+                "{",
+                "    return dot(c, x);",
+                "}",
+                "",
+            ]
+        )
+    return "\n".join(
+        [
+            "// A basis of five to eight terms: one channel's coefficients (or terms) as two vec4, terms 0-3 and 4-7.",
+            "struct FresnelTerms8",
+            "{",
+            "    vec4 lo;  // terms 0-3",
+            "    vec4 hi;  // terms 4-7",
+            "};",
+            "",
+            "FresnelTerms8 fresnelTerms8(vec4 lo, vec4 hi)",
+            "{",
+            "    FresnelTerms8 terms;",
+            "    terms.lo = lo;",
+            "    terms.hi = hi;",
+            "    return terms;",
+            "}",
+            "",
+            "float fresnelTermsDot(FresnelTerms8 c, FresnelTerms8 x)",
+            "{",
+            "    return dot(c.lo, x.lo) + dot(c.hi, x.hi);",
+            "}",
+            "",
+        ]
+    )
+
+
+def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build") -> str:
+    """The include in the project's GLSL subset, every placeholder filled in (GLSL as it is written)."""
+    c = constants
+    wide = c.n_terms > 4
+    fit_constants, fit_functions, solve = _fit_parts(c)
+    curve_constants, curves = _curve_parts(c)
+    projections = [
+        line
+        for name, row, what in zip(
+            ("SCALE", "BIAS", "DIP"), c.projections, ("1 - (1 - mu)^5", "(1 - mu)^5", "mu (1 - mu)^6")
+        )
+        for line in _terms_constants(f"FRESNEL_PROJECTION_{name}", row, wide, f"coefficients of {what}")
+    ]
+    linear = [
+        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
+        for s in ([""] + (["_HI"] if wide else []))
+    ]
+    grid = c.grid
+    column = (
+        "sqrt(fresnelSanitize(NdotV, 1.0, 0.0, 1.0))"
+        if grid.columns == "root-endpoints"
+        else ("fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")
+    )
+    fetch = "textureLod(lut, uv, 0.0)"
+    placeholders = {
+        "terms": "FresnelTerms8" if wide else "vec4",
+        "solve": solve,
+        "linear": f"    return {f'fresnelTerms8({linear[0]}, {linear[1]})' if wide else linear[0]};",
+        "curves": curves,
+        "column": column,
+        "fetch": f"fresnelTerms8({fetch}, textureLod(lut2, uv, 0.0))" if wide else fetch,
+        "averages": "fresnelTerms8(FRESNEL_BASIS_AVERAGES, FRESNEL_BASIS_AVERAGES_HI)"
+        if wide
+        else "FRESNEL_BASIS_AVERAGES",
+        "albedo": "b.lo.x" if wide else "b.x",
+    }
+    preamble = [
+        f"const uint FRESNEL_BASIS_HASH = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}",
+        *fit_constants,
+        *projections,
+        *_terms_constants("FRESNEL_BASIS_AVERAGES", c.averages, wide, "2 * integral of b_k(mu) mu dmu"),
+        *curve_constants,
+        _constant("FRESNEL_F82_SCHLICK_WEIGHT", (1.0 - F82_MU) ** 5, "(1 - 1/7)^5"),
+        _constant("FRESNEL_F82_DIP", lazanyi_dip(F82_MU), "(1/7) (1 - 1/7)^6"),
+        f"// The tables' grid ({grid.width} x {grid.height}, columns at {grid.columns}, rows at {grid.rows}): "
+        "fresnelBasisLutUV's affine maps.",
+        _constant("FRESNEL_LUT_COLUMNS", grid.column_mapping, "scale, offset"),
+        _constant("FRESNEL_LUT_ROWS", grid.row_mapping, "lo, hi, scale, offset"),
+        _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
+        "",
+    ]
+    bodies = [(SOURCE_FOLDER / name).read_text(encoding="utf-8") for name in SOURCES]
+    bodies.insert(1, fit_functions)  # after the exact Fresnel helpers, before the solve that calls them
+    text = "\n".join([_header(c, "glsl", command), *preamble, _record(wide), *bodies])
+    text = re.sub(r"\{\{(\w+)\}\}", lambda match: placeholders[match.group(1)], text)
+    if not wide:  # the second table exists only for five to eight terms
+        text = re.sub(r",\s*(?:sampler2D\s+)?lut2\b", "", text)
+    return text
+
+
+def _include(language: str) -> Callable[[ShaderConstants, str], str]:
+    def generate(constants: ShaderConstants, command: str) -> str:
+        source = shader_source(constants, command)
+        header_end = source.index("\nconst uint FRESNEL_BASIS_HASH")
+        return _header(constants, language, command) + translate(source[header_end:], language)
+
+    return generate
+
+
+#: Registry: language → (file name, generator(constants, command) → text) of the include.
+SHADER_INCLUDES: dict[str, tuple[str, Callable[[ShaderConstants, str], str]]] = {
+    language: (f"{INCLUDE_STEM}.{language}", _include(language)) for language in LANGUAGES
+}
+
+
+def shader_includes(
+    basis: Basis | None = None, command: str = "fresnel-lut build", grid: LutGrid | None = None, ltc_size: int = 64
+) -> list[tuple[str, str]]:
+    """(file name, text) of the include in every language for ``basis`` (default: the shipped one), its tables' grid
+    and the LTC table's size."""
+    constants = shader_constants(basis, grid, ltc_size)
+    return [(name, generate(constants, command)) for name, generate in SHADER_INCLUDES.values()]

@@ -1,0 +1,228 @@
+"""The shaders' arithmetic in Python, operation for operation (in float64): engines' CPU tools get the numbers the GPU
+computes, and the tests compare the two.
+
+Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
+``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
+``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``.
+
+* **(η, κ) per pixel** (Belcour 2020, "Coefficients"): c0 = F(0°) in closed form, c1 = F(90°) − c0 (F(90°) = 1 but
+  for η = 1, κ = 0), (c2 … c_(K−1)) = S⁻¹ (F(θ_i) − c0 − c1 b1(θ_i)) with the exact Fresnel equations (Hoffman
+  2020, "1823: Fresnel's Equations") at the K − 2 fit angles: for the shipped basis two Fresnel evaluations (one
+  vec2) and a constant 2 × 2 product.
+* **Gulbrandsen (r, g)** → (η, κ) in closed form (Gulbrandsen 2014, eq. 7–9) → the same solve.
+* **Linear artist models** (Schlick F0/F90; Hoffman 2019's F82; the F82 tint of Adobe, OpenPBR's
+  ``specular_color`` and MaterialX's ``color82``, Hoffman 2023 eq. 3; Hoffman 2023's generalised Adobe with
+  p = 5, eq. 6): F = Σ_n w_n t_n(μ) with t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶), so c = Σ_n w_n P_n with P_n the
+  four-point coefficients of t_n, three generated constants; w is a few flops of the parameters. The projection
+  is of the models' unclamped linear form (they agree with ``coefficients_from_model`` wherever the model's clamp
+  to [0, 1] is inactive at the fit angles).
+
+Inputs are sanitised as the shaders do (:func:`sanitize_nk`, :func:`sanitize_gulbrandsen`, :func:`sanitize_unit`):
+NaN becomes the documented fallback, everything else is clamped into the documented range, so no texel value gives
+NaN or inf.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from basis.models.formulas import adobe_dip_weight, f82_dip_weight
+from basis.validation import ParameterError, as_float_array, check_choice
+from preintegrate.ltc import LtcGrid
+from preintegrate.ltc import rect_light_integral as ltc_rect_light_integral
+
+from .constants import (
+    ETA_LIMITS,
+    KAPPA_LIMITS,
+    PER_PIXEL_MODELS,
+    REFLECTIVITY_LIMITS,
+    ShaderConstants,
+    linear_functions,
+    segment_map,
+    shader_constants,
+    warped_cosine,
+)
+
+__all__ = [
+    "coefficients_per_pixel_gulbrandsen",
+    "coefficients_per_pixel_model",
+    "coefficients_per_pixel_nk",
+    "direct_fresnel",
+    "linear_model_curve",
+    "ltc_coordinates",
+    "lut_coordinates",
+    "rect_light_specular",
+    "sanitize_gulbrandsen",
+    "sanitize_nk",
+    "sanitize_unit",
+]
+
+
+def sanitize_unit(value, fallback: float = 0.0, low: float = 0.0, high: float = 1.0) -> np.ndarray:
+    """A texel value as the shaders read it: NaN → ``fallback``, else clamped to [low, high] (±inf to the ends)."""
+    value = as_float_array("value", value, finite=False)
+    return np.where(np.isnan(value), fallback, np.clip(value, low, high))
+
+
+def sanitize_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
+    """(η, κ) as the shaders read them: clamped to :data:`ETA_LIMITS` and :data:`KAPPA_LIMITS`; NaN η → 1.5 (glass),
+    NaN κ → 0."""
+    return sanitize_unit(eta, 1.5, *ETA_LIMITS), sanitize_unit(kappa, 0.0, *KAPPA_LIMITS)
+
+
+def sanitize_gulbrandsen(reflectivity, edge_tint) -> tuple[np.ndarray, np.ndarray]:
+    """(r, g) as the shaders read them: r in :data:`REFLECTIVITY_LIMITS`, g in [0, 1]; NaN → 0."""
+    return sanitize_unit(reflectivity, 0.0, *REFLECTIVITY_LIMITS), sanitize_unit(edge_tint, 0.0)
+
+
+def _fresnel_at_fit_angles(eta: np.ndarray, kappa2: np.ndarray, constants: ShaderConstants) -> np.ndarray:
+    """(…, 2) exact Fresnel at the two fit angles as ``fresnelAtFitAngles`` computes it: Hoffman 2020's Fs and Fp/Fs
+    with the angle terms constant, F = ½ Fs (1 + Fp/Fs) = (s + μ² − 2aμ) r / ((s + μ² + 2aμ)(r + 2aμ sin²θ)),
+    r = s μ² + sin⁴θ: one division per angle (0 < μ < 1 keeps both denominators positive)."""
+    mu = constants.fit_mu
+    mu2, sin2 = mu * mu, (1.0 - mu) * (1.0 + mu)
+    eta, kappa2 = eta[..., None], kappa2[..., None]
+    if constants.grazing_fit_angles:
+        t = (eta - 1.0) * (eta + 1.0) - kappa2 + mu2
+    else:
+        near_one = np.abs(eta - 1.0) < 0.5
+        t = np.where(near_one, (eta - 1.0) * (eta + 1.0), eta * eta) - kappa2 + np.where(near_one, mu2, -sin2)
+    e4 = 4.0 * eta * eta * kappa2
+    s = np.sqrt(t * t + e4)
+    u = s + np.abs(t)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        two_a2 = np.where(t >= 0.0, u, e4 / u)
+    two_a_mu = np.sqrt(2.0) * mu * np.sqrt(two_a2)
+    r = s * mu2 + sin2 * sin2
+    return (s + mu2 - two_a_mu) * r / ((s + mu2 + two_a_mu) * (r + two_a_mu * sin2))
+
+
+def coefficients_per_pixel_nk(eta, kappa, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, 4) coefficients of (η, κ) texels, as ``fresnelCoefficientsNK`` computes them (inputs sanitised)."""
+    eta, kappa = sanitize_nk(eta, kappa)
+    return _coefficients_eta_kappa2(*np.broadcast_arrays(eta, kappa * kappa), constants)
+
+
+def _coefficients_eta_kappa2(eta: np.ndarray, kappa2: np.ndarray, constants: ShaderConstants | None) -> np.ndarray:
+    """``fresnelCoefficientsEtaKappa2``: the K-point solve of (η, κ²) in range, F(0) in closed form."""
+    return _coefficients_solve(((eta - 1.0) ** 2 + kappa2) / ((eta + 1.0) ** 2 + kappa2), eta, kappa2, constants)
+
+
+def _coefficients_solve(
+    f0: np.ndarray, eta: np.ndarray, kappa2: np.ndarray, constants: ShaderConstants | None
+) -> np.ndarray:
+    """``fresnelCoefficientsSolve``: c0 = F(0) = ``f0``, c1 = F(90°) − c0, the rest through the constant inverse."""
+    constants = shader_constants() if constants is None else constants
+    f90 = np.where((eta == 1.0) & (kappa2 == 0.0), 0.0, 1.0)
+    samples = _fresnel_at_fit_angles(eta, kappa2, constants)  # (…, 2)
+    rest = samples - f0[..., None] - (f90 - f0)[..., None] * constants.fit_b1
+    c23 = rest @ constants.inverse.T
+    return np.concatenate([f0[..., None], (f90 - f0)[..., None], c23], axis=-1)
+
+
+def _gulbrandsen_eta_kappa2(reflectivity: np.ndarray, edge_tint: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Gulbrandsen 2014 eq. 7-9 as the shaders write it. With q = √r, n = g n_min + (1 − g) n_max and
+    κ² = (r (n + 1)² − (n − 1)²)/(1 − r) factors exactly into g (n_max − n_min)(n − 1/n_max), each factor a sum of
+    positive terms: n_max − n_min = 2q (1 + q)/((1 − q)(1 + r)), n − 1/n_max = g 2q (1 − q)/((1 + r)(1 + q))
+    + (1 − g) 4q/(1 − r), whose product is 4 g r/((1 + r)(1 − q)) (g (1 − q)/(1 + r) + 2 (1 − g)/(1 − q)): two
+    reciprocals. Float32 then holds κ where the textbook form cancels (r → 0 with g → 1: 6e-4 in c2), and
+    n_max = (1 + q)/(1 − q) holds n − 1 (which F depends on as r → 0) to a few ulps: (1 + q)²/(1 − r) misses the
+    Fresnel curve by 5.9e-7 at r = 1e-7 in float32, this by 3.4e-7 at worst."""
+    g, r = edge_tint, reflectivity
+    q = np.sqrt(r)
+    over_1pr, over_1mq = 1.0 / (1.0 + r), 1.0 / (1.0 - q)
+    eta = g * (1.0 - r) * over_1pr + (1.0 - g) * (1.0 + q) * over_1mq
+    return eta, 4.0 * g * r * over_1pr * over_1mq * (g * (1.0 - q) * over_1pr + 2.0 * (1.0 - g) * over_1mq)
+
+
+def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, 4) coefficients of (r, g) texels, as ``fresnelCoefficientsGulbrandsen`` computes them."""
+    reflectivity, edge_tint = np.broadcast_arrays(*sanitize_gulbrandsen(reflectivity, edge_tint))
+    # Gulbrandsen's mapping is built so that F(0) = r: the shaders skip the closed form
+    return _coefficients_solve(reflectivity, *_gulbrandsen_eta_kappa2(reflectivity, edge_tint), constants)
+
+
+def _model_weights(model: str, parameters: dict[str, np.ndarray]) -> np.ndarray:
+    """(…, 3) weights w of t for a model of :data:`PER_PIXEL_MODELS` (parameters sanitised to [0, 1])."""
+    # the dip weights a are the model registry's own formulas (basis.models.formulas), which the shaders' constants
+    # FRESNEL_F82_SCHLICK_WEIGHT and FRESNEL_F82_DIP spell out for float32
+    if model == "schlick":
+        f0, f90 = parameters["f0"], parameters["f90"]
+        return np.stack(np.broadcast_arrays(f0, f90, np.zeros_like(f0)), axis=-1)
+    if model == "f82":  # Hoffman 2019 eq. 4
+        f0 = parameters["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -f82_dip_weight(f0, parameters["f82"])), axis=-1)
+    if model == "f82-tint":  # Hoffman 2023 eq. 3
+        f0 = parameters["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -adobe_dip_weight(f0, parameters["tint"])), axis=-1)
+    r0, r90, tint = parameters["r0"], parameters["r90"], parameters["tint"]  # Hoffman 2023 eq. 6, p = 5
+    return np.stack(np.broadcast_arrays(r0, r90, -adobe_dip_weight(r0, tint, r90)), axis=-1)
+
+
+def coefficients_per_pixel_model(model: str, constants: ShaderConstants | None = None, **parameters) -> np.ndarray:
+    """(…, 4) coefficients of a linear artist model of :data:`PER_PIXEL_MODELS` (each parameter a number or array in
+    [0, 1], NaN → 0), as the generated ``fresnelCoefficients…`` functions compute them: Σ_n w_n P_n."""
+    check_choice("model", model, list(PER_PIXEL_MODELS))
+    names = PER_PIXEL_MODELS[model][0]
+    if set(parameters) != set(names):
+        raise ParameterError(f"model {model!r} takes {list(names)}, got {sorted(parameters)}")
+    constants = shader_constants() if constants is None else constants
+    clean = {name: sanitize_unit(parameters[name]) for name in names}
+    return _model_weights(model, clean) @ constants.projections
+
+
+def lut_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, 2) texture coordinates (u, v) of (NdotV, r) on the tables' grid, as ``fresnelBasisLutUV`` computes them."""
+    constants = shader_constants() if constants is None else constants
+    return constants.grid.texture_coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
+
+
+def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, 2) texture coordinates of (NdotV, r) on the LTC table, as ``fresnelLtcUV`` computes them."""
+    constants = shader_constants() if constants is None else constants
+    return LtcGrid(constants.ltc_size).coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
+
+
+def rect_light_specular(
+    ltc_table, basis_table, normal, view, position, corners, roughness, coefficients, constants=None
+) -> np.ndarray:
+    """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
+    with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times the
+    split sum Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K) — bilinear fetches as a GPU
+    makes them."""
+    constants = shader_constants() if constants is None else constants
+    normal, view = as_float_array("normal", normal), as_float_array("view", view)
+    n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
+    sine = np.linalg.norm(np.cross(normal, view), axis=-1)
+    roughness = sanitize_unit(roughness, 0.5)
+    integral = ltc_rect_light_integral(
+        LtcGrid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
+    )
+    low, high, _, _ = constants.grid.row_mapping
+    terms = constants.grid.lookup(as_float_array("basis_table", basis_table), n_dot_v, np.clip(roughness, low, high))
+    return integral[..., None] * np.einsum("...ck,...k->...c", as_float_array("coefficients", coefficients), terms)
+
+
+def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:
+    """F(μ) of a model of :data:`PER_PIXEL_MODELS` in the linear form the shaders project (unclamped), parameters
+    sanitised to [0, 1]; μ broadcast against them: what :func:`coefficients_per_pixel_model` approximates."""
+    check_choice("model", model, list(PER_PIXEL_MODELS))
+    clean = {name: sanitize_unit(parameters[name]) for name in PER_PIXEL_MODELS[model][0]}
+    return np.sum(_model_weights(model, clean) * linear_functions(sanitize_unit(mu)), axis=-1)
+
+
+def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = None) -> np.ndarray:
+    """F(V·H) = Σ_k c_k b_k for a punctual light, as ``fresnelBasisDirect`` computes it: coefficients (…, 4) and
+    V·H (…) (clamped to [0, 1]) → (…), the curves from the generated polynomials in the warped cosine."""
+    constants = shader_constants() if constants is None else constants
+    coefficients = as_float_array("coefficients", coefficients)
+    x = warped_cosine(sanitize_unit(v_dot_h, 1.0), constants.curve_warp)
+    edges = np.asarray(constants.curve_segments)
+    segment = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
+    scale, offset = segment_map(edges)
+    s = x * scale[segment] + offset[segment]
+    polynomials = constants.curve_polynomials[segment]  # (…, degree + 1, K)
+    curves = polynomials[..., -1, :]
+    for power in range(constants.curve_degree - 1, -1, -1):  # Horner, as the shaders
+        curves = curves * s[..., None] + polynomials[..., power, :]
+    return np.sum(coefficients * curves, axis=-1)

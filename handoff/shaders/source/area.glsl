@@ -1,0 +1,117 @@
+// ---- Rectangular lights: linearly transformed cosines (Heitz, Dupuy, Hill, Neubelt 2016) with the same
+// coefficients. The LTC table (ggx_ltc, `fresnel-lut build --ltc`) has the public tables' axes and packing (three.js
+// LTC_Uv and ltc_1): u = r, v = sqrt(1 - NdotV), end points on texel centres, FRESNEL_LTC_SIZE texels a side.
+vec2 fresnelLtcUV(float NdotV, float perceptualRoughness)
+{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    return vec2(r, sqrt(1.0 - mu)) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+// The same from sin(theta_v) = |N x V| as well: sqrt(1 - NdotV) = sin / sqrt(1 + NdotV), which float32 holds as
+// NdotV -> 1, where this axis is steepest (1 - NdotV cancels: 0.016 texels of error, 3e-4 in a sharp lobe's light).
+vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
+{
+    float r = fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0);
+    float mu = fresnelSanitize(NdotV, 1.0, 0.0, 1.0);
+    float root = (mu > 0.0) ? min(sinV / sqrt(1.0 + mu), 1.0) : 1.0;
+    return vec2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
+}
+
+// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+float fresnelLtcEdge(vec3 p, vec3 q)
+{
+    vec3 c = cross(p, q);
+    float s = length(c);
+    return c.z * ((s > 1e-7) ? atan(s, dot(p, q)) / s : 1.0);
+}
+
+vec3 fresnelLtcUnit(vec3 v)
+{
+    return v / max(length(v), 1e-30);
+}
+
+// M^-1 of the table's (m00, m20, m02, m22) applied to w, given in the shading frame (T1, T2, N): the LTC's
+// M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]], written out (no matrix type: the three languages order them
+// differently).
+vec3 fresnelLtcTransform(vec4 t, vec3 w)
+{
+    return vec3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
+}
+
+// The integral of the clamped cosine over the quad p (Heitz 2016 eq. 11), clipped to the upper hemisphere edge by
+// edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its corners turn
+// counter-clockwise seen from the point that it lights, as three.js winds them).
+float fresnelLtcQuad(vec3 p[4])
+{
+    float sum = 0.0;
+    vec3 exitPoint = vec3(1.0, 0.0, 0.0);
+    vec3 entryPoint = vec3(0.0, 1.0, 0.0);
+    bool exits = false;
+    bool enters = false;
+    for (int i = 0; i < 4; ++i)
+    {
+        vec3 a = p[i];
+        vec3 b = p[(i + 1) & 3];
+        bool aboveA = a.z >= 0.0;
+        bool aboveB = b.z >= 0.0;
+        float denominator = a.z - b.z;
+        vec3 x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
+        if (aboveA || aboveB)
+        {
+            sum += fresnelLtcEdge(fresnelLtcUnit(aboveA ? a : x), fresnelLtcUnit(aboveB ? b : x));
+        }
+        if (aboveA && !aboveB)
+        {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB)
+        {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    if (exits && enters)
+    {
+        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+    }
+    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+}
+
+// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V: the
+// frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
+float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    vec4 t = textureLod(ltcLut, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    vec3 T1 = V - N * dot(V, N);
+    T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
+    float tangential = length(T1);
+    // a view within 1e-4 rad of the normal: any tangent (the LTC is isotropic there to float32's resolution)
+    vec3 other = (abs(N.x) < 0.9) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    T1 = (tangential > 1e-4) ? T1 / max(tangential, 1e-30) : normalize(cross(N, other));
+    vec3 T2 = cross(N, T1);
+    vec3 p[4];
+    for (int i = 0; i < 4; ++i)
+    {
+        vec3 w = corners[i] - P;
+        p[i] = fresnelLtcTransform(t, vec3(dot(w, T1), dot(w, T2), dot(w, N)));
+    }
+    return fresnelLtcQuad(p);
+}
+
+// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
+// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, sampler2D lut2, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelBasisSplitSum(lut, lut2, NdotV, r, cR, cG, cB);
+}
+
+// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
+vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 f0)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, NdotV, r, f0);
+}

@@ -1,0 +1,95 @@
+// Coefficients of (eta, kappa^2), already in range, whose F(0) is f0: c0 = f0, c1 = F(90) - c0, then the constant
+// inverse of the fit angles (Belcour, Bati, Barla 2020, "Coefficients").
+{{terms}} fresnelCoefficientsSolve(float f0, float eta, float kappa2)
+{
+    float f90 = (eta == 1.0 && kappa2 == 0.0) ? 0.0 : 1.0;
+{{solve}}
+}
+
+// The same with F(0) in closed form.
+{{terms}} fresnelCoefficientsEtaKappa2(float eta, float kappa2)
+{
+    float f0 = ((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2);
+    return fresnelCoefficientsSolve(f0, eta, kappa2);
+}
+
+// Coefficients of one channel's (eta, kappa).
+{{terms}} fresnelCoefficientsNK(float eta, float kappa)
+{
+    kappa = fresnelSanitize(kappa, 0.0, 0.0, 1e4);
+    return fresnelCoefficientsEtaKappa2(fresnelSanitize(eta, 1.5, 1e-4, 1e4), kappa * kappa);
+}
+
+// Gulbrandsen's (r, g) -> (eta, kappa^2) (JCGT 2014, eq. 7-9) for r in [0, 0.9999], g in [0, 1], with q = sqrt(r):
+// kappa^2 = (r (n + 1)^2 - (n - 1)^2) / (1 - r) factored exactly into g (n_max - n_min)(n - 1/n_max)
+// = 4 g r / ((1 + r)(1 - q)) (g (1 - q) / (1 + r) + 2 (1 - g) / (1 - q)), a product and a sum of positive terms (no
+// float32 cancellation). n_max = (1 + q) / (1 - q) keeps n - 1 to a few ulps as r -> 0.
+vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
+{
+    float q = sqrt(r);
+    float over1pr = 1.0 / (1.0 + r);
+    float over1mq = 1.0 / (1.0 - q);
+    float n = g * (1.0 - r) * over1pr + (1.0 - g) * (1.0 + q) * over1mq;
+    return vec2(n, 4.0 * g * r * over1pr * over1mq * (g * (1.0 - q) * over1pr + 2.0 * (1.0 - g) * over1mq));
+}
+
+// Gulbrandsen's F(0) is r itself: no closed-form F(0) needed.
+{{terms}} fresnelCoefficientsGulbrandsen(float r, float g)
+{
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    vec2 nk2 = fresnelGulbrandsenToEtaKappa2(r, fresnelSanitize(g, 0.0, 0.0, 1.0));
+    return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
+}
+
+// Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions
+// 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6).
+{{terms}} fresnelCoefficientsLinear(float w0, float w1, float w2)
+{
+{{linear}}
+}
+
+// Schlick 1994 with F90 (F90 = 1: the usual Schlick).
+{{terms}} fresnelCoefficientsSchlick(float f0, float f90)
+{
+    return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
+}
+
+// Hoffman 2019's absolute reflectance at arccos(1/7).
+{{terms}} fresnelCoefficientsF82(float f0, float f82)
+{
+    f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
+    f82 = fresnelSanitize(f82, 0.0, 0.0, 1.0);
+    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
+}
+
+// Adobe's F82 tint (OpenPBR specular_color, MaterialX color82; Hoffman 2023 eq. 3): a tint on Schlick at arccos(1/7).
+{{terms}} fresnelCoefficientsF82Tint(float f0, float tint)
+{
+    f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
+    tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
+    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+}
+
+// Hoffman 2023's generalised Adobe model, eq. 6, with p = 5.
+{{terms}} fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
+{
+    r0 = fresnelSanitize(r0, 0.0, 0.0, 1.0);
+    r90 = fresnelSanitize(r90, 0.0, 0.0, 1.0);
+    tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
+    return fresnelCoefficientsLinear(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+}
+
+// All three channels at once, for (eta, kappa) and (r, g) texture reads.
+void fresnelCoefficientsNK3(vec3 eta, vec3 kappa, out {{terms}} cR, out {{terms}} cG, out {{terms}} cB)
+{
+    cR = fresnelCoefficientsNK(eta.x, kappa.x);
+    cG = fresnelCoefficientsNK(eta.y, kappa.y);
+    cB = fresnelCoefficientsNK(eta.z, kappa.z);
+}
+
+void fresnelCoefficientsGulbrandsen3(vec3 r, vec3 g, out {{terms}} cR, out {{terms}} cG, out {{terms}} cB)
+{
+    cR = fresnelCoefficientsGulbrandsen(r.x, g.x);
+    cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
+    cB = fresnelCoefficientsGulbrandsen(r.z, g.z);
+}

@@ -1,0 +1,50 @@
+// The tables' texture coordinates of (NdotV, perceptual roughness): u = x * scale + offset of the column coordinate
+// x, v = clamp(r, lo, hi) * scale + offset (FRESNEL_LUT_COLUMNS, FRESNEL_LUT_ROWS: the half-texel remap of the
+// end-point texels of the grid that wrote this include), so that both ends of both axes are read exactly.
+vec2 fresnelBasisLutUV(float NdotV, float perceptualRoughness)
+{
+    float r = clamp(fresnelSanitize(perceptualRoughness, 0.5, 0.0, 1.0), FRESNEL_LUT_ROWS.x, FRESNEL_LUT_ROWS.y);
+    float x = {{column}};
+    return vec2(x * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+}
+
+// The preintegrated terms bbar_k at uv, read at level 0 (a mipmapped table would otherwise be read at the level that
+// screen-space derivatives pick).
+{{terms}} fresnelBasisTerms(sampler2D lut, sampler2D lut2, vec2 uv)
+{
+    return {{fetch}};
+}
+
+// The split sum of the basis (Belcour, Bati, Barla 2020, eq. 5): Fbar = sum_k c_k bbar_k(mu_o, r) per colour channel.
+vec3 fresnelBasisSplitSum(sampler2D lut, sampler2D lut2, float NdotV, float r, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelBasisLutUV(NdotV, r));
+    return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
+vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 f0)
+{
+    vec4 scaleBias = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    return f0 * scaleBias.x + vec3(scaleBias.y);
+}
+
+// The hemispherical average F_avg = sum_k c_k avg(b_k) (multiple-scattering compensation), clamped to [0, 1].
+vec3 fresnelBasisAverage({{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    {{terms}} averages = {{averages}};
+    vec3 average = vec3(fresnelTermsDot(cR, averages), fresnelTermsDot(cG, averages), fresnelTermsDot(cB, averages));
+    return clamp(average, vec3(0.0), vec3(1.0));
+}
+
+// The split sum compensated for multiple scattering (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single
+// bounce loses, 1 - E, returns scaled by F_avg. E is GGX's albedo without Fresnel, bbar_0 of the basis table itself
+// (b_0 = 1), so the compensation reads no other table.
+vec3 fresnelBasisMultipleScattering(sampler2D lut, sampler2D lut2, float NdotV, float r, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelBasisLutUV(NdotV, r));
+    vec3 single = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+    float lost = 1.0 - clamp({{albedo}}, 0.0, 1.0);
+    vec3 average = fresnelBasisAverage(cR, cG, cB);
+    return single + single * average / (vec3(1.0) - lost * average) * lost;
+}
