@@ -38,7 +38,7 @@ from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sp
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.ltc import AXES, LtcGrid, fit_ltc, stored_lobe_error
+from preintegrate.ltc import AXES, fit_ltc, ltc_grid, stored_lobe_error
 from preintegrate.lut import lut_lookup
 from preintegrate.quadrature import directional_albedo
 from tests.references.area_light import rect_light_reference
@@ -71,7 +71,7 @@ def three_table(version: str) -> np.ndarray | str:
 
 
 def peer_lines(tables: dict[str, np.ndarray]) -> list[str]:
-    grid = LtcGrid(64)
+    grid = ltc_grid(64)
     rng = np.random.default_rng(24)
     mu_o, roughness = rng.uniform(0.0, 1.0, 3000), rng.uniform(0.0, 1.0, 3000)
     lines = [
@@ -183,7 +183,7 @@ def main(argv=None) -> int:
     timings, fits = {}, {}
     for axis in AXES:
         started = time.perf_counter()
-        fits[axis] = fit_ltc(LtcGrid(arguments.ltc_size), axis=axis)
+        fits[axis] = fit_ltc(ltc_grid(arguments.ltc_size), axis=axis)
         timings[axis] = time.perf_counter() - started
     shipped = read_lut(shipped_path(LTC_LUT))[0]
     same = fits["mean"].inverse.shape == shipped.shape and np.array_equal(

@@ -51,7 +51,7 @@ from handoff.formats import FORMATS, MAX_HEADER_VALUES, check_formats
 from handoff.shipped import SCHLICK_LUT, model_lut_name
 from handoff.tables import write_default_build, write_model_build
 from preintegrate.ggx import VISIBILITIES
-from preintegrate.ltc import LtcGrid
+from preintegrate.ltc import ltc_grid
 from preintegrate.lut import LutGrid
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 
@@ -167,7 +167,7 @@ def command_build(arguments) -> int:
     if arguments.ltc_size is not None and not arguments.ltc:
         raise ParameterError("--ltc-size goes with --ltc")
     ltc = (
-        LtcGrid(
+        ltc_grid(
             check_positive_int(
                 "--ltc-size", 64 if arguments.ltc_size is None else arguments.ltc_size, low=2, high=1024
             ),
@@ -188,7 +188,7 @@ def command_build(arguments) -> int:
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     if arguments.model is None:
-        ltc_progress = Progress(f"fitting {ltc.size}x{ltc.size} LTC texels", "rows") if ltc is not None else None
+        ltc_progress = Progress(f"fitting {ltc.width}x{ltc.height} LTC texels", "rows") if ltc is not None else None
         paths = write_default_build(
             out, basis, grid, order, formats, arguments.half, progress, ltc, _after(progress, ltc_progress)
         )

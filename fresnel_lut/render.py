@@ -50,7 +50,7 @@ from basis.validation import check_choice, check_positive_int, check_range
 from handoff.shaders import direct_fresnel
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import LtcGrid, rect_light_integral
+from preintegrate.ltc import ltc_grid, rect_light_integral
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -302,7 +302,7 @@ def render_rect_light(
     view = np.broadcast_to([0.0, 0.0, 1.0], normals.shape)
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normals, view), axis=-1)
-    grid = LtcGrid(ltc_lut.shape[0], visibility)
+    grid = ltc_grid(ltc_lut.shape[0], visibility)
     integral = rect_light_integral(grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners)
     integral = np.where(mask, integral, 0.0)
     nodes = texel_centres(256)

@@ -35,7 +35,7 @@ from preintegrate.channels import (
     schlick_table_channels,
 )
 from preintegrate.ggx import VISIBILITIES
-from preintegrate.ltc import LTC_CHANNELS, LtcFit, LtcGrid, fit_ltc
+from preintegrate.ltc import LTC_CHANNELS, LtcFit, fit_ltc, ltc_grid
 from preintegrate.lut import LutGrid, build_table
 from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
 from preintegrate.quadrature import DEFAULT_ORDER
@@ -242,7 +242,7 @@ def write_default_build(
     formats=("exr",),
     half: bool = False,
     progress: Callable[[int, int], None] | None = None,
-    ltc: LtcGrid | None = None,
+    ltc: LutGrid | None = None,
     ltc_progress: Callable[[int, int], None] | None = None,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
@@ -251,13 +251,13 @@ def write_default_build(
     area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
-    if ltc is not None and not isinstance(ltc, LtcGrid):
-        raise ParameterError(f"ltc must be an LtcGrid or None, got {type(ltc).__name__}")
+    if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
+        raise ParameterError(f"ltc must be an LTC table's grid (preintegrate.ltc.ltc_grid) or None, got {ltc!r}")
     visibility = (LutGrid(128, 128) if grid is None else grid).visibility
     if ltc is not None and ltc.visibility != visibility:
         raise ParameterError(f"the LTC table's visibility {ltc.visibility!r} must be the build's, {visibility!r}")
     kept = kept_ltc_grid(out, visibility) if ltc is None else None  # refused before the work
-    includes = shader_includes(basis, grid=grid, ltc_size=(ltc or kept or LtcGrid()).size)
+    includes = shader_includes(basis, grid=grid, ltc_size=(ltc or kept or ltc_grid()).width)
     tables = default_tables(basis, grid, order, progress)
     if ltc is not None:
         tables.append(ltc_build_table(ltc, ltc_progress))
@@ -272,7 +272,7 @@ def write_default_build(
     )
 
 
-def kept_ltc_grid(out, visibility: str) -> LtcGrid | None:
+def kept_ltc_grid(out, visibility: str) -> LutGrid | None:
     """The grid of the LTC table a build without ``--ltc`` keeps in ``out`` (its includes address that table), None
     where there is none; a table of another visibility, or one that cannot be read, is refused with what to run."""
     path = Path(out) / LTC_LUT
@@ -282,7 +282,7 @@ def kept_ltc_grid(out, visibility: str) -> LtcGrid | None:
     try:
         _, header = read_lut(path)
         size = int(header["width"])
-        grids = [LtcGrid(size, form) for form in VISIBILITIES]
+        grids = [ltc_grid(size, form) for form in VISIBILITIES]
     except (ParameterError, KeyError) as error:
         raise ParameterError(f"{path} cannot be read as an LTC table ({error}): {refit}") from None
     found = next((grid for grid in grids if grid.convention == header.get("convention")), None)
@@ -293,7 +293,7 @@ def kept_ltc_grid(out, visibility: str) -> LtcGrid | None:
     return found
 
 
-def ltc_build_table(grid: LtcGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:
+def ltc_build_table(grid: LutGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:
     """The area lights' LTC table (:mod:`preintegrate.ltc`) as a :class:`Table` named after :data:`LTC_LUT`."""
     return ltc_table(fit_ltc(grid, progress))
 
@@ -306,8 +306,8 @@ def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:
         "ltc",
         LTC_CHANNELS,
         "specular = polygon integral of the LTC x split sum of the basis table (sum_k c_k b_k)",
-        grid.size,
-        grid.size,
+        grid.width,
+        grid.height,
         command,
         grid.convention,
         ltc_fit=fit.method,

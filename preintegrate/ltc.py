@@ -1,6 +1,6 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``LtcGrid``, ``LtcFit``, ``fit_ltc``,
+Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
 ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
 
@@ -17,7 +17,7 @@ entries). As the public fit does, M = R_y(θ) [[s, 0, t], [0, u, 0], [0, 0, 1]] 
 mean direction: the LTC's support is then the half-space facing that direction, which keeps it off the
 back-scattering half at grazing views (``axis="free"``, a fourth free entry, lowers the lobe error but spreads a
 thin layer there that glows on a glossy silhouette under a light on the viewer's side; ``benchmarks.area_lights``
-measures both). Per texel (μo, r) of an :class:`LtcGrid` (α = r²), (s, t, u)
+measures both). Per texel (μo, r) of an :func:`ltc_grid` (α = r²), (s, t, u)
 minimise the L2 distance ∫ (f̂ − D)² dω to the normalised cosine-weighted GGX lobe f̂(ω_i) = D_GGX(h) G2(μo, μi) / (4 μo E(μo, α))
 (no Fresnel: the split sum supplies it, Heitz 2016 §4.4), on a fixed set of directions, so the fit is
 deterministic: a grid of visible-normal samples of the lobe (Heitz 2018) and a grid of the sphere, weighted by the
@@ -26,7 +26,7 @@ incidence, each row starting from the one before or from the isotropic guess, wh
 ``fitLTC.cpp``, starts each texel from its neighbour; it minimises an L3 error by Nelder-Mead on random samples).
 
 Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m20, m02, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
-so the scale is free) on the axes of the public tables (:class:`LtcGrid`: column r, row √(1 − μo), end points on
+so the scale is free) on the axes of the public tables (:func:`ltc_grid`: column r, row √(1 − μo), end points on
 texel centres; three.js ``ltc_1`` and ``LTC_Uv``), so an engine's existing area-light code reads it unchanged.
 
 The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
@@ -52,7 +52,8 @@ import numpy as np
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int
 
-from .ggx import VISIBILITIES, g1, ndf, sample_vndf, view_vector, visibility_g2
+from .ggx import g1, ndf, roughness_to_alpha, sample_vndf, view_vector, visibility_g2
+from .lut import LTC_LAYOUT, LutGrid
 from .quadrature import directional_albedo
 
 __all__ = [
@@ -61,7 +62,8 @@ __all__ = [
     "LTC_CHANNELS",
     "MU_FLOOR",
     "LtcFit",
-    "LtcGrid",
+    "fit_points",
+    "ltc_grid",
     "fit_ltc",
     "lobe_error",
     "ltc_density",
@@ -84,76 +86,33 @@ _ITERATIONS_FIRST, _ITERATIONS = 80, 30
 ALPHA_FLOOR, MU_FLOOR = 1e-4, 1e-3
 
 
-@dataclasses.dataclass(frozen=True)
-class LtcGrid:
-    """The LTC table's axes, those of the public LTC tables (``ltc_code``, three.js ``LTC_Uv``), so that an engine's
-    existing area-light code reads it unchanged: column i ↔ perceptual roughness r = i / (size − 1), row j ↔
-    √(1 − μo) = j / (size − 1), end points on texel centres (u = r (size − 1)/size + 0.5/size, the same for v).
-    Measured against this project's texel-centre axes (μo, r) on random (μo, r): the end-point √(1 − μo) rows
-    reach normal incidence, where narrow lobes move fastest with μo (see ``report/area_lights.md``)."""
+def ltc_grid(size: int = 64, visibility: str = "height-correlated") -> LutGrid:
+    """The LTC table's grid (:data:`preintegrate.lut.LTC_LAYOUT`), the axes of the public LTC tables (``ltc_code``,
+    three.js ``LTC_Uv``), so that an engine's existing area-light code reads it unchanged: column i ↔ perceptual
+    roughness r = i / (size − 1), row j ↔ √(1 − μo) = j / (size − 1), end points on texel centres
+    (u = r (size − 1)/size + 0.5/size, the same for v). Measured against this project's texel-centre axes (μo, r) on
+    random (μo, r): the end-point √(1 − μo) rows reach normal incidence, where narrow lobes move fastest with μo (see
+    ``report/area_lights.md``). The fit stands at α ≥ :data:`ALPHA_FLOOR` and μo ≥ :data:`MU_FLOOR`
+    (:func:`fit_points`).
 
-    size: int = 64
-    visibility: str = "height-correlated"
+    >>> grid = ltc_grid(3)
+    >>> grid.roughness.tolist(), grid.mu_o.tolist()
+    ([0.0, 0.5, 1.0], [1.0, 0.75, 0.0])
+    """
+    size = check_positive_int("size", size, low=2, high=1024)
+    return LutGrid(size, size, rows="sine-endpoints", visibility=visibility, columns="roughness-endpoints")
 
-    def __post_init__(self):
-        check_positive_int("size", self.size, low=2, high=1024)
-        check_choice("visibility", self.visibility, list(VISIBILITIES))
 
-    @property
-    def roughness(self) -> np.ndarray:
-        """(size,) perceptual roughness of each column."""
-        return np.linspace(0.0, 1.0, self.size)
+def fit_points(grid: LutGrid) -> tuple[np.ndarray, np.ndarray]:
+    """(μo per row, α per column) at which an LTC table on ``grid`` is fitted: the grid's, at least :data:`MU_FLOOR`
+    and :data:`ALPHA_FLOOR` (the lobe of a mirror or of a view along the horizon has no finite LTC)."""
+    return np.maximum(grid.mu_o, MU_FLOOR), np.maximum(grid.alpha, ALPHA_FLOOR)
 
-    @property
-    def alpha(self) -> np.ndarray:
-        """(size,) GGX width fitted at each column (r², at least :data:`ALPHA_FLOOR`)."""
-        return np.maximum(self.roughness**2, ALPHA_FLOOR)
 
-    @property
-    def mu_o(self) -> np.ndarray:
-        """(size,) view cosine fitted at each row: 1 − (j / (size − 1))², at least :data:`MU_FLOOR`."""
-        return np.maximum(1.0 - np.linspace(0.0, 1.0, self.size) ** 2, MU_FLOOR)
-
-    @property
-    def convention(self) -> str:
-        return (
-            "column i <-> perceptual roughness r = i / (size - 1), GGX alpha = max(r^2, 1e-4); row j <-> "
-            "sqrt(1 - mu_o) = j / (size - 1) (mu_o at least 1e-3); row 0 first in the file (top); end points on texel "
-            "centres: u = r * (size - 1) / size + 0.5 / size, v = sqrt(1 - mu_o) * (size - 1) / size + 0.5 / size "
-            "(the axes of the public LTC tables, three.js LTC_Uv); values are (m00, m20, m02, m22) of M^-1 / "
-            "M^-1[1][1], M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]] (GLSL mat3(vec3(m00, 0, m20), vec3(0, 1, 0), "
-            "vec3(m02, 0, m22))), in the frame T1 = tangential part of the view, T2 = N x T1, N, of the linearly "
-            "transformed cosine fitted to rho_GGX(omega_o, omega_i) cos(theta_i) / E (Heitz 2016), GGX with "
-            + VISIBILITIES[self.visibility].header
-        )
-
-    def coordinates(self, mu_o, roughness, sine=None) -> np.ndarray:
-        """(…, 2) texture coordinates (u, v) of (μo, r), as ``fresnelLtcUV`` computes them; with ``sine`` = |N × V|,
-        √(1 − μo) = sine / √(1 + μo) as ``fresnelLtcRect`` computes it (1 − μo cancels in float32 as μo → 1, where
-        this axis is steepest: a float32 N·V moves the lookup by up to 0.016 texels there, the cross product
-        does not)."""
-        scale, bias = (self.size - 1) / self.size, 0.5 / self.size
-        mu_o = np.clip(np.asarray(mu_o, dtype=np.float64), 0.0, 1.0)
-        roughness = np.clip(np.asarray(roughness, dtype=np.float64), 0.0, 1.0)
-        if sine is None:
-            root = np.sqrt(1.0 - mu_o)
-        else:
-            root = np.where(mu_o > 0.0, np.minimum(np.asarray(sine, dtype=np.float64) / np.sqrt(1.0 + mu_o), 1.0), 1.0)
-        return np.stack(np.broadcast_arrays(roughness * scale + bias, root * scale + bias), axis=-1)
-
-    def lookup(self, table, mu_o, roughness, sine=None) -> np.ndarray:
-        """(…, 4) bilinear, clamp-to-edge fetch of the table at (μo, r) (and ``sine``, see :meth:`coordinates`), as a
-        GPU samples it at level 0."""
-        table = np.asarray(table, dtype=np.float64)
-        uv = self.coordinates(mu_o, roughness, sine) * self.size - 0.5
-        uv = np.clip(uv, 0.0, self.size - 1.0)
-        low = np.minimum(np.floor(uv).astype(int), self.size - 2)
-        t = uv - low
-        i, j = low[..., 0], low[..., 1]
-        tu, tv = t[..., 0:1], t[..., 1:2]
-        top = table[j, i] * (1.0 - tu) + table[j, i + 1] * tu
-        bottom = table[j + 1, i] * (1.0 - tu) + table[j + 1, i + 1] * tu
-        return top * (1.0 - tv) + bottom * tv
+def _checked_grid(grid) -> LutGrid:
+    if not isinstance(grid, LutGrid) or (grid.columns, grid.rows) != LTC_LAYOUT:
+        raise ParameterError(f"grid must be an LTC table's grid (ltc_grid), got {grid!r}")
+    return grid
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -162,7 +121,7 @@ class LtcFit:
     M, ``inverse`` (size, size, 4) = the stored (m00, m20, m02, m22) of M⁻¹ / (M⁻¹)₁₁, ``error`` (size, size) =
     ½∫|f̂ − D| dω per texel."""
 
-    grid: LtcGrid
+    grid: LutGrid
     parameters: np.ndarray
     inverse: np.ndarray
     error: np.ndarray
@@ -340,15 +299,17 @@ def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations, axis) -> tuple
     return free, _unpack(free, theta)
 
 
-def lobe_error(parameters, grid: LtcGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
+def lobe_error(parameters, grid: LutGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
     """(size, size) half the L1 distance ½∫|f̂ − D| dω between the target lobe and the LTC of ``parameters``
     (size, size, 4) = (a, b, c, d), on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint)."""
+    grid = _checked_grid(grid)
     albedo = _albedo(grid) if albedo is None else albedo
-    errors = np.empty((grid.size, grid.size))
-    for row, mu in enumerate(grid.mu_o):
-        mu_o = np.full(grid.size, mu)
-        directions, weights = _directions(mu_o, grid.alpha, count)
-        target = target_lobe(directions, mu_o[:, None], grid.alpha[:, None], albedo[row][:, None], grid.visibility)
+    mu_rows, alpha = fit_points(grid)
+    errors = np.empty((grid.height, grid.width))
+    for row, mu in enumerate(mu_rows):
+        mu_o = np.full(grid.width, mu)
+        directions, weights = _directions(mu_o, alpha, count)
+        target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[row][:, None], grid.visibility)
         errors[row] = 0.5 * np.sum(weights * np.abs(target - ltc_density(directions, parameters[row])), axis=-1)
     return errors
 
@@ -359,7 +320,7 @@ def stored_lobe_error(stored, mu_o, roughness, visibility: str = "height-correla
     points at a time (2 × count² directions each)."""
     stored = as_float_array("stored", stored)
     mu_o = np.maximum(as_float_array("mu_o", mu_o), MU_FLOOR)
-    alpha = np.maximum(as_float_array("roughness", roughness) ** 2, ALPHA_FLOOR)
+    alpha = np.maximum(roughness_to_alpha(as_float_array("roughness", roughness)), ALPHA_FLOOR)
     errors = []
     for part in np.array_split(np.arange(len(mu_o)), max(1, -(-len(mu_o) // 256))):
         albedo = directional_albedo(
@@ -376,15 +337,12 @@ def stored_lobe_error(stored, mu_o, roughness, visibility: str = "height-correla
     return np.concatenate(errors)
 
 
-def _albedo(grid: LtcGrid) -> np.ndarray:
+def _albedo(grid: LutGrid) -> np.ndarray:
     """(size, size) E(μo, α) with F = 1 at the fitted points, by the project's quadrature (3e-8 against an
     independent integral)."""
+    mu_rows, alpha = fit_points(grid)
     return directional_albedo(
-        lambda x: np.ones(np.shape(x) + (1,)),
-        grid.mu_o[:, None],
-        grid.alpha[None, :],
-        visibility=grid.visibility,
-        workers=1,
+        lambda x: np.ones(np.shape(x) + (1,)), mu_rows[:, None], alpha[None, :], visibility=grid.visibility, workers=1
     )[..., 0]
 
 
@@ -393,7 +351,7 @@ AXES = ("mean", "free")
 
 
 def fit_ltc(
-    grid: LtcGrid | None = None,
+    grid: LutGrid | None = None,
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     axis: str = "mean",
@@ -402,17 +360,16 @@ def fit_ltc(
     incidence, the roughness columns of a row shared among ``workers`` threads (default: the machine's cores; the
     result is the same bits); ``axis`` one of :data:`AXES` (module docstring: the benchmark measures both)."""
     check_choice("axis", axis, AXES)
-    grid = LtcGrid() if grid is None else grid
-    if not isinstance(grid, LtcGrid):
-        raise ParameterError(f"grid must be an LtcGrid, got {type(grid).__name__}")
+    grid = ltc_grid() if grid is None else _checked_grid(grid)
     albedo = _albedo(grid)
-    alpha = grid.alpha
-    fitted = np.empty((grid.size, grid.size, 4))
-    chunks = np.array_split(np.arange(grid.size), min(grid.size, 4 * worker_count(workers)))
+    mu_rows, alpha = fit_points(grid)
+    size = grid.width
+    fitted = np.empty((size, size, 4))
+    chunks = np.array_split(np.arange(size), min(size, 4 * worker_count(workers)))
     free = None
     with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
-        for row, mu in enumerate(grid.mu_o):
-            mu_o = np.full(grid.size, mu)
+        for row, mu in enumerate(mu_rows):
+            mu_o = np.full(size, mu)
             iterations = _ITERATIONS_FIRST if row == 0 else _ITERATIONS
             parts = pool.map(
                 lambda columns: _fit_rows(
@@ -430,13 +387,13 @@ def fit_ltc(
             free = np.concatenate([part[0] for part in parts])
             fitted[row] = np.concatenate([part[1] for part in parts])
             if progress is not None:
-                progress(row + 1, grid.size + 1)
+                progress(row + 1, size + 1)
     inverse, _ = _matrix_inverse(fitted)
     stored = np.stack([inverse[..., 0, 0], inverse[..., 2, 0], inverse[..., 0, 2], inverse[..., 2, 2]], axis=-1)
     stored /= inverse[..., 1, 1][..., None]
     error = lobe_error(fitted, grid, albedo)
     if progress is not None:
-        progress(grid.size + 1, grid.size + 1)
+        progress(size + 1, size + 1)
     return LtcFit(grid, fitted, stored, error)
 
 

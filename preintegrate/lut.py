@@ -1,7 +1,7 @@
 """Split-sum LUT tables: the texel grid and its convention, building a table, the GPU's lookup (the files, their
 names and headers are :mod:`handoff`'s).
 
-Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``PIXEL_CONVENTION``, ``texel_centres``,
+Public objects: ``LutGrid``, ``ROW_PLACEMENTS``, ``COLUMN_PLACEMENTS``, ``LTC_LAYOUT``, ``PIXEL_CONVENTION``, ``texel_centres``,
 ``lut_texel_weights``, ``build_table``, ``LUT_METHODS``, ``interpolation_weights``, ``lut_lookup``.
 
 Column i ↔ √μo = i/(W − 1), row j ↔ perceptual roughness r = j/(H − 1) with α = r² (the default build; a scene's
@@ -35,6 +35,7 @@ from .quadrature import DEFAULT_ORDER, directional_albedo, texel_weights
 
 __all__ = [
     "COLUMN_PLACEMENTS",
+    "LTC_LAYOUT",
     "LUT_METHODS",
     "PIXEL_CONVENTION",
     "build_table",
@@ -48,25 +49,31 @@ __all__ = [
 
 #: How a table's rows sample perceptual roughness: at the end points of a range (the default build over 0–1, and a
 #: scene's tables over what their materials use: a lookup at either end reads its own row) or at texel centres over
-#: [0, 1] (the builds before 2026-12, kept to measure against: a lookup at r = 0 or 1 reads the row half a texel in).
-ROW_PLACEMENTS = ("endpoints", "centres")
+#: [0, 1] (the builds before 2026-12, kept to measure against: a lookup at r = 0 or 1 reads the row half a texel in);
+#: ``sine-endpoints``, row j at √(1 − μo) = j/(H − 1), holds the view instead (the LTC layout, below).
+ROW_PLACEMENTS = ("endpoints", "centres", "sine-endpoints")
 #: How a table's columns sample μo: ``root-endpoints``, column i at √μo = i/(W − 1) (the default build: both ends
 #: on a texel, and the columns crowd where the split sum steepens, at grazing views of smooth surfaces),
 #: ``endpoints`` (μo = i/(W − 1)) or ``centres`` (μo = (i + 0.5)/W: the engines' usual table, and this project's
-#: before 2026-12).
-COLUMN_PLACEMENTS = ("root-endpoints", "endpoints", "centres")
+#: before 2026-12); ``roughness-endpoints``, column i at r = i/(W − 1), holds the roughness instead (the LTC layout).
+COLUMN_PLACEMENTS = ("root-endpoints", "endpoints", "centres", "roughness-endpoints")
+#: The axes of the public LTC tables (Heitz et al.'s ``ltc_code``, three.js ``LTC_Uv``): roughness along the columns,
+#: √(1 − μo) along the rows, both at end points, so that an engine's area-light code reads the table unchanged.
+LTC_LAYOUT = ("roughness-endpoints", "sine-endpoints")
 
 
 @dataclasses.dataclass(frozen=True)
 class LutGrid:
     """The texel grid of a table and the BRDF it integrates: the one place that knows the axes, α = r², the
-    convention text of the header and the bilinear lookup.
+    convention text of the header and the bilinear lookup, for every table (the split-sum tables and the LTC table).
 
     Columns (:data:`COLUMN_PLACEMENTS`): by default √μo = i/(W − 1), i = 0 … W − 1. Rows (:data:`ROW_PLACEMENTS`): by
     default r = low + j (high − low)/(H − 1) over ``roughness_range`` (0–1; one row stands at ``low``). A GPU reads
     end-point texels through the half-texel remap u = (x (W − 1) + 0.5)/W of the axis' coordinate x ∈ [0, 1]
     (x = √μo, x = (r − low)/(high − low)): every lookup in [0, 1]² interpolates between texels, none is clamped to
-    an edge texel half a texel away. GGX α = r² (Burley 2012, Karis 2013).
+    an edge texel half a texel away. GGX α = r² (Burley 2012, Karis 2013; :func:`preintegrate.ggx.roughness_to_alpha`).
+    The LTC table's grid (:data:`LTC_LAYOUT`, :func:`preintegrate.ltc.ltc_grid`) swaps the quantities: roughness
+    along the columns, the view along the rows as √(1 − μo).
 
     Examples
     --------
@@ -75,6 +82,8 @@ class LutGrid:
     ([0.2, 0.4, 0.6], [0.04, 0.16, 0.36], [0.0, 0.111, 0.444, 1.0])
     >>> grid.texture_coordinates(1.0, 0.2).tolist()
     [0.875, 0.16666666666666666]
+    >>> LutGrid(3, 3, rows="sine-endpoints", columns="roughness-endpoints").mu_o.tolist()
+    [1.0, 0.75, 0.0]
     """
 
     width: int
@@ -89,11 +98,16 @@ class LutGrid:
         check_choice("rows", self.rows, ROW_PLACEMENTS)
         check_choice("columns", self.columns, COLUMN_PLACEMENTS)
         check_choice("visibility", self.visibility, list(VISIBILITIES))
+        if (self.columns in LTC_LAYOUT or self.rows in LTC_LAYOUT) and (self.columns, self.rows) != LTC_LAYOUT:
+            raise ParameterError(
+                f"columns {self.columns!r} and rows {self.rows!r} do not make a grid: roughness columns go with "
+                "sine-endpoints rows (the LTC layout), view columns with roughness rows"
+            )
         low, high = (float(value) for value in check_range("roughness_range", self.roughness_range, 0.0, 1.0))
-        if self.rows == "centres":
+        if self.rows == "centres" or self.transposed:
             check_positive_int("height", self.height, low=2, high=8192)
             if (low, high) != (0.0, 1.0):
-                raise ParameterError(f"rows at texel centres span roughness 0-1, got roughness_range {(low, high)}")
+                raise ParameterError(f"these rows span roughness 0-1, got roughness_range {(low, high)}")
         else:
             check_positive_int("height", self.height, low=1, high=8192)
             if high < low or (self.height > 1 and high == low):
@@ -110,8 +124,15 @@ class LutGrid:
         return cls(width, width if height is None else height, rows="centres", visibility=visibility, columns="centres")
 
     @property
+    def transposed(self) -> bool:
+        """Whether the columns hold the roughness and the rows the view (the LTC layout)."""
+        return self.columns == "roughness-endpoints"
+
+    @property
     def mu_o(self) -> np.ndarray:
-        """(W,) view cosine of each column."""
+        """The view cosine of each column (of each row, on the LTC layout)."""
+        if self.transposed:
+            return 1.0 - np.linspace(0.0, 1.0, self.height) ** 2
         if self.columns == "centres":
             return texel_centres(self.width)
         steps = np.linspace(0.0, 1.0, self.width)
@@ -119,7 +140,9 @@ class LutGrid:
 
     @property
     def roughness(self) -> np.ndarray:
-        """(H,) perceptual roughness of each row."""
+        """The perceptual roughness of each row (of each column, on the LTC layout)."""
+        if self.transposed:
+            return np.linspace(0.0, 1.0, self.width)
         if self.rows == "centres":
             return texel_centres(self.height)
         low, high = self.roughness_range
@@ -127,19 +150,30 @@ class LutGrid:
 
     @property
     def alpha(self) -> np.ndarray:
-        """(H,) GGX width of each row."""
+        """The GGX width of each roughness."""
         return roughness_to_alpha(self.roughness)
 
-    def column_position(self, mu_o) -> np.ndarray:
-        """Fractional column index in [0, W − 1] of view cosines (clamped to [0, 1], as a GPU clamps NdotV)."""
+    def view_position(self, mu_o, sine=None) -> np.ndarray:
+        """Fractional texel index along the view axis of view cosines (clamped to [0, 1], as a GPU clamps NdotV); on the
+        LTC layout √(1 − μo) may come from ``sine`` = |N × V| as sine / √(1 + μo), which float32 holds as μo → 1,
+        where the axis is steepest (a float32 N·V moves the lookup by up to 0.016 texels there, the cross product
+        does not)."""
         mu_o = np.clip(as_float_array("mu_o", mu_o), 0.0, 1.0)
+        if self.transposed:
+            if sine is None:
+                root = np.sqrt(1.0 - mu_o)
+            else:
+                root = np.where(mu_o > 0.0, np.minimum(as_float_array("sine", sine) / np.sqrt(1.0 + mu_o), 1.0), 1.0)
+            return root * (self.height - 1.0)
         if self.columns == "centres":
             return np.clip(mu_o * self.width - 0.5, 0.0, self.width - 1.0)
         return (np.sqrt(mu_o) if self.columns == "root-endpoints" else mu_o) * (self.width - 1.0)
 
-    def row_position(self, roughness) -> np.ndarray:
-        """Fractional row index in [0, H − 1] of perceptual roughnesses (clamped to the rows' range)."""
+    def roughness_position(self, roughness) -> np.ndarray:
+        """Fractional texel index along the roughness axis of perceptual roughnesses (clamped to the axis' range)."""
         roughness = np.clip(as_float_array("roughness", roughness), 0.0, 1.0)
+        if self.transposed:
+            return roughness * (self.width - 1.0)
         if self.rows == "centres":
             return np.clip(roughness * self.height - 0.5, 0.0, self.height - 1.0)
         low, high = self.roughness_range
@@ -147,11 +181,20 @@ class LutGrid:
             return np.zeros(roughness.shape)
         return np.clip((roughness - low) / (high - low), 0.0, 1.0) * (self.height - 1.0)
 
-    def texture_coordinates(self, mu_o, roughness) -> np.ndarray:
-        """(…, 2) the (u, v) at which a GPU samples this grid's table for (μo, r), both clamped to [0, 1] as a GPU
-        clamps them: the affine maps :attr:`column_mapping` and :attr:`row_mapping` that the generated include's
-        ``fresnelBasisLutUV`` writes as constants (end points: (position + 0.5)/size)."""
+    def _positions(self, mu_o, roughness, sine=None) -> tuple[np.ndarray, np.ndarray]:
+        """(column, row) fractional positions of (μo, r)."""
+        view, rough = self.view_position(mu_o, sine), self.roughness_position(roughness)
+        return (rough, view) if self.transposed else (view, rough)
+
+    def texture_coordinates(self, mu_o, roughness, sine=None) -> np.ndarray:
+        """(…, 2) the (u, v) at which a GPU samples this grid's table for (μo, r) (and ``sine``, see
+        :meth:`view_position`), both clamped as a GPU clamps them: the affine maps :attr:`column_mapping` and
+        :attr:`row_mapping` that the include's ``fresnelBasisLutUV`` writes as constants (end points:
+        (position + 0.5)/size), on the LTC layout ``fresnelLtcUV``'s."""
         mu_o, roughness = np.broadcast_arrays(as_float_array("mu_o", mu_o), as_float_array("roughness", roughness))
+        if self.transposed:
+            column, row = self._positions(mu_o, roughness, sine)
+            return np.stack(np.broadcast_arrays((column + 0.5) / self.width, (row + 0.5) / self.height), -1)
         mu_o = np.clip(mu_o, 0.0, 1.0)
         column_scale, column_offset = self.column_mapping
         low, high, row_scale, row_offset = self.row_mapping  # [low, high] lies in [0, 1]
@@ -163,6 +206,8 @@ class LutGrid:
         """(r_low, r_high, scale, offset) of the affine v = clamp(r, r_low, r_high) · scale + offset that the generated
         include's ``fresnelBasisLutUV`` writes as constants (texel centres: v = r; end-point rows:
         v = ((r − low)/(high − low) (H − 1) + 0.5)/H, read exactly at both ends)."""
+        if self.transposed:
+            raise ParameterError("the LTC layout's rows hold the view: fresnelLtcUV addresses them")
         if self.rows == "centres":
             return 0.0, 1.0, 1.0, 0.0
         low, high = self.roughness_range
@@ -180,17 +225,30 @@ class LutGrid:
             return 1.0, 0.0
         return (self.width - 1) / self.width, 0.5 / self.width
 
-    def column_weights(self, mu_o) -> np.ndarray:
-        """(P, W) weights of the linear interpolation a GPU makes along a row at the view cosines ``mu_o``."""
-        return _position_weights(self.column_position(np.ravel(mu_o)), self.width)
+    def view_weights(self, mu_o) -> np.ndarray:
+        """(P, W) weights of the linear interpolation a GPU makes along the view axis at the view cosines ``mu_o``."""
+        size = self.height if self.transposed else self.width
+        return _position_weights(self.view_position(np.ravel(mu_o)), size)
 
-    def row_weights(self, roughness) -> np.ndarray:
-        """(P, H) weights of the linear interpolation a GPU makes along a column at the roughnesses ``roughness``."""
-        return _position_weights(self.row_position(np.ravel(roughness)), self.height)
+    def roughness_weights(self, roughness) -> np.ndarray:
+        """(P, H) weights of the linear interpolation a GPU makes along the roughness axis at ``roughness``."""
+        size = self.width if self.transposed else self.height
+        return _position_weights(self.roughness_position(np.ravel(roughness)), size)
 
     @property
     def convention(self) -> str:
         """The header's ``convention`` text: axes, α, order in the file, what a texel holds, the BRDF's G2."""
+        if self.transposed:
+            return (
+                "column i <-> perceptual roughness r = i / (size - 1), GGX alpha = max(r^2, 1e-4); row j <-> "
+                "sqrt(1 - mu_o) = j / (size - 1) (mu_o at least 1e-3); row 0 first in the file (top); end points on texel "
+                "centres: u = r * (size - 1) / size + 0.5 / size, v = sqrt(1 - mu_o) * (size - 1) / size + 0.5 / size "
+                "(the axes of the public LTC tables, three.js LTC_Uv); values are (m00, m20, m02, m22) of M^-1 / "
+                "M^-1[1][1], M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]] (GLSL mat3(vec3(m00, 0, m20), vec3(0, 1, 0), "
+                "vec3(m02, 0, m22))), in the frame T1 = tangential part of the view, T2 = N x T1, N, of the linearly "
+                "transformed cosine fitted to rho_GGX(omega_o, omega_i) cos(theta_i) / E (Heitz 2016), GGX with "
+                + VISIBILITIES[self.visibility].header
+            )
         columns = {
             "centres": "column i <-> mu_o = cos(theta_o) = (i + 0.5) / width (texel centres; engine: u = mu_o)",
             "endpoints": "column i <-> mu_o = cos(theta_o) = i / (width - 1) (engine: u = (mu_o * (width - 1) + "
@@ -214,8 +272,9 @@ class LutGrid:
             f"GGX with {VISIBILITIES[self.visibility].header}"
         )
 
-    def lookup(self, table: np.ndarray, mu_o, roughness) -> np.ndarray:
-        """Bilinear, clamp-to-edge fetch of a table on this grid at (μo, r), as a GPU samples it at level 0."""
+    def lookup(self, table: np.ndarray, mu_o, roughness, sine=None) -> np.ndarray:
+        """Bilinear, clamp-to-edge fetch of a table on this grid at (μo, r) (and ``sine``, see :meth:`view_position`),
+        as a GPU samples it at level 0."""
         table = _checked_lookup_table(table, rows_at_least=1)
         if table.shape[:2] != (self.height, self.width):
             raise ParameterError(
@@ -224,7 +283,7 @@ class LutGrid:
         mu_o, roughness = as_float_array("mu_o", mu_o), as_float_array("roughness", roughness)
         check_broadcast(mu_o=mu_o, roughness=roughness)
         mu_o, roughness = np.broadcast_arrays(mu_o, roughness)
-        return _bilinear(table, self.column_position(mu_o), self.row_position(roughness))
+        return _bilinear(table, *self._positions(mu_o, roughness, sine))
 
 
 #: The default build's convention (root end-point columns, end-point rows over 0–1, height-correlated G2), as every

@@ -124,7 +124,7 @@ def lookup_floor(scene: Scene, basis: Basis, width: int) -> dict[str, float]:
     view cosines, at both ends of its roughness range): what no layout beats with that width."""
     width = check_positive_int("width", width, low=2, high=MAX_SIZE)
     mu_eval = _view_cosines(width)  # the columns are its even entries
-    interpolate = _scene_grid(width, 1, (0.0, 0.0), scene.visibility).column_weights(mu_eval)
+    interpolate = _scene_grid(width, 1, (0.0, 0.0), scene.visibility).view_weights(mu_eval)
     floor = {}
     for material in scene.materials:
         exact = (
@@ -178,7 +178,7 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     levels = 1 if high == low else max(1, math.ceil(math.log2(max(1.0, scene.size * (high - low)))))
     max_rows = 1 if high == low else 2**levels + 1
     r_rows = np.linspace(low, high, max_rows)
-    interp_mu = columns.column_weights(mu_eval)  # (P, W), linear in √μo as a GPU reads the table
+    interp_mu = columns.view_weights(mu_eval)  # (P, W), linear in √μo as a GPU reads the table
     # Every split sum is a linear functional of the curve: the texel weights (…, M) are computed once per
     # texel set and contracted at once with what they act on, so no (…, M) array outlives this block.
     w_eval = texel_weights(
@@ -221,7 +221,7 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
     w_default = texel_weights(
         theta, default_grid.mu_o[None, :], roughness_to_alpha(default_r[near])[:, None], visibility=visibility
     )
-    interp_default = default_grid.column_weights(mu_eval)
+    interp_default = default_grid.view_weights(mu_eval)
     default_errors = {
         layout: errors_for(layout, near, interp_default @ (w_default @ functions[layout]), default_r[near])
         for layout in ("schlick", "basis-4")

@@ -28,7 +28,7 @@ import numpy as np
 
 from basis.models.formulas import adobe_dip_weight, f82_dip_weight
 from basis.validation import ParameterError, as_float_array, check_choice
-from preintegrate.ltc import LtcGrid
+from preintegrate.ltc import ltc_grid
 from preintegrate.ltc import rect_light_integral as ltc_rect_light_integral
 
 from .constants import (
@@ -180,7 +180,7 @@ def lut_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
 def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
     """(…, 2) texture coordinates of (NdotV, r) on the LTC table, as ``fresnelLtcUV`` computes them."""
     constants = shader_constants() if constants is None else constants
-    return LtcGrid(constants.ltc_size).coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
+    return ltc_grid(constants.ltc_size).texture_coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
 
 
 def rect_light_specular(
@@ -196,7 +196,7 @@ def rect_light_specular(
     sine = np.linalg.norm(np.cross(normal, view), axis=-1)
     roughness = sanitize_unit(roughness, 0.5)
     integral = ltc_rect_light_integral(
-        LtcGrid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
+        ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
     )
     low, high, _, _ = constants.grid.row_mapping
     terms = constants.grid.lookup(as_float_array("basis_table", basis_table), n_dot_v, np.clip(roughness, low, high))

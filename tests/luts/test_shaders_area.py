@@ -16,7 +16,7 @@ from basis.storage import shipped_path
 from handoff.exr import read_lut
 from handoff.shaders import ltc_coordinates, rect_light_specular, shader_includes
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
-from preintegrate.ltc import LtcGrid, rect_light_integral
+from preintegrate.ltc import ltc_grid, rect_light_integral
 from preintegrate.lut import LutGrid
 from tests.conftest import gl_draw, wgpu_compute, wgpu_device
 
@@ -54,7 +54,7 @@ def _expected(a, b, ltc, basis, schlick):
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
     coefficients = np.broadcast_to(COEFFICIENTS, (len(a), 3, 4))
     specular = rect_light_specular(ltc, basis, normal, view, position, corners, roughness, coefficients)
-    grid = LtcGrid(ltc.shape[0])
+    grid = ltc_grid(ltc.shape[0])
     sine = np.linalg.norm(np.cross(normal, view), axis=-1)
     integral = rect_light_integral(
         grid.lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine), normal, view, position, corners
@@ -66,7 +66,7 @@ def _expected(a, b, ltc, basis, schlick):
     return [
         np.concatenate([specular, integral[:, None]], -1),
         np.concatenate([schlick_specular, np.zeros((len(a), 1))], -1),
-        np.concatenate([grid.coordinates(n_dot_v, roughness, sine), uv], -1),
+        np.concatenate([grid.texture_coordinates(n_dot_v, roughness, sine), uv], -1),
     ]
 
 

@@ -8,9 +8,9 @@ import pytest
 
 from basis.validation import ParameterError
 from preintegrate.ltc import (
-    LtcGrid,
     fit_ltc,
     ltc_density,
+    ltc_grid,
     ltc_inverse,
     polygon_integral,
     rect_light_integral,
@@ -126,7 +126,7 @@ def test_shading_frame_is_orthonormal_with_the_view_in_its_xz_plane():
 def test_the_fit_is_deterministic_and_holds_the_lobe_where_it_is_simple():
     """One worker or two: the same bits. Measured on 8 x 8: at normal incidence (row 0) the LTC is within 0.03 of
     the lobe (half the L1 distance); grazing costs more (the lobe is not a transformed cosine)."""
-    grid = LtcGrid(8)
+    grid = ltc_grid(8)
     one, two = fit_ltc(grid, workers=1), fit_ltc(grid, workers=2)
     assert np.array_equal(one.inverse, two.inverse) and np.array_equal(one.error, two.error)
     assert np.all(np.isfinite(one.inverse))
@@ -137,3 +137,25 @@ def test_the_fit_is_deterministic_and_holds_the_lobe_where_it_is_simple():
 def test_polygon_integral_refuses_a_bad_shape():
     with pytest.raises(ParameterError, match="vertices"):
         polygon_integral(np.zeros((2, 3)))
+
+
+def test_the_ltc_table_is_a_grid_like_the_others():
+    """Issue 37 item 5: one grid type: the LTC table's axes (roughness columns, √(1 − μo) rows: three.js LTC_Uv,
+    u = r (N − 1)/N + 0.5/N) are a LutGrid layout with the same bilinear lookup, and the two quantities cannot be
+    mixed on one axis."""
+    from preintegrate.lut import LutGrid
+
+    grid = ltc_grid(16)
+    mu_o, roughness = np.array([1.0, 0.5, 0.02]), np.array([0.0, 0.3, 1.0])
+    expected = np.stack([roughness * 15 / 16 + 0.5 / 16, np.sqrt(1.0 - mu_o) * 15 / 16 + 0.5 / 16], -1)
+    np.testing.assert_allclose(grid.texture_coordinates(mu_o, roughness), expected, rtol=0, atol=1e-15)
+    table = np.random.default_rng(2).uniform(-1.0, 1.0, (16, 16, 4))
+    column, row = roughness * 15, np.sqrt(1.0 - mu_o) * 15  # fractional texel positions
+    i, j = np.minimum(column.astype(int), 14), np.minimum(row.astype(int), 14)
+    fu, fv = (column - i)[:, None], (row - j)[:, None]
+    want = (1 - fv) * ((1 - fu) * table[j, i] + fu * table[j, i + 1]) + fv * (
+        (1 - fu) * table[j + 1, i] + fu * table[j + 1, i + 1]
+    )
+    np.testing.assert_allclose(grid.lookup(table, mu_o, roughness), want, rtol=0, atol=1e-14)
+    with pytest.raises(ParameterError, match="do not make a grid"):
+        LutGrid(16, 16, rows="sine-endpoints")
