@@ -81,6 +81,20 @@ class Material:
         model, parameters = self.model_parameters()
         return coefficients_from_model(model, fit, basis, **parameters)[0]
 
+    def described(self) -> dict:
+        """The JSON-ready description and what the material implies: a preset's working space, F0 and data source, the
+        (η, κ) of Gulbrandsen's (r, g) (what ``coeffs`` reports and a scene's ``scene_coefficients.json`` holds)."""
+        described = dict(self.description)
+        if self.kind == "preset":
+            from .presets import material_preset
+
+            preset = material_preset(described["preset"], self.space)
+            described.update(space=self.space, f0=preset["f0"].tolist(), source=preset["source"])
+        elif self.kind == "gulbrandsen":
+            eta, kappa = gulbrandsen_to_nk(np.array(described["reflectivity"]), np.array(described["edge_tint"]))
+            described.update(eta=eta.tolist(), kappa=kappa.tolist())
+        return described
+
     def model_parameters(self) -> tuple[str, dict]:
         """(model name, float64 parameters) of a ``schlick``, ``f82`` or ``model`` material."""
         if self.kind not in ("schlick", "f82", "model"):

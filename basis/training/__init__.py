@@ -2,7 +2,7 @@
 
 Public objects: ``TrainingDomain``, ``Component``, ``DEFAULT_DOMAIN``, ``NOTEBOOK_DOMAIN``, ``REFINEMENT_DOMAINS`` (:mod:`.domain`, the seeded training
 set); ``build_curves``, ``GramAccumulator``, ``MIN_SPAN`` (:mod:`.svd`, the streaming iterative SVD);
-``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``,
+``build_basis``, ``choose_fit_angles``, ``holdout_fit_errors``, ``holdout_lines``, ``TALK_ANGLES``, ``NOTEBOOK_ANGLES``,
 ``FIT_ANGLE_CHOICES`` (:mod:`.builder`); ``holdout_materials``, ``validation_groups``, ``FIGURE_2``, ``VALIDATION_SEED`` (:mod:`.holdout`, never used in
 training); ``refine_basis`` (:mod:`.refine`, the
 minimax refinement of the curves and fit angles).
@@ -12,7 +12,15 @@ References
 :cite:`Belcour2020` SIGGRAPH 2020 Talks, "An Empirical Decomposition", eq. 4 and 6, and "Coefficients".
 """
 
-from .builder import FIT_ANGLE_CHOICES, NOTEBOOK_ANGLES, TALK_ANGLES, build_basis, choose_fit_angles, holdout_fit_errors
+from .builder import (
+    FIT_ANGLE_CHOICES,
+    NOTEBOOK_ANGLES,
+    TALK_ANGLES,
+    build_basis,
+    choose_fit_angles,
+    holdout_fit_errors,
+    holdout_lines,
+)
 from .domain import DEFAULT_DOMAIN, NOTEBOOK_DOMAIN, REFINEMENT_DOMAINS, Component, TrainingDomain
 from .holdout import FIGURE_2, VALIDATION_SEED, holdout_materials, validation_groups
 from .refine import refine_basis
@@ -32,6 +40,7 @@ __all__ = [
     "GramAccumulator",
     "TrainingDomain",
     "build_basis",
+    "holdout_lines",
     "build_curves",
     "choose_fit_angles",
     "holdout_fit_errors",

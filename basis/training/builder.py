@@ -1,6 +1,6 @@
 """Build a :class:`~basis.eigenbasis.Basis`: training set → iterative SVD → fit angles.
 
-Public objects: ``build_basis``, ``holdout_fit_errors``, ``choose_fit_angles``, ``TALK_ANGLES``,
+Public objects: ``build_basis``, ``holdout_fit_errors``, ``holdout_lines``, ``choose_fit_angles``, ``TALK_ANGLES``,
 ``NOTEBOOK_ANGLES``, ``FIT_ANGLE_CHOICES``.
 
 The fit angles θ2, θ3 are chosen on the held-out materials (dielectrics and metals, see
@@ -35,6 +35,7 @@ __all__ = [
     "build_basis",
     "choose_fit_angles",
     "holdout_fit_errors",
+    "holdout_lines",
 ]
 
 #: θ2, θ3 as printed in the talk.
@@ -201,3 +202,19 @@ def _build(count, seed, domain, grid_size, grid_kind, n_terms, fit_angles, progr
         **stats,
     }
     return Basis(theta, curves, np.array([0.0, 0.5 * np.pi, *chosen]), training)
+
+
+def holdout_lines(basis: Basis) -> list[str]:
+    """A built basis' fit angles and its held-out errors (max |ΔF| over θ of the four-point fit at the chosen, the
+    talk's and the notebook's angles, per group) as a table a person reads."""
+    errors = basis.training["holdout_max_abs_error"]
+    groups = [key for key in next(iter(errors.values())) if key != "angles"]
+    lines = [
+        f"fit angles: {', '.join(f'{angle:.4f}' for angle in basis.fit_angles)} rad",
+        "held-out max |dF| over theta of the four-point fit:",
+        f"  {'angles':28s}" + "".join(f"{group:>13s}" for group in groups),
+    ]
+    for name, row in errors.items():
+        label = f"{name} ({', '.join(f'{angle:.4f}' for angle in row['angles'])})"
+        lines.append(f"  {label:28s}" + "".join(f"{row[group]:13.4f}" for group in groups))
+    return lines

@@ -81,9 +81,9 @@ def _describe(value) -> str:
 
 def _target(item: dict, space: str, basis: Basis) -> tuple[np.ndarray, dict]:
     """(curve (M, 3) on basis.theta, description) of one material entry (:func:`basis.materials.material_from_mapping`;
-    a preset's description records the scene's space)."""
+    the description is :meth:`basis.materials.Material.described`, the record ``fresnel-lut coeffs`` gives)."""
     material = material_from_mapping({key: item[key] for key in item if key not in ("name", "roughness")}, space)
-    description = {**material.description, **({"space": space} if material.kind == "preset" else {})}
+    description = material.described()  # what coeffs reports of it: a preset's space, F0 and source, (r, g)'s (η, κ)
     return material.curve(cos_theta(basis.theta)), description
 
 

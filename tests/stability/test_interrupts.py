@@ -98,7 +98,7 @@ def test_an_error_that_ctrl_c_caused_is_an_interrupt(monkeypatch, capsys):
             raise ValueError("a library's own message") from interrupt
 
     monkeypatch.undo()
-    monkeypatch.setattr(cli, "command_coeffs", library_error)  # make_parser, called by main, takes it
+    monkeypatch.setitem(cli.COMMANDS, "coeffs", library_error)
     assert cli.main(["coeffs", "--material", "Gold"]) == 130
     assert capsys.readouterr().err.strip() == "fresnel-lut: interrupted; no file was written or replaced"
 
