@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("basis", "preintegrate", "fresnel_lut")
+PACKAGES = ("basis", "preintegrate", "handoff", "fresnel_lut")
 MODULES = sorted(path for package in PACKAGES for path in (ROOT / package).rglob("*.py"))
-REFERENCE = re.compile(r":(?:mod|func|class|data|meth):`~?((?:basis|preintegrate|fresnel_lut)(?:\.\w+)*)`")
+REFERENCE = re.compile(r":(?:mod|func|class|data|meth):`~?((?:basis|preintegrate|handoff|fresnel_lut)(?:\.\w+)*)`")
 
 
 def _module_name(path: Path) -> str:

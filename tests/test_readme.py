@@ -171,3 +171,40 @@ def test_readme_conventions_are_what_the_build_writes(tmp_path):
         assert said in text, f"README no longer says {said!r}"
         header = read_lut(tmp_path / (table or "ggx_basis_rgba.exr"))[1]
         assert written in header["convention"], f"the build's {table or 'basis'} header no longer says {written!r}"
+
+
+def test_where_things_are_lists_every_module():
+    """Issue 37 item 7: README's map named modules that had moved (``preintegrate/shaders.py``, ``exr.py``) and none
+    of ``handoff``. Every product module appears in its package's block of *Where things are* (a subpackage's folder
+    and its modules' file names), and every file name listed there exists in that package."""
+    root = README.parent
+    listing = re.search(r"## Where things are\n.*?```\n(.*?)```", README.read_text(encoding="utf-8"), re.S).group(1)
+    blocks: dict[str, str] = {}
+    current = None
+    for line in listing.splitlines():
+        top = re.match(r"(\w+)/\s", line)
+        current = top.group(1) if top else current
+        blocks[current] = blocks.get(current, "") + "\n" + line
+    for package in ("basis", "preintegrate", "handoff", "fresnel_lut"):
+        names = set(re.findall(r"\b\w+\.py\b|\b\w+/", blocks[package]))
+        for path in sorted((root / package).rglob("*.py")):
+            parts = path.relative_to(root / package).parts
+            wanted = {f"{folder}/" for folder in parts[:-1]} | ({parts[-1]} if parts[-1] != "__init__.py" else set())
+            assert wanted <= names, f"{package}/{'/'.join(parts)}: {sorted(wanted - names)} not in Where things are"
+        for name in sorted(name for name in names if name.endswith(".py")):
+            assert list((root / package).rglob(name)), f"Where things are names {package}/…/{name}, which is gone"
+
+
+def test_readme_names_only_functions_the_include_defines():
+    """Every include function README names (``fresnelBasisSplitSum``, and the table's ``…F82Tint`` shorthand for
+    ``fresnelCoefficientsF82Tint``) is defined in the shipped GLSL include: a renamed function fails here even where
+    no snippet calls it."""
+    from basis.storage import shipped_path
+
+    include = shipped_path("fresnel_basis.glsl").read_text(encoding="utf-8")
+    defined = set(re.findall(r"^\w+ (fresnel\w+)\(", include, re.M))
+    text = README.read_text(encoding="utf-8")
+    named = set(re.findall(r"\b(fresnel[A-Z]\w*)\(", text)) | {
+        f"fresnelCoefficients{name}" for name in re.findall(r"`…(\w+)\(", text)
+    }
+    assert len(named) >= 15 and named <= defined, sorted(named - defined)

@@ -1,6 +1,6 @@
 """The generated includes' rectangular light (``fresnelBasisRectLight``, ``fresnelSchlickRectLight``,
 ``fresnelLtcRect``, ``fresnelLtcUV``) run for real with the shipped tables and match their Python mirrors
-(handoff/shaders.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
+(handoff/shaders/mirrors.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
 (the WebGL 2 path: tests/luts/test_shaders_webgl.py).
 
 1024 shading points: normals and views spanning the hemisphere (views at and beyond grazing, along the normal),
