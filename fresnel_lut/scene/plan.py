@@ -79,12 +79,19 @@ def plan_scene(scene: Scene, basis: Basis | None = None, progress: Callable[[str
     bytes."""
     basis = resolve_basis(basis)
     width = scene.size
-    while (
-        not scene.size_fixed
-        and 2 * width <= MAX_SIZE
-        and max(lookup_floor(scene, basis, width).values()) > LOOKUP_SHARE * ACCURACY_GOAL
-    ):
+    floor = lookup_floor(scene, basis, width)
+    while not scene.size_fixed and 2 * width <= MAX_SIZE and max(floor.values()) > LOOKUP_SHARE * ACCURACY_GOAL:
         width *= 2
+        floor = lookup_floor(scene, basis, width)
+    unreachable = sorted((name for name, value in floor.items() if value > scene.tolerance), key=floor.get)
+    if unreachable:  # no layout reads better than the exact F̄ itself: refuse before any basis is trained
+        worst = unreachable[-1]
+        raise SceneError(
+            f"material {worst!r} cannot meet tolerance {scene.tolerance:.3g} on Fbar: reading its exact Fbar between "
+            f"{width} columns alone is {floor[worst]:.3g} off (it bends faster near grazing than the columns follow); "
+            f"use tolerance >= {floor[worst] * 1.01:.3g} or a higher lowest roughness for it"
+            + (f"; also out of reach: {unreachable[:-1]}" if len(unreachable) > 1 else "")
+        )
     if _schlick_holds_every_curve(scene, basis):
         scene_bases = []  # two exact channels: no layout does better, so none is trained
     else:

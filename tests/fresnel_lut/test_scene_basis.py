@@ -88,6 +88,32 @@ def test_the_lookup_floor_is_the_bilinear_error_of_the_exact_split_sum(tmp_path)
     assert plan_scene(scene).columns == 256
 
 
+def test_a_material_no_table_width_holds_is_refused_before_any_basis_is_trained(tmp_path, monkeypatch):
+    """Issue 36 item 14: a 256-material scene failed after 233 s (five scene bases trained) on a material whose own
+    exact F̄, read between the widest table's columns, was already 0.088 off. The lookup floor is known first: the
+    plan refuses at once, naming the material and the floor (here a clear coat at r = 0.01 among materials the
+    generic basis holds), and trains nothing."""
+    from fresnel_lut.scene import SceneError
+    from fresnel_lut.scene import plan as plan_module
+
+    path = tmp_path / "mirror.toml"
+    path.write_text(
+        '[[material]]\nname = "coat"\nf0 = 0.05\nroughness = 0.01\n'
+        '[[material]]\nname = "gold"\npreset = "Gold"\nroughness = [0.4, 0.6]\n'
+    )
+    scene = read_scene(path)
+    floor = lookup_floor(scene, default_basis(), 256)["coat"]
+    assert floor > scene.tolerance  # measured 8.9e-3 (README, Known limits)
+
+    def trained(*arguments, **keywords):
+        raise AssertionError("a scene basis was trained for a scene refused by its lookup floor")
+
+    monkeypatch.setattr(plan_module, "scene_basis_layouts", trained)
+    with pytest.raises(SceneError, match=rf"material 'coat' .* alone is {floor:.3g} off") as refused:
+        plan_scene(scene)
+    assert "gold" not in str(refused.value)
+
+
 def test_scene_bases_are_well_conditioned(built):
     """The refined curves are re-based within their span (basis.training.refine): coefficients of the size of
     the curves and a well-conditioned four-point system (measured: max |c| 0.84-0.98, condition 5-299; the
