@@ -366,12 +366,12 @@ def _snapshot(folder: Path) -> dict[str, str]:
 
 
 _BUILD = ["build", "--size", "4", "--order", "4"]
-_SET = re.compile(r"ggx_(basis_rgba(_2)?|schlick_rgb|albedo_average|ltc)\.(exr|png|ktx2|h)$")
+_SET = re.compile(r"ggx_(basis_rgba(_2)?|schlick_rgba?|albedo_average|ltc)\.(exr|png|ktx2|h)$")
 
 
 def _journal_document(rng) -> object:
     """A journal as a killed build leaves it, mutated: names outside the folder, absolute paths, odd values."""
-    names = ["ggx_basis_rgba.exr", "ggx_schlick_rgb.exr", "ggx_albedo_average.exr", "../outside.txt", "/etc/hostname"]
+    names = ["ggx_basis_rgba.exr", "ggx_schlick_rgba.exr", "ggx_albedo_average.exr", "../outside.txt", "/etc/hostname"]
     renames = []
     for _ in range(int(rng.integers(0, 4))):
         target = names[int(rng.integers(len(names)))]
@@ -432,9 +432,9 @@ def fuzz_stale_tables(rng, count: int, folder: Path, base: Path) -> Outcome:
         "ggx_basis_rgba_2.exr",
         "ggx_basis_rgba_2.png",
         "ggx_basis_rgba.ktx2",
-        "ggx_schlick_rgb.h",
+        "ggx_schlick_rgba.h",
         ".ggx_basis_rgba.exr.AbCdEf12.tmp",
-        ".ggx_schlick_rgb.png.zzzzzzzz.tmp",
+        ".ggx_schlick_rgba.png.zzzzzzzz.tmp",
     ]
     choices = ["exr", "exr,ktx2", "png16", "exr,png16,header", "ktx2"]
     for index in range(count):
@@ -595,7 +595,7 @@ def fuzz_crafted_folders(rng, count: int, folder: Path, base: Path) -> Outcome:
         (case / "scene_coefficients.json").write_text(
             json.dumps({"materials": {"m": {"lut": targets[int(rng.integers(len(targets)))]}}}), encoding="utf-8"
         )
-        kept = {name: (case / name).read_bytes() for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")}
+        kept = {name: (case / name).read_bytes() for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgba.exr")}
         _cli_outcome_within(outcome, ["scene", str(folder / "gold.toml"), "--out", str(case)], 60)
         changed = [name for name, data in kept.items() if (case / name).read_bytes() != data]
         _cli_outcome_within(outcome, [*_BUILD, "--out", str(case)], 60)

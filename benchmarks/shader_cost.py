@@ -301,7 +301,7 @@ def errors() -> dict[str, tuple[float, float]]:
     grid = LutGrid(SIZE, SIZE)  # the shipped tables' grid
     nv, rr = np.meshgrid(grid.mu_o, grid.roughness)
     basis_fbar = basis_table.reshape(-1, 4)  # at a texel the lookup is the texel
-    schlick_fbar = schlick_table.reshape(-1, 3)
+    schlick_fbar = schlick_table.reshape(-1, 4)
 
     def measure(curves: np.ndarray, coefficients: np.ndarray) -> tuple[float, float]:
         """curves (N, M) exact; coefficients (N, 4): the basis' F and F̄ errors."""

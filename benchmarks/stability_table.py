@@ -499,11 +499,11 @@ def conditioning():
 # ============================================================================= storage
 def storage(folder: Path):
     started = time.perf_counter()
-    table = build_table(combine(basis_channels(), schlick_table_channels()), 128)  # the shipped build's seven channels
+    table = build_table(combine(basis_channels(), schlick_table_channels()), 128)  # the shipped build's eight channels
     build_seconds = time.perf_counter() - started
     shipped_folder = Path(shipped_basis_path()).parent
     shipped = np.concatenate(
-        [read_lut(shipped_folder / "ggx_basis_rgba.exr")[0], read_lut(shipped_folder / "ggx_schlick_rgb.exr")[0]],
+        [read_lut(shipped_folder / "ggx_basis_rgba.exr")[0], read_lut(shipped_folder / "ggx_schlick_rgba.exr")[0]],
         axis=-1,
     )
     error = np.abs(shipped - table)
@@ -520,7 +520,7 @@ def storage(folder: Path):
         f"2^-24 = {2.0**-24:.3g} rel | 0 | {int(np.count_nonzero((shipped != 0) & (np.abs(shipped) < 2.0**-126)))} | 0 | "
         f"{'pass' if relative <= 2.0**-24 and identical else 'FAIL'} |"
     )
-    names = ("R", "G", "B", "A", "S", "T", "E")  # four basis channels, Schlick scale and bias, the albedo E
+    names = ("R", "G", "B", "A", "S", "T", "E", "D")  # four basis channels; Schlick scale, bias, the albedo E, the dip
     path = write_lut(folder / "half.exr", table, names, {"channels": ",".join(names)}, half=True)
     raw = OpenEXR.File(str(path), separate_channels=True).channels()
     half = np.stack([raw[name].pixels for name in names], axis=-1)

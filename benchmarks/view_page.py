@@ -49,11 +49,11 @@ def measure(size: int, samples: int, repeats: int) -> dict:
         errors = [text for kind, text in messages if kind in ("error", "pageerror")]
     half = {
         name: stored_values(read_lut(shipped_path(f"{name}.exr"))[0], half=True).astype(np.float64)
-        for name in ("ggx_basis_rgba", "ggx_schlick_rgb")
+        for name in ("ggx_basis_rgba", "ggx_schlick_rgba")
     }
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
     want = render.render_split_sum(
-        figure2, render.FIGURE2_ROUGHNESS, size, half["ggx_basis_rgba"], half["ggx_schlick_rgb"]
+        figure2, render.FIGURE2_ROUGHNESS, size, half["ggx_basis_rgba"], half["ggx_schlick_rgba"]
     )
     mask = render.sphere_geometry(size)[1]
     agreement = {}

@@ -20,6 +20,7 @@ from basis.materials import material_from_mapping
 from basis.models import fresnel_model
 from basis.presets import material_presets, preset_errors
 from basis.validation import ParameterError, check_choice
+from preintegrate.channels import schlick_table_weights
 
 from .shipped import SCHLICK_LUT, model_lut_name
 
@@ -29,14 +30,17 @@ __all__ = ["coefficient_record", "listing_lines", "presets_listing", "record_lin
 def own_split_sum(model: str, parameters: dict) -> dict | None:
     """The exact split sum of a linear model's material: the table that holds it (and the command that writes it),
     the weights of its channels per colour channel, and whether it is exact (the model's clamp to [0, 1] inactive);
-    None for a model that is not linear."""
+    None for a model that is not linear. Models whose fixed functions are the Schlick table's (Schlick with F90,
+    F82, F82 tint, generalised Adobe with p = 5) read the default build's table (weights of R, G, B, A); the others
+    their own table (``fresnel-lut build --model``)."""
     found = fresnel_model(model)
     if not found.linear:
         return None
-    weights = found.channel_weights(**parameters)
-    if found.name == "schlick":  # the default build's Schlick table (R = scale, G = bias)
+    weights = schlick_table_weights(found.name, **parameters)
+    if weights is not None:
         table = f"{SCHLICK_LUT} (fresnel-lut build)"
     else:
+        weights = found.channel_weights(**parameters)
         shape = found.shape_values(**parameters)
         options = "".join(f" --{name.replace('_', '-')} {value:g}" for name, value in shape.items())
         table = f"{model_lut_name(found.name, shape)} (fresnel-lut build --model {found.name}{options})"
@@ -54,6 +58,8 @@ def coefficient_record(
     working space of a preset) on ``basis`` (default: the shipped one): ``basis_hash``, ``material`` (the
     description, with a preset's F0, source and RMS ΔE2000), ``coefficients`` (3, K) and their ``layout``; a model's
     material adds its ``fit`` (default four-point), ``max_abs_error_over_theta`` per channel and ``own_split_sum``.
+    ``path`` says which path README's rule picks and why: a linear model whose exact table holds it exactly (its curve
+    inside [0, 1]) reads that table; every other material the basis (``report/linear_models.md``).
 
     >>> record = coefficient_record({"eta": 1.5, "kappa": 0.0})
     >>> record["material"], len(record["coefficients"]), round(record["coefficients"][0][0], 4)
@@ -81,7 +87,22 @@ def coefficient_record(
         if material.kind == "preset":
             record["material"]["rms_delta_e2000"] = preset_errors(material, coefficients, basis)
     record["layout"] = f"[channel R,G,B][term c0..c{basis.n_terms - 1}]"
+    record["path"] = _path(record)
     return record
+
+
+def _path(record: dict) -> dict:
+    """README's rule ("Which path for which material") for this record: ``choice`` and ``why``."""
+    own = record.get("own_split_sum")
+    if own is not None and own["exact"]:
+        return {
+            "choice": "exact table",
+            "why": f"a linear model: {own['lut'].split()[0]} holds its split sum exactly, where the basis projection "
+            f"misses its curve by up to {max(record['max_abs_error_over_theta']):.3g}",
+        }
+    if own is not None:
+        return {"choice": "basis", "why": "the model's curve leaves [0, 1] and is clamped: no table holds it exactly"}
+    return {"choice": "basis", "why": "a physical curve: the basis fits it, no linear model does"}
 
 
 def record_lines(record: dict) -> list[str]:
@@ -108,6 +129,7 @@ def record_lines(record: dict) -> list[str]:
         f"  {name}: " + "  ".join(f"c{k}={value: .6f}" for k, value in enumerate(row))
         for name, row in zip("RGB", coefficients)
     ]
+    lines.append(f"path: {record['path']['choice']} ({record['path']['why']})")
     own = record.get("own_split_sum")
     if own is not None:
         lines.append(

@@ -35,7 +35,7 @@ __all__ = [
 
 #: File names of the default build's tables (``luts/``).
 BASIS_LUT = "ggx_basis_rgba.exr"
-SCHLICK_LUT = "ggx_schlick_rgb.exr"
+SCHLICK_LUT = "ggx_schlick_rgba.exr"
 #: E_avg(r), one column (:func:`preintegrate.multiple_scattering.average_albedo`).
 AVERAGE_LUT = "ggx_albedo_average.exr"
 #: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).

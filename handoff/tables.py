@@ -78,9 +78,10 @@ def _stem(file_name: str) -> str:
 
 
 #: The stems of the default build's set: the basis table (terms 4 … 7 of a larger basis in ``_2``), Schlick's
-#: table and E_avg. A default build owns these in every format: those it does not write are removed. The area
-#: lights' LTC table joins the set only when the build fits it (``--ltc``): a build without it keeps the folder's.
-DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), _stem(AVERAGE_LUT))
+#: table and E_avg, and the three-channel Schlick table of the builds before it gained the dip channel (December
+#: 2026). A default build owns these in every format: those it does not write are removed. The area lights' LTC
+#: table joins the set only when the build fits it (``--ltc``): a build without it keeps the folder's.
+DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), "ggx_schlick_rgb", _stem(AVERAGE_LUT))
 
 
 #: Every file of a default build of a four-term basis: the tables and the generated shader include.

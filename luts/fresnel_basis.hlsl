@@ -12,7 +12,11 @@
 // then, with the same coefficients: image-based light fresnelBasisSplitSum (or
 // fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights
 // fresnelBasisRectLight. Tables: lut (and one SamplerState linearClamp after them), read at level 0 through
-// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps); the Schlick table for fresnelSchlickSplitSum.
+// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).
+// Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:
+//   fresnelLinearSchlick(f0, f90), fresnelLinearF82(f0, f82), fresnelLinearF82Tint(f0, tint),
+//   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,
+//   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).
 // Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to
 // [0, 0.9999], the rest to [0, 1]).
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the
@@ -50,6 +54,7 @@ static const float3 FRESNEL_CURVES[13] = {
 };
 static const float FRESNEL_F82_SCHLICK_WEIGHT = 0.462664366;  // (1 - 1/7)^5
 static const float FRESNEL_F82_DIP = 0.0566527795;  // (1/7) (1 - 1/7)^6
+static const float3 FRESNEL_LINEAR_AVERAGES = float3(0.952380952, 0.0476190476, 0.00793650794);  // 2 * integral of t(mu) mu dmu, t = 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6
 // The tables' grid (128 x 128, columns at root-endpoints, rows at endpoints): fresnelBasisLutUV's affine maps.
 static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // scale, offset
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
@@ -153,42 +158,67 @@ float4 fresnelCoefficientsGulbrandsen(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions
-// 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6).
-float4 fresnelCoefficientsLinear(float w0, float w1, float w2)
-{
-    return w0 * FRESNEL_PROJECTION_SCALE + w1 * FRESNEL_PROJECTION_BIAS + w2 * FRESNEL_PROJECTION_DIP;
-}
+// Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
+// fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
+// Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
+// fresnelCoefficients<Model> projects the same weights onto the basis.
 
 // Schlick 1994 with F90 (F90 = 1: the usual Schlick).
-float4 fresnelCoefficientsSchlick(float f0, float f90)
+float3 fresnelLinearSchlick(float f0, float f90)
 {
-    return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
+    return float3(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
 }
 
-// Hoffman 2019's absolute reflectance at arccos(1/7).
-float4 fresnelCoefficientsF82(float f0, float f82)
+// Hoffman 2019's absolute reflectance at arccos(1/7) (eq. 4).
+float3 fresnelLinearF82(float f0, float f82)
 {
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     f82 = fresnelSanitize(f82, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
+    return float3(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
 }
 
 // Adobe's F82 tint (OpenPBR specular_color, MaterialX color82; Hoffman 2023 eq. 3): a tint on Schlick at arccos(1/7).
-float4 fresnelCoefficientsF82Tint(float f0, float tint)
+float3 fresnelLinearF82Tint(float f0, float tint)
 {
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return float3(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }
 
 // Hoffman 2023's generalised Adobe model, eq. 6, with p = 5.
-float4 fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
+float3 fresnelLinearGeneralizedAdobe(float r0, float r90, float tint)
 {
     r0 = fresnelSanitize(r0, 0.0, 0.0, 1.0);
     r90 = fresnelSanitize(r90, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return float3(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+}
+
+// The basis coefficients of a linear model's weights: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of its
+// fixed functions).
+float4 fresnelCoefficientsLinear(float3 w)
+{
+    return w.x * FRESNEL_PROJECTION_SCALE + w.y * FRESNEL_PROJECTION_BIAS + w.z * FRESNEL_PROJECTION_DIP;
+}
+
+float4 fresnelCoefficientsSchlick(float f0, float f90)
+{
+    return fresnelCoefficientsLinear(fresnelLinearSchlick(f0, f90));
+}
+
+float4 fresnelCoefficientsF82(float f0, float f82)
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82(f0, f82));
+}
+
+float4 fresnelCoefficientsF82Tint(float f0, float tint)
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82Tint(f0, tint));
+}
+
+float4 fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
+{
+    return fresnelCoefficientsLinear(fresnelLinearGeneralizedAdobe(r0, r90, tint));
 }
 
 // All three channels at once, for (eta, kappa) and (r, g) texture reads.
@@ -235,6 +265,18 @@ float3 fresnelBasisDirect(float VdotH, float4 cR, float4 cG, float4 cB)
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))
+// with s = (1 - mu)^5, clamped to [0, 1] as the models are.
+float3 fresnelLinearDirect(float VdotH, float3 wR, float3 wG, float3 wB)
+{
+    float mu = fresnelSanitize(VdotH, 1.0, 0.0, 1.0);
+    float m = 1.0 - mu;
+    float m2 = m * m;
+    float s = m2 * m2 * m;
+    float3 t = float3(1.0 - s, s, mu * s * m);
+    return clamp(float3(dot(wR, t), dot(wG, t), dot(wB, t)), float3(0.0), float3(1.0));
+}
+
 // The tables' texture coordinates of (NdotV, perceptual roughness): u = x * scale + offset of the column coordinate
 // x, v = clamp(r, lo, hi) * scale + offset (FRESNEL_LUT_COLUMNS, FRESNEL_LUT_ROWS: the half-texel remap of the
 // end-point texels of the grid that wrote this include), so that both ends of both axes are read exactly.
@@ -274,16 +316,49 @@ float3 fresnelBasisAverage(float4 cR, float4 cG, float4 cB)
     return clamp(average, float3(0.0), float3(1.0));
 }
 
-// The split sum compensated for multiple scattering (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single
-// bounce loses, 1 - E, returns scaled by F_avg. E is GGX's albedo without Fresnel, bbar_0 of the basis table itself
-// (b_0 = 1), so the compensation reads no other table.
+// Multiple-scattering compensation (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single bounce loses,
+// 1 - E, returns scaled by F_avg, for a single-scattering split sum, GGX's albedo E without Fresnel and F_avg.
+float3 fresnelCompensate(float3 single, float albedo, float3 average)
+{
+    float lost = 1.0 - clamp(albedo, 0.0, 1.0);
+    return single + single * average / (float3(1.0) - lost * average) * lost;
+}
+
+// The basis split sum compensated for multiple scattering. E is bbar_0 of the basis table itself (b_0 = 1), so the
+// compensation reads no other table.
 float3 fresnelBasisMultipleScattering(Texture2D<float4> lut, SamplerState linearClamp, float NdotV, float r, float4 cR, float4 cG, float4 cB)
 {
     float4 b = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
     float3 single = float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    float lost = 1.0 - clamp(b.x, 0.0, 1.0);
-    float3 average = fresnelBasisAverage(cR, cG, cB);
-    return single + single * average / (float3(1.0) - lost * average) * lost;
+    return fresnelCompensate(single, b.x, fresnelBasisAverage(cR, cG, cB));
+}
+
+// The exact split sum of a linear model (weights w = (w0, w1, w2) per colour channel, fresnelLinear<Model>): the
+// Schlick table's R, G and A preintegrate 1 - (1 - mu)^5, (1 - mu)^5 and mu (1 - mu)^6, so Fbar = dot(w, (R, G, A)).
+float3 fresnelLinearWeigh(float4 t, float3 wR, float3 wG, float3 wB)
+{
+    float3 terms = float3(t.x, t.y, t.w);
+    return float3(dot(wR, terms), dot(wG, terms), dot(wB, terms));
+}
+
+float3 fresnelLinearSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 wR, float3 wG, float3 wB)
+{
+    return fresnelLinearWeigh(schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0), wR, wG, wB);
+}
+
+// A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
+// clamped to [0, 1].
+float3 fresnelLinearAverage(float3 wR, float3 wG, float3 wB)
+{
+    float3 average = float3(dot(wR, FRESNEL_LINEAR_AVERAGES), dot(wG, FRESNEL_LINEAR_AVERAGES), dot(wB, FRESNEL_LINEAR_AVERAGES));
+    return clamp(average, float3(0.0), float3(1.0));
+}
+
+// A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
+float3 fresnelLinearMultipleScattering(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 wR, float3 wG, float3 wB)
+{
+    float4 t = schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0);
+    return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
 
 // ---- Rectangular lights: linearly transformed cosines (Heitz, Dupuy, Hill, Neubelt 2016) with the same
@@ -402,4 +477,11 @@ float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schli
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
+}
+
+// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+float3 fresnelLinearRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 wR, float3 wG, float3 wB)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, linearClamp, NdotV, r, wR, wG, wB);
 }

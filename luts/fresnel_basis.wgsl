@@ -12,7 +12,11 @@
 // then, with the same coefficients: image-based light fresnelBasisSplitSum (or
 // fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights
 // fresnelBasisRectLight. Tables: lut (and one sampler), read at level 0 through
-// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps); the Schlick table for fresnelSchlickSplitSum.
+// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).
+// Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:
+//   fresnelLinearSchlick(f0, f90), fresnelLinearF82(f0, f82), fresnelLinearF82Tint(f0, tint),
+//   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,
+//   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).
 // Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to
 // [0, 0.9999], the rest to [0, 1]).
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the
@@ -50,6 +54,7 @@ var<private> FRESNEL_CURVES: array<vec3f, 13> = array<vec3f, 13>(
 );
 const FRESNEL_F82_SCHLICK_WEIGHT: f32 = 0.462664366;  // (1 - 1/7)^5
 const FRESNEL_F82_DIP: f32 = 0.0566527795;  // (1/7) (1 - 1/7)^6
+const FRESNEL_LINEAR_AVERAGES: vec3f = vec3f(0.952380952, 0.0476190476, 0.00793650794);  // 2 * integral of t(mu) mu dmu, t = 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6
 // The tables' grid (128 x 128, columns at root-endpoints, rows at endpoints): fresnelBasisLutUV's affine maps.
 const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offset
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
@@ -155,41 +160,39 @@ fn fresnelCoefficientsGulbrandsen(rIn: f32, g: f32) -> vec4f
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions
-// 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6).
-fn fresnelCoefficientsLinear(w0: f32, w1: f32, w2: f32) -> vec4f
-{
-    return w0 * FRESNEL_PROJECTION_SCALE + w1 * FRESNEL_PROJECTION_BIAS + w2 * FRESNEL_PROJECTION_DIP;
-}
+// Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
+// fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
+// Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
+// fresnelCoefficients<Model> projects the same weights onto the basis.
 
 // Schlick 1994 with F90 (F90 = 1: the usual Schlick).
-fn fresnelCoefficientsSchlick(f0: f32, f90: f32) -> vec4f
+fn fresnelLinearSchlick(f0: f32, f90: f32) -> vec3f
 {
-    return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
+    return vec3f(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
 }
 
-// Hoffman 2019's absolute reflectance at arccos(1/7).
-fn fresnelCoefficientsF82(f0In: f32, f82In: f32) -> vec4f
+// Hoffman 2019's absolute reflectance at arccos(1/7) (eq. 4).
+fn fresnelLinearF82(f0In: f32, f82In: f32) -> vec3f
 {
     var f0 = f0In;
     var f82 = f82In;
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     f82 = fresnelSanitize(f82, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
+    return vec3f(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
 }
 
 // Adobe's F82 tint (OpenPBR specular_color, MaterialX color82; Hoffman 2023 eq. 3): a tint on Schlick at arccos(1/7).
-fn fresnelCoefficientsF82Tint(f0In: f32, tintIn: f32) -> vec4f
+fn fresnelLinearF82Tint(f0In: f32, tintIn: f32) -> vec3f
 {
     var f0 = f0In;
     var tint = tintIn;
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return vec3f(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }
 
 // Hoffman 2023's generalised Adobe model, eq. 6, with p = 5.
-fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> vec4f
+fn fresnelLinearGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> vec3f
 {
     var r0 = r0In;
     var r90 = r90In;
@@ -197,7 +200,34 @@ fn fresnelCoefficientsGeneralizedAdobe(r0In: f32, r90In: f32, tintIn: f32) -> ve
     r0 = fresnelSanitize(r0, 0.0, 0.0, 1.0);
     r90 = fresnelSanitize(r90, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return vec3f(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+}
+
+// The basis coefficients of a linear model's weights: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of its
+// fixed functions).
+fn fresnelCoefficientsLinear(w: vec3f) -> vec4f
+{
+    return w.x * FRESNEL_PROJECTION_SCALE + w.y * FRESNEL_PROJECTION_BIAS + w.z * FRESNEL_PROJECTION_DIP;
+}
+
+fn fresnelCoefficientsSchlick(f0: f32, f90: f32) -> vec4f
+{
+    return fresnelCoefficientsLinear(fresnelLinearSchlick(f0, f90));
+}
+
+fn fresnelCoefficientsF82(f0: f32, f82: f32) -> vec4f
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82(f0, f82));
+}
+
+fn fresnelCoefficientsF82Tint(f0: f32, tint: f32) -> vec4f
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82Tint(f0, tint));
+}
+
+fn fresnelCoefficientsGeneralizedAdobe(r0: f32, r90: f32, tint: f32) -> vec4f
+{
+    return fresnelCoefficientsLinear(fresnelLinearGeneralizedAdobe(r0, r90, tint));
 }
 
 // All three channels at once, for (eta, kappa) and (r, g) texture reads.
@@ -233,6 +263,18 @@ fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let b: vec4f = fresnelBasisCurves(VdotH);
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))
+// with s = (1 - mu)^5, clamped to [0, 1] as the models are.
+fn fresnelLinearDirect(VdotH: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let mu: f32 = fresnelSanitize(VdotH, 1.0, 0.0, 1.0);
+    let m: f32 = 1.0 - mu;
+    let m2: f32 = m * m;
+    let s: f32 = m2 * m2 * m;
+    let t: vec3f = vec3f(1.0 - s, s, mu * s * m);
+    return clamp(vec3f(dot(wR, t), dot(wG, t), dot(wB, t)), vec3f(0.0), vec3f(1.0));
 }
 
 // The tables' texture coordinates of (NdotV, perceptual roughness): u = x * scale + offset of the column coordinate
@@ -274,16 +316,49 @@ fn fresnelBasisAverage(cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
     return clamp(average, vec3f(0.0), vec3f(1.0));
 }
 
-// The split sum compensated for multiple scattering (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single
-// bounce loses, 1 - E, returns scaled by F_avg. E is GGX's albedo without Fresnel, bbar_0 of the basis table itself
-// (b_0 = 1), so the compensation reads no other table.
+// Multiple-scattering compensation (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single bounce loses,
+// 1 - E, returns scaled by F_avg, for a single-scattering split sum, GGX's albedo E without Fresnel and F_avg.
+fn fresnelCompensate(single: vec3f, albedo: f32, average: vec3f) -> vec3f
+{
+    let lost: f32 = 1.0 - clamp(albedo, 0.0, 1.0);
+    return single + single * average / (vec3f(1.0) - lost * average) * lost;
+}
+
+// The basis split sum compensated for multiple scattering. E is bbar_0 of the basis table itself (b_0 = 1), so the
+// compensation reads no other table.
 fn fresnelBasisMultipleScattering(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
     let single: vec3f = vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    let lost: f32 = 1.0 - clamp(b.x, 0.0, 1.0);
-    let average: vec3f = fresnelBasisAverage(cR, cG, cB);
-    return single + single * average / (vec3f(1.0) - lost * average) * lost;
+    return fresnelCompensate(single, b.x, fresnelBasisAverage(cR, cG, cB));
+}
+
+// The exact split sum of a linear model (weights w = (w0, w1, w2) per colour channel, fresnelLinear<Model>): the
+// Schlick table's R, G and A preintegrate 1 - (1 - mu)^5, (1 - mu)^5 and mu (1 - mu)^6, so Fbar = dot(w, (R, G, A)).
+fn fresnelLinearWeigh(t: vec4f, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let terms: vec3f = vec3f(t.x, t.y, t.w);
+    return vec3f(dot(wR, terms), dot(wG, terms), dot(wB, terms));
+}
+
+fn fresnelLinearSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    return fresnelLinearWeigh(textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0), wR, wG, wB);
+}
+
+// A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
+// clamped to [0, 1].
+fn fresnelLinearAverage(wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let average: vec3f = vec3f(dot(wR, FRESNEL_LINEAR_AVERAGES), dot(wG, FRESNEL_LINEAR_AVERAGES), dot(wB, FRESNEL_LINEAR_AVERAGES));
+    return clamp(average, vec3f(0.0), vec3f(1.0));
+}
+
+// A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
+fn fresnelLinearMultipleScattering(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0);
+    return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
 
 // ---- Rectangular lights: linearly transformed cosines (Heitz, Dupuy, Hill, Neubelt 2016) with the same
@@ -402,4 +477,11 @@ fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>,
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
     return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
+}
+
+// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+fn fresnelLinearRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, linearClamp, NdotV, r, wR, wG, wB);
 }

@@ -1,7 +1,7 @@
 """Channel sets: the functions of cos θ_d = ω_o·h whose split-sum integrals make a LUT.
 
 Public objects: ``ChannelSet``, ``CHANNEL_SETS``, ``basis_channels``, ``schlick_channels``,
-``schlick_table_channels``, ``albedo_channels``, ``average_albedo_channels``, ``model_channels``, ``channel_set``,
+``schlick_table_channels``, ``schlick_table_weights``, ``albedo_channels``, ``average_albedo_channels``, ``model_channels``, ``channel_set``,
 ``combine``.
 
 A channel set names its functions f_k, says how an engine combines the channels into F̄, and is
@@ -38,6 +38,7 @@ __all__ = [
     "model_channels",
     "schlick_channels",
     "schlick_table_channels",
+    "schlick_table_weights",
 ]
 
 
@@ -84,16 +85,53 @@ def average_albedo_channels() -> ChannelSet:
 
 
 def schlick_table_channels() -> ChannelSet:
-    """The channels of the shipped Schlick table: R = scale, G = bias (Karis 2013) and B = E, so that every
-    reader of RGB images loads it (FreeImage, tinyexr and FFmpeg refuse or zero a two-channel EXR)."""
-    schlick, albedo = schlick_channels(), albedo_channels()
+    """The channels of the shipped Schlick table: R = scale, G = bias (Karis 2013), B = E and A = the dip
+    ∫ x (1 − x)^6. Every model linear in 1 − (1 − x)^5, (1 − x)^5 and x (1 − x)^6 — Schlick with F0 and F90, Hoffman
+    2019's F82, Adobe's F82 tint, Hoffman 2023's generalised Adobe with p = 5 (eq. 5-6) — has its exact split sum
+    w0 · R + w1 · G + w2 · A; B is what multiple-scattering compensation needs. Four channels, so that every reader
+    of RGBA images loads it (FreeImage, tinyexr and FFmpeg refuse or zero a two-channel EXR)."""
+    linear, albedo = model_channels("adobe"), albedo_channels()
+
+    def functions(x: np.ndarray) -> np.ndarray:
+        terms = linear.functions(x)  # 1 - (1 - x)^5, (1 - x)^5, x (1 - x)^6
+        return np.concatenate([terms[..., :2], albedo.functions(x), terms[..., 2:]], axis=-1)
+
     return ChannelSet(
         name="schlick",
-        functions=combine(schlick, albedo).functions,
-        channel_names=schlick.channel_names + albedo.channel_names,
-        combination=f"{schlick.combination}; {albedo.combination} (multiple-scattering compensation; the "
-        "'multiscatter DFG' form some engines store is (G, B))",
+        functions=functions,
+        channel_names=("R", "G", "B", "A"),
+        combination="R = scale, G = bias: Schlick's Fbar = F0 * R + F90 * G (Karis 2013); B = E = R + G, the GGX "
+        "directional albedo without Fresnel (multiple-scattering compensation; the 'multiscatter DFG' form some "
+        "engines store is (G, B)); A = the dip, integral of mu (1 - mu)^6: a linear model F = w0 (1 - (1 - mu)^5) + "
+        "w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (F82, F82 tint, generalised Adobe with p = 5) has Fbar = w0 * R + w1 * G + "
+        "w2 * A exactly",
     )
+
+
+def schlick_table_weights(model: str, **parameters) -> np.ndarray | None:
+    """Weights (…, 4) of the Schlick table's R, G, B, A whose sum is a linear model's exact split sum, where the
+    model's fixed functions are columns of the table (:func:`schlick_table_channels`: Schlick with F90, F82, F82
+    tint, generalised Adobe and generalised Schlick with p = 5, Lazányi with α = 6); None for any other model.
+
+    >>> schlick_table_weights("adobe", f0=0.9, tint=0.5).round(4).tolist()  # F̄ = 0.9 R + G − 8.3515 A
+    [0.9, 1.0, 0.0, -8.3515]
+    >>> schlick_table_weights("generalized-schlick", r0=0.04, r90=1.0, exponent=4.0) is None
+    True
+    """
+    found = fresnel_model(model)
+    if not found.linear:
+        return None
+    mu = np.linspace(0.0, 1.0, 65)
+    shape = {key: value for key, value in parameters.items() if key in found.shape}
+    terms, columns = found.channel_functions(**shape)(mu), schlick_table_channels().functions(mu)
+    matches = [np.flatnonzero(np.max(np.abs(columns - terms[:, [n]]), axis=0) <= 1e-12) for n in range(terms.shape[1])]
+    if any(match.size == 0 for match in matches):
+        return None
+    weights = found.channel_weights(**parameters)
+    table = np.zeros(np.shape(weights)[:-1] + (4,))
+    for n, match in enumerate(matches):
+        table[..., match[0]] += weights[..., n]
+    return table
 
 
 def basis_channels(basis: Basis | None = None) -> ChannelSet:

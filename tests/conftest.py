@@ -243,6 +243,46 @@ def assert_per_pixel_outputs(outputs, inputs, where: str, constants=None) -> dic
     return errors
 
 
+#: The linear models' per-pixel calls on texel q (weights of fresnelLinear<Model>, then a punctual light's F from three
+#: of them at V.H = q.w): they need no table, so they run on llvmpipe, lavapipe and WebGL 2 alike.
+LINEAR_CALLS = (
+    "vec4(fresnelLinearSchlick(q.z, q.w), 0.0)",
+    "vec4(fresnelLinearF82(q.z, q.w), 0.0)",
+    "vec4(fresnelLinearF82Tint(q.z, q.w), 0.0)",
+    "vec4(fresnelLinearGeneralizedAdobe(q.z, q.w, 0.5), 0.0)",
+    "vec4(fresnelLinearDirect(q.w, fresnelLinearF82Tint(q.z, q.w), fresnelLinearF82(q.z, q.w), "
+    "fresnelLinearGeneralizedAdobe(q.z, 1.0, q.w)), 0.0)",
+)
+
+
+def assert_linear_outputs(outputs, inputs, where: str) -> dict:
+    """Each of :data:`LINEAR_CALLS` finite and within float32 of its mirror (handoff.shaders ``linear_weights``,
+    ``linear_direct``) for the texels as float32 holds them: weights within 2e-6 of max(1, |w|) (the dip weight is a
+    difference of terms near 1 times 1/FRESNEL_F82_DIP = 17.6: float32's 6e-8 on each, 9.4e-7 measured on llvmpipe),
+    F within 5e-6 (three products of weights up to 17.6 with the functions); the errors."""
+    import numpy as np
+
+    from handoff.shaders import linear_direct, linear_weights
+
+    _, _, a, b = np.asarray(inputs, dtype=np.float32).astype(np.float64).T
+    weights = [
+        linear_weights("schlick", f0=a, f90=b),
+        linear_weights("f82", f0=a, f82=b),
+        linear_weights("f82-tint", f0=a, tint=b),
+        linear_weights("generalized-adobe", r0=a, r90=b, tint=0.5),
+    ]
+    light = np.stack([weights[2], weights[1], linear_weights("generalized-adobe", r0=a, r90=1.0, tint=b)], axis=-2)
+    expected = [*weights, linear_direct(light, b)]
+    errors = {}
+    for call, got, want in zip(LINEAR_CALLS, outputs, expected):
+        got = np.asarray(got, dtype=np.float64)[:, :3]
+        assert np.all(np.isfinite(got)), f"{call}: NaN or inf on {where}"
+        scale = np.maximum(1.0, np.abs(want)) if "Direct" not in call else 1.0
+        errors[call] = float(np.max(np.abs(got - want) / scale))
+        assert errors[call] <= (5e-6 if "Direct" in call else 2e-6), (where, call, errors)
+    return errors
+
+
 def wgpu_device(monkeypatch, features=()):
     """A WebGPU device on Mesa's lavapipe (wgpu), with ``features``; skipped (failed under CI) where there is none."""
     import os

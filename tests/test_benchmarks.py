@@ -30,6 +30,7 @@ def test_every_benchmark_is_listed_here():
         "commands",
         "fuzz",
         "gpu_compiler",
+        "linear_models",
         "lut_edges",
         "quadrature_vs_montecarlo",
         "shader_cost",
@@ -49,6 +50,20 @@ def test_the_stability_table_regenerates():
     completed = _run("benchmarks.stability_table")
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert "## Extreme regimes, API fuzz, CLI fuzz" in completed.stdout and "| FAIL |" not in completed.stdout
+
+
+def test_linear_models_runs_small():
+    """The path study at 6² texels and 200 conductors: the exact table holds the F82-tint family to float32 (the
+    basis projection does not: 0.13 at worst), and the basis holds physical conductors better than the F82 model."""
+    completed = _run("benchmarks.linear_models", "--grid", "6", "--conductors", "200")
+    assert completed.returncode == 0, completed.stderr[-2000:]
+
+    def cells(name):
+        row = next(line for line in completed.stdout.splitlines() if line.startswith(f"| {name}"))
+        return [float(cell) for cell in row.strip("|").split("|")[1:]]
+
+    assert cells("exact table")[0] <= 1e-6 < 1e-2 <= cells("basis projection, Fbar")[0]
+    assert cells("basis, four-point")[0] < cells("F82 (Hoffman 2019)")[0]
 
 
 @pytest.mark.slow

@@ -113,18 +113,6 @@ void materialCoefficients(out vec4 cR, out vec4 cG, out vec4 cB)
     }
 }
 
-// The Adobe F82-tint curve (Hoffman 2023 eq. 6 with p = 5 and F90 = 1; the model of basis/models "adobe"):
-// Schlick's curve less a mu (1 - mu)^6 with a such that F(arccos 1/7) is the tint times Schlick's value there.
-float f82TintCurve(float mu, float f0, float tint)
-{
-    f0 = clamp(f0, 0.0, 1.0);
-    tint = clamp(tint, 0.0, 1.0);
-    float m = 1.0 - clamp(mu, 0.0, 1.0);
-    float m5 = m * m * m * m * m;
-    float a = (f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP;
-    return f0 + (1.0 - f0) * m5 - a * (1.0 - m) * m5 * m;
-}
-
 // The material's exact curve at mu: what the reference and the punctual light's exact F use.
 float gulbrandsenExact(float mu, float r, float g)
 {
@@ -146,7 +134,8 @@ vec3 exactFresnel(float mu)
     }
     if (u_kind == 3)
     {
-        return vec3(f82TintCurve(mu, u_a.r, u_b.r), f82TintCurve(mu, u_a.g, u_b.g), f82TintCurve(mu, u_a.b, u_b.b));
+        return fresnelLinearDirect(mu, fresnelLinearF82Tint(u_a.r, u_b.r), fresnelLinearF82Tint(u_a.g, u_b.g),
+                                   fresnelLinearF82Tint(u_a.b, u_b.b));  // the model itself, clamped to [0, 1]
     }
     return presetCurve(mu);
 }

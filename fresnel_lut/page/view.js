@@ -209,10 +209,10 @@
       fetched("config.json", "json"),
       fetched("shaders/fresnel_basis.glsl", "text"),
       fetched("view.glsl", "text"),
-      ...["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"].map((name) => fetched(`tables/${name}.ktx2`, "buffer")),
+      ...["ggx_basis_rgba", "ggx_schlick_rgba", "ggx_ltc"].map((name) => fetched(`tables/${name}.ktx2`, "buffer")),
     ]);
     const [basisTable, schlickTable, ltcTable] = tables.map((buffer, i) =>
-      parseKtx2(buffer, ["ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"][i] + ".ktx2"));
+      parseKtx2(buffer, ["ggx_basis_rgba", "ggx_schlick_rgba", "ggx_ltc"][i] + ".ktx2"));
     const includeHash = (/FRESNEL_BASIS_HASH = 0x([0-9a-f]+)u/.exec(include) || [])[1];
     const tableHash = basisTable.keys["fresnel:basis_hash"] || "";
     if (!includeHash || !tableHash.startsWith(includeHash) || tableHash !== config.basis_hash) {

@@ -27,6 +27,7 @@ from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
 from preintegrate.lut import LutGrid
+from preintegrate.multiple_scattering import schlick_table_averages
 
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
@@ -257,7 +258,11 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
             "// then, with the same coefficients: image-based light fresnelBasisSplitSum (or",
             "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights",
             f"// fresnelBasisRectLight. Tables: {textures}{sampler[language]}, read at level 0 through",
-            "// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps); the Schlick table for fresnelSchlickSplitSum.",
+            "// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).",
+            "// Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:",
+            "//   fresnelLinearSchlick(f0, f90), fresnelLinearF82(f0, f82), fresnelLinearF82Tint(f0, tint),",
+            "//   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,",
+            "//   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).",
             "// Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to",
             "// [0, 0.9999], the rest to [0, 1]).",
             f"// Float32: coefficients within {_exponent(c.float32_tolerance)} of float64, the Fresnel curve they give "
@@ -323,7 +328,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         for line in _terms_constants(f"FRESNEL_PROJECTION_{name}", row, wide, f"coefficients of {what}")
     ]
     linear = [
-        f"w0 * FRESNEL_PROJECTION_SCALE{s} + w1 * FRESNEL_PROJECTION_BIAS{s} + w2 * FRESNEL_PROJECTION_DIP{s}"
+        f"w.x * FRESNEL_PROJECTION_SCALE{s} + w.y * FRESNEL_PROJECTION_BIAS{s} + w.z * FRESNEL_PROJECTION_DIP{s}"
         for s in ([""] + (["_HI"] if wide else []))
     ]
     grid = c.grid
@@ -353,6 +358,11 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         *curve_constants,
         _constant("FRESNEL_F82_SCHLICK_WEIGHT", (1.0 - F82_MU) ** 5, "(1 - 1/7)^5"),
         _constant("FRESNEL_F82_DIP", lazanyi_dip(F82_MU), "(1/7) (1 - 1/7)^6"),
+        _constant(
+            "FRESNEL_LINEAR_AVERAGES",
+            schlick_table_averages()[[0, 1, 3]],
+            "2 * integral of t(mu) mu dmu, t = 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6",
+        ),
         f"// The tables' grid ({grid.width} x {grid.height}, columns at {grid.columns}, rows at {grid.rows}): "
         "fresnelBasisLutUV's affine maps.",
         _constant("FRESNEL_LUT_COLUMNS", grid.column_mapping, "scale, offset"),

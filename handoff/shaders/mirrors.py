@@ -3,7 +3,8 @@ computes, and the tests compare the two.
 
 Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
-``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``.
+``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
+``linear_direct``.
 
 * **(η, κ) per pixel** (Belcour 2020, "Coefficients"): c0 = F(0°) in closed form, c1 = F(90°) − c0 (F(90°) = 1 but
   for η = 1, κ = 0), (c2 … c_(K−1)) = S⁻¹ (F(θ_i) − c0 − c1 b1(θ_i)) with the exact Fresnel equations (Hoffman
@@ -30,6 +31,7 @@ from basis.models.formulas import adobe_dip_weight, f82_dip_weight
 from basis.validation import ParameterError, as_float_array, check_choice
 from preintegrate.ltc import ltc_grid
 from preintegrate.ltc import rect_light_integral as ltc_rect_light_integral
+from preintegrate.multiple_scattering import weigh_schlick_texels
 
 from .constants import (
     ETA_LIMITS,
@@ -45,6 +47,9 @@ from .constants import (
 
 __all__ = [
     "coefficients_per_pixel_gulbrandsen",
+    "linear_direct",
+    "linear_split_sum",
+    "linear_weights",
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",
@@ -142,33 +147,61 @@ def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: Shade
     return _coefficients_solve(reflectivity, *_gulbrandsen_eta_kappa2(reflectivity, edge_tint), constants)
 
 
-def _model_weights(model: str, parameters: dict[str, np.ndarray]) -> np.ndarray:
-    """(…, 3) weights w of t for a model of :data:`PER_PIXEL_MODELS` (parameters sanitised to [0, 1])."""
+def linear_weights(model: str, **parameters) -> np.ndarray:
+    """(…, 3) weights w of t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶) of a model of :data:`PER_PIXEL_MODELS`, each
+    parameter a number or array sanitised to [0, 1] (NaN → 0), as ``fresnelLinear<Model>`` computes them: the
+    Schlick table's (R, G, A) times w is the model's exact split sum.
+
+    >>> linear_weights("f82-tint", f0=0.9, tint=0.5).round(4).tolist()
+    [0.9, 1.0, -8.3515]
+    """
+    check_choice("model", model, list(PER_PIXEL_MODELS))
+    names = PER_PIXEL_MODELS[model][0]
+    if set(parameters) != set(names):
+        raise ParameterError(f"model {model!r} takes {list(names)}, got {sorted(parameters)}")
+    clean = {name: sanitize_unit(parameters[name]) for name in names}
     # the dip weights a are the model registry's own formulas (basis.models.formulas), which the shaders' constants
     # FRESNEL_F82_SCHLICK_WEIGHT and FRESNEL_F82_DIP spell out for float32
     if model == "schlick":
-        f0, f90 = parameters["f0"], parameters["f90"]
+        f0, f90 = clean["f0"], clean["f90"]
         return np.stack(np.broadcast_arrays(f0, f90, np.zeros_like(f0)), axis=-1)
     if model == "f82":  # Hoffman 2019 eq. 4
-        f0 = parameters["f0"]
-        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -f82_dip_weight(f0, parameters["f82"])), axis=-1)
+        f0 = clean["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -f82_dip_weight(f0, clean["f82"])), axis=-1)
     if model == "f82-tint":  # Hoffman 2023 eq. 3
-        f0 = parameters["f0"]
-        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -adobe_dip_weight(f0, parameters["tint"])), axis=-1)
-    r0, r90, tint = parameters["r0"], parameters["r90"], parameters["tint"]  # Hoffman 2023 eq. 6, p = 5
+        f0 = clean["f0"]
+        return np.stack(np.broadcast_arrays(f0, np.ones_like(f0), -adobe_dip_weight(f0, clean["tint"])), axis=-1)
+    r0, r90, tint = clean["r0"], clean["r90"], clean["tint"]  # Hoffman 2023 eq. 6, p = 5
     return np.stack(np.broadcast_arrays(r0, r90, -adobe_dip_weight(r0, tint, r90)), axis=-1)
+
+
+def linear_split_sum(schlick_table, n_dot_v, roughness, weights, constants=None, multiple_scattering=False):
+    """(…, 3) ``fresnelLinearSplitSum`` (or ``fresnelLinearMultipleScattering``) of weights (…, 3, 3), one w per
+    colour channel, from the Schlick table (H, W, 4) read bilinearly at the include's coordinates
+    (:func:`preintegrate.multiple_scattering.weigh_schlick_texels` with no weight on B)."""
+    constants = shader_constants() if constants is None else constants
+    low, high, _, _ = constants.grid.row_mapping
+    roughness = np.clip(sanitize_unit(roughness, 0.5), low, high)
+    texels = constants.grid.lookup(
+        as_float_array("schlick_table", schlick_table), sanitize_unit(n_dot_v, 1.0), roughness
+    )
+    weights = as_float_array("weights", weights)
+    on_table = np.insert(weights, 2, 0.0, axis=-1)  # R, G, (B = E), A
+    return weigh_schlick_texels(on_table, texels, multiple_scattering)
+
+
+def linear_direct(weights, v_dot_h) -> np.ndarray:
+    """(…, 3) ``fresnelLinearDirect``: F(V·H) = Σ_n w_n t_n(μ) per colour channel, weights (…, 3, 3), clamped to
+    [0, 1] as the models are (:func:`basis.models.formulas.fresnel_Hoffman2019`)."""
+    terms = linear_functions(sanitize_unit(v_dot_h, 1.0))[..., None, :]
+    return np.clip(np.sum(as_float_array("weights", weights) * terms, axis=-1), 0.0, 1.0)
 
 
 def coefficients_per_pixel_model(model: str, constants: ShaderConstants | None = None, **parameters) -> np.ndarray:
     """(…, 4) coefficients of a linear artist model of :data:`PER_PIXEL_MODELS` (each parameter a number or array in
     [0, 1], NaN → 0), as the generated ``fresnelCoefficients…`` functions compute them: Σ_n w_n P_n."""
-    check_choice("model", model, list(PER_PIXEL_MODELS))
-    names = PER_PIXEL_MODELS[model][0]
-    if set(parameters) != set(names):
-        raise ParameterError(f"model {model!r} takes {list(names)}, got {sorted(parameters)}")
     constants = shader_constants() if constants is None else constants
-    clean = {name: sanitize_unit(parameters[name]) for name in names}
-    return _model_weights(model, clean) @ constants.projections
+    return linear_weights(model, **parameters) @ constants.projections
 
 
 def lut_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None) -> np.ndarray:
@@ -207,8 +240,7 @@ def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:
     """F(μ) of a model of :data:`PER_PIXEL_MODELS` in the linear form the shaders project (unclamped), parameters
     sanitised to [0, 1]; μ broadcast against them: what :func:`coefficients_per_pixel_model` approximates."""
     check_choice("model", model, list(PER_PIXEL_MODELS))
-    clean = {name: sanitize_unit(parameters[name]) for name in PER_PIXEL_MODELS[model][0]}
-    return np.sum(_model_weights(model, clean) * linear_functions(sanitize_unit(mu)), axis=-1)
+    return np.sum(linear_weights(model, **parameters) * linear_functions(sanitize_unit(mu)), axis=-1)
 
 
 def direct_fresnel(coefficients, v_dot_h, constants: ShaderConstants | None = None) -> np.ndarray:

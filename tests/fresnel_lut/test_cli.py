@@ -34,11 +34,12 @@ from tests.references.integration import reference_albedo, reference_albedo_half
 SIZE = 32
 #: The basis channels of the default basis, then Schlick's scale and bias: the 6 LUT channels.
 _BASIS = basis_channels().functions
-_SCHLICK = schlick_table_channels().functions  # R = scale, G = bias, B = E (the albedo without Fresnel)
+_SCHLICK = schlick_table_channels().functions  # R = scale, G = bias, B = E (the albedo without Fresnel), A = dip
 
 
 def build_channels(x):
-    """The seven functions of the default build: b0 … b3, then Schlick's 1 − (1 − x)^5, (1 − x)^5 and 1."""
+    """The eight functions of the default build: b0 … b3, then Schlick's 1 − (1 − x)^5, (1 − x)^5, 1 and the dip
+    x (1 − x)^6."""
     return np.concatenate([_BASIS(x), _SCHLICK(x)], axis=-1)
 
 
@@ -73,16 +74,16 @@ def _reference(mu_o, alpha):
 
 # ----------------------------------------------------------------------------- build: files and headers
 def test_build_writes_both_luts_with_convention(built):
-    """build --size 32 writes RGBA basis and RGB Schlick EXRs (R = scale, G = bias, B = E = R + G), 32×32, finite,
+    """build --size 32 writes RGBA basis and Schlick EXRs (R = scale, G = bias, B = E = R + G, A = dip), 32×32, finite,
     header = PIXEL_CONVENTION and default basis hash (exact)."""
     out, stdout = built
     assert sorted(p.name for p in out.iterdir()) == sorted(DEFAULT_BUILD_FILES)
     basis_table, basis_attributes = read_lut(out / BASIS_LUT)
     schlick_table, schlick_attributes = read_lut(out / SCHLICK_LUT)
-    assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 3)
+    assert basis_table.shape == (SIZE, SIZE, 4) and schlick_table.shape == (SIZE, SIZE, 4)
     np.testing.assert_allclose(schlick_table[..., 2], schlick_table[..., 0] + schlick_table[..., 1], rtol=0, atol=1e-7)
     assert np.all(np.isfinite(basis_table)) and np.all(np.isfinite(schlick_table))
-    assert basis_attributes["channels"] == "R,G,B,A" and schlick_attributes["channels"] == "R,G,B"
+    assert basis_attributes["channels"] == "R,G,B,A" and schlick_attributes["channels"] == "R,G,B,A"
     for attributes in (basis_attributes, schlick_attributes):
         assert attributes["convention"] == PIXEL_CONVENTION
         assert "sqrt(mu_o) = i / (width - 1)" in attributes["convention"] and "alpha = r^2" in attributes["convention"]
@@ -92,7 +93,7 @@ def test_build_writes_both_luts_with_convention(built):
     raw = OpenEXR.File(str(out / BASIS_LUT), separate_channels=True)
     assert sorted(raw.channels()) == ["A", "B", "G", "R"]
     assert all(channel.pixels.dtype == np.float32 for channel in raw.channels().values())
-    assert sorted(OpenEXR.File(str(out / SCHLICK_LUT), separate_channels=True).channels()) == ["B", "G", "R"]
+    assert sorted(OpenEXR.File(str(out / SCHLICK_LUT), separate_channels=True).channels()) == ["A", "B", "G", "R"]
     assert default_basis().content_hash in stdout
 
 
@@ -314,7 +315,7 @@ def test_build_model_errors_write_nothing(argv, message, tmp_path, capsys):
 
 
 def test_coeffs_model(capsys):
-    """coeffs --model f82 --json: four-point coefficients of the model's curve, its own LUT weights (f0, 1, -a)."""
+    """coeffs --model f82 --json: four-point coefficients of the model's curve, the Schlick table's weights (f0, 1, 0, -a) of R, G, B, A."""
     from basis.angles import cos_theta
     from basis.models import fresnel_model
 
@@ -325,7 +326,10 @@ def test_coeffs_model(capsys):
     samples = fresnel_model("f82").evaluate(cos_theta(basis.fit_angles)[:, None], f0=f0, f82=f82)
     np.testing.assert_allclose(np.array(data["coefficients"]), coefficients_from_samples(samples.T), atol=1e-15)
     a = 823543 / 46656 * (np.array(f0) - f82) + 49 / 6 * (1 - np.array(f0))
-    np.testing.assert_allclose(np.array(data["own_split_sum"]["weights"])[:, 2], -a, atol=1e-12)
+    np.testing.assert_allclose(
+        np.array(data["own_split_sum"]["weights"]), np.stack([f0, [1, 1, 1], [0, 0, 0], -a], -1), atol=1e-12
+    )
+    assert data["own_split_sum"]["lut"].startswith("ggx_schlick_rgba.exr")
     assert data["own_split_sum"]["exact"] is True
     assert (
         run(
@@ -617,8 +621,8 @@ def test_build_visibility_is_recorded_and_changes_the_table(tmp_path, capsys):
     height-correlated ones (the default build is unchanged: the shipped files rebuild byte for byte)."""
     assert run(["build", "--size", 8, "--visibility", "separable", "--out", tmp_path / "sep"]) == 0
     assert run(["build", "--size", 8, "--out", tmp_path / "hc"]) == 0
-    separable, header = read_lut(tmp_path / "sep" / "ggx_schlick_rgb.exr")
-    correlated, default_header = read_lut(tmp_path / "hc" / "ggx_schlick_rgb.exr")
+    separable, header = read_lut(tmp_path / "sep" / "ggx_schlick_rgba.exr")
+    correlated, default_header = read_lut(tmp_path / "hc" / "ggx_schlick_rgba.exr")
     assert "separable Smith G2 = G1(omega_o) * G1(omega_i)" in header["convention"]
     assert default_header["convention"] == PIXEL_CONVENTION and "height-correlated" in PIXEL_CONVENTION
     assert np.all(separable.sum(axis=-1) <= correlated.sum(axis=-1) + 1e-6)

@@ -130,7 +130,7 @@ def half_tables():
     writers' one rule: subnormal halves are written as 0)."""
     return {
         name: stored_values(read_lut(shipped_path(f"{name}.exr"))[0], half=True).astype(np.float64)
-        for name in ("ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc")
+        for name in ("ggx_basis_rgba", "ggx_schlick_rgba", "ggx_ltc")
     }
 
 
@@ -368,7 +368,7 @@ def test_the_page_renders_figure_2_as_the_python_renderer(server, browser, half_
     assert page.inner_text("#error") == ""
     figure2 = render.DEFAULT_SCENES["figure2"]("sRGB")
     roughness = render.FIGURE2_ROUGHNESS
-    basis, schlick, ltc = (half_tables[name] for name in ("ggx_basis_rgba", "ggx_schlick_rgb", "ggx_ltc"))
+    basis, schlick, ltc = (half_tables[name] for name in ("ggx_basis_rgba", "ggx_schlick_rgba", "ggx_ltc"))
     want = render.render_split_sum(figure2, roughness, SIZE, basis, schlick)
     for mode, key in (("schlick", "schlick"), ("basis", "basis"), ("multiple", "basis_multiple_scattering")):
         _close(_picture(page, mode), want[key], f"split sum {mode}")
@@ -430,7 +430,7 @@ def test_every_kind_of_material_through_the_page_controls(server, browser, half_
     page.check("#light-point")
     page.evaluate("() => fresnelView.settle(1)")
     material = _material(mapping)
-    basis, schlick = half_tables["ggx_basis_rgba"], half_tables["ggx_schlick_rgb"]
+    basis, schlick = half_tables["ggx_basis_rgba"], half_tables["ggx_schlick_rgba"]
     want = render.render_split_sum(material, 0.45, SIZE, basis, schlick)
     point = render.render_point_light(material, 0.45, SIZE)
     for mode, key in (("schlick", "schlick"), ("basis", "basis"), ("multiple", "basis_multiple_scattering")):
@@ -575,7 +575,12 @@ def test_a_users_environment_map_is_prefiltered_on_the_gpu(tmp_path, browser, ha
                 _set(page, "#roughness", roughness)
                 page.evaluate("() => fresnelView.settle(1)")
                 want = render.render_split_sum(
-                    figure2, roughness, SIZE, half_tables["ggx_basis_rgba"], half_tables["ggx_schlick_rgb"], environment
+                    figure2,
+                    roughness,
+                    SIZE,
+                    half_tables["ggx_basis_rgba"],
+                    half_tables["ggx_schlick_rgba"],
+                    environment,
                 )["basis"]
                 got = _picture(page, "basis")
                 error = np.abs(got - want) / np.maximum(want, 1e-2)

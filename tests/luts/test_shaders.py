@@ -25,7 +25,7 @@ INCLUDES = {
     language: (LUTS / f"fresnel_basis.{language}").read_text(encoding="utf-8") for language in ("glsl", "hlsl", "wgsl")
 }
 BASIS_LUT, BASIS_HEADER = read_lut(LUTS / "ggx_basis_rgba.exr")
-SCHLICK_LUT, _ = read_lut(LUTS / "ggx_schlick_rgb.exr")
+SCHLICK_LUT, _ = read_lut(LUTS / "ggx_schlick_rgba.exr")
 GOLD = (np.array([0.18, 0.42, 1.37]), np.array([3.42, 2.35, 1.77]))
 
 

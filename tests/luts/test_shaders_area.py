@@ -1,5 +1,6 @@
 """The generated includes' rectangular light (``fresnelBasisRectLight``, ``fresnelSchlickRectLight``,
-``fresnelLtcRect``, ``fresnelLtcUV``) run for real with the shipped tables and match their Python mirrors
+``fresnelLinearRectLight``, ``fresnelLtcRect``, ``fresnelLtcUV``) and the linear models' split sums
+(``fresnelLinearSplitSum``, ``fresnelLinearMultipleScattering``: an F82-tint material's exact path) run for real with the shipped tables and match their Python mirrors
 (handoff/shaders/mirrors.py ``rect_light_specular``, preintegrate/ltc.py): GLSL on Mesa's llvmpipe, WGSL on lavapipe
 (the WebGL 2 path: tests/luts/test_shaders_webgl.py).
 
@@ -14,7 +15,7 @@ import numpy as np
 
 from basis.storage import shipped_path
 from handoff.exr import read_lut
-from handoff.shaders import ltc_coordinates, rect_light_specular, shader_includes
+from handoff.shaders import linear_split_sum, linear_weights, ltc_coordinates, rect_light_specular, shader_includes
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ltc import ltc_grid, rect_light_integral
 from preintegrate.lut import LutGrid
@@ -23,6 +24,9 @@ from tests.conftest import gl_draw, wgpu_compute, wgpu_device
 INCLUDES = dict(shader_includes())
 COEFFICIENTS = np.array([[0.9, 0.1, -0.02, 0.01], [0.75, 0.25, 0.01, 0.01], [0.42, 0.58, 0.03, 0.0]])
 F0 = np.array([0.95, 0.64, 0.54])
+#: An F82-tint (OpenPBR specular_color) material's weights of the Schlick table's R, G, A, one row per colour.
+WEIGHTS = linear_weights("f82-tint", f0=F0, tint=np.array([0.9, 0.75, 0.6]))
+OUTPUTS = 5
 LIGHT = np.array([[-1.0, -0.5, 2.0], [-1.0, 0.5, 2.0], [1.0, 0.5, 2.0], [1.0, -0.5, 2.0]])  # faces -z, three.js winding
 
 
@@ -63,10 +67,15 @@ def _expected(a, b, ltc, basis, schlick):
     schlick_specular = integral[:, None] * (F0[None] * s[:, :1] + s[:, 1:2])
     uv = ltc_coordinates(n_dot_v, roughness)
     uv[:64] = np.nan  # views along the normal: fresnelLtcUV's √(1 − N·V) is float32's N·V rounding (see above)
+    weights = np.broadcast_to(WEIGHTS, (len(a), 3, 3))
+    linear = linear_split_sum(schlick, n_dot_v, roughness, weights)
+    compensated = linear_split_sum(schlick, n_dot_v, roughness, weights, multiple_scattering=True)
     return [
         np.concatenate([specular, integral[:, None]], -1),
         np.concatenate([schlick_specular, np.zeros((len(a), 1))], -1),
         np.concatenate([grid.texture_coordinates(n_dot_v, roughness, sine), uv], -1),
+        np.concatenate([integral[:, None] * linear, np.zeros((len(a), 1))], -1),
+        np.concatenate([linear, compensated[:, :1]], -1),
     ]
 
 
@@ -85,10 +94,13 @@ uniform sampler2D schlickLut;
 uniform sampler2D inputA;
 uniform sampler2D inputB;
 uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform vec3 f0;
+uniform vec3 wR; uniform vec3 wG; uniform vec3 wB;
 uniform vec3 light[4];
 layout(location = 0) out vec4 out0;
 layout(location = 1) out vec4 out1;
 layout(location = 2) out vec4 out2;
+layout(location = 3) out vec4 out3;
+layout(location = 4) out vec4 out4;
 void main() {
     vec4 a = texelFetch(inputA, ivec2(gl_FragCoord.xy), 0), b = texelFetch(inputB, ivec2(gl_FragCoord.xy), 0);
     vec3 corners[4];
@@ -99,6 +111,9 @@ void main() {
     out1 = vec4(fresnelSchlickRectLight(ltcLut, schlickLut, a.xyz, b.xyz, P, corners, a.w, f0), 0.0);
     float NdotV = clamp(dot(a.xyz, b.xyz), 0.0, 1.0);
     out2 = vec4(fresnelLtcUVSine(NdotV, length(cross(a.xyz, b.xyz)), a.w), fresnelLtcUV(NdotV, a.w));
+    out3 = vec4(fresnelLinearRectLight(ltcLut, schlickLut, a.xyz, b.xyz, P, corners, a.w, wR, wG, wB), 0.0);
+    out4 = vec4(fresnelLinearSplitSum(schlickLut, NdotV, a.w, wR, wG, wB),
+                fresnelLinearMultipleScattering(schlickLut, NdotV, a.w, wR, wG, wB).x);
 }
 """
 
@@ -108,12 +123,13 @@ def test_glsl_rect_light_on_mesa_llvmpipe_matches_the_mirrors():
     a, b = _inputs()
     uniforms = {"ltcLut": 0, "basisLut": 1, "schlickLut": 2, "inputA": 3, "inputB": 4, "f0": tuple(F0)}
     uniforms.update({f"c{colour}": tuple(COEFFICIENTS[k]) for k, colour in enumerate("RGB")})
+    uniforms.update({f"w{colour}": tuple(WEIGHTS[k]) for k, colour in enumerate("RGB")})
     uniforms["light"] = [tuple(corner) for corner in LIGHT]
     outputs = gl_draw(
         "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + GLSL_MAIN,
         [ltc, basis, schlick, a.reshape(32, 32, 4), b.reshape(32, 32, 4)],
         uniforms,
-        3,
+        OUTPUTS,
     )
     _assert(outputs, _expected(a, b, ltc, basis, schlick), "llvmpipe")
 
@@ -136,12 +152,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var k = 0; k < 4; k = k + 1) { corners[k] = LIGHT[k] + vec3f(b.w, 0.0, 0.0); }
     let P = vec3f(0.0);
     let cR = vec4f(COEFFICIENTS_R); let cG = vec4f(COEFFICIENTS_G); let cB = vec4f(COEFFICIENTS_B);
-    outputs[3u * i] = vec4f(fresnelBasisRectLight(ltcLut, basisLut, linearClamp, a.xyz, b.xyz, P, corners, a.w, cR, cG, cB),
+    let wR = vec3f(WEIGHTS_R); let wG = vec3f(WEIGHTS_G); let wB = vec3f(WEIGHTS_B);
+    outputs[5u * i] = vec4f(fresnelBasisRectLight(ltcLut, basisLut, linearClamp, a.xyz, b.xyz, P, corners, a.w, cR, cG, cB),
                             fresnelLtcRect(ltcLut, linearClamp, a.xyz, b.xyz, P, corners, a.w));
-    outputs[3u * i + 1u] = vec4f(fresnelSchlickRectLight(ltcLut, schlickLut, linearClamp, a.xyz, b.xyz, P, corners, a.w,
+    outputs[5u * i + 1u] = vec4f(fresnelSchlickRectLight(ltcLut, schlickLut, linearClamp, a.xyz, b.xyz, P, corners, a.w,
                                                          vec3f(F0)), 0.0);
     let NdotV = clamp(dot(a.xyz, b.xyz), 0.0, 1.0);
-    outputs[3u * i + 2u] = vec4f(fresnelLtcUVSine(NdotV, length(cross(a.xyz, b.xyz)), a.w), fresnelLtcUV(NdotV, a.w));
+    outputs[5u * i + 2u] = vec4f(fresnelLtcUVSine(NdotV, length(cross(a.xyz, b.xyz)), a.w), fresnelLtcUV(NdotV, a.w));
+    outputs[5u * i + 3u] = vec4f(fresnelLinearRectLight(ltcLut, schlickLut, linearClamp, a.xyz, b.xyz, P, corners, a.w,
+                                                        wR, wG, wB), 0.0);
+    outputs[5u * i + 4u] = vec4f(fresnelLinearSplitSum(schlickLut, linearClamp, NdotV, a.w, wR, wG, wB),
+                                 fresnelLinearMultipleScattering(schlickLut, linearClamp, NdotV, a.w, wR, wG, wB).x);
 }
 """
 
@@ -155,7 +176,7 @@ def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
     usage = wgpu.BufferUsage
     inputs = np.stack([a, b], axis=1).astype(np.float32)
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
-    output_buffer = device.create_buffer(size=len(a) * 3 * 16, usage=usage.STORAGE | usage.COPY_SRC)
+    output_buffer = device.create_buffer(size=len(a) * OUTPUTS * 16, usage=usage.STORAGE | usage.COPY_SRC)
     views = []
     for table in (ltc, basis, schlick):
         rgba = np.zeros(table.shape[:2] + (4,), np.float32)
@@ -174,8 +195,9 @@ def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
         views.append(texture.create_view())
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     code = INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN
-    for colour, row in zip("RGB", COEFFICIENTS):
+    for colour, row, weights in zip("RGB", COEFFICIENTS, WEIGHTS):
         code = code.replace(f"COEFFICIENTS_{colour}", ", ".join(f"{value:.9g}" for value in row))
+        code = code.replace(f"WEIGHTS_{colour}", ", ".join(f"{float(np.float32(value)):.9g}" for value in weights))
     code = code.replace("vec3f(F0)", "vec3f(" + ", ".join(f"{value:.9g}" for value in F0) + ")")
     data = wgpu_compute(
         device,
@@ -184,5 +206,5 @@ def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
         output_buffer,
         len(a),
     )
-    output = np.frombuffer(data, np.float32).reshape(len(a), 3, 4)
-    _assert([output[:, k] for k in range(3)], _expected(a, b, ltc, basis, schlick), "lavapipe")
+    output = np.frombuffer(data, np.float32).reshape(len(a), OUTPUTS, 4)
+    _assert([output[:, k] for k in range(OUTPUTS)], _expected(a, b, ltc, basis, schlick), "lavapipe")

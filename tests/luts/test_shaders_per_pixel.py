@@ -29,8 +29,10 @@ from handoff.shaders import (
     shader_includes,
 )
 from tests.conftest import (
+    LINEAR_CALLS,
     PER_PIXEL_CALLS,
     PER_PIXEL_GLSL_MAIN,
+    assert_linear_outputs,
     assert_per_pixel_outputs,
     gl_draw,
     gpu_missing,
@@ -103,6 +105,54 @@ def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
     )
     output = np.frombuffer(data, np.float32).reshape(len(inputs), OUTPUTS, 4)
     assert_per_pixel_outputs([output[:, k] for k in range(OUTPUTS)], inputs, "lavapipe")
+
+
+LINEAR_GLSL_MAIN = (
+    "\nuniform sampler2D inputs;\n"
+    + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(LINEAR_CALLS)))
+    + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
+    + "".join(f"    out{k} = {call};\n" for k, call in enumerate(LINEAR_CALLS))
+    + "}\n"
+)
+LINEAR_WGSL_MAIN = (
+    WGSL_MAIN.split("    outputs[")[0]
+    + "".join(
+        f"    outputs[{len(LINEAR_CALLS)}u * i + {k}u] = {call.replace('vec4(', 'vec4f(')};\n"
+        for k, call in enumerate(LINEAR_CALLS)
+    )
+    + "}\n"
+)
+
+
+def test_linear_models_per_pixel_on_llvmpipe_and_lavapipe_match_the_mirrors(monkeypatch):
+    """Issue 39: the linear models' weights (fresnelLinear<Model>) and a punctual light's closed form
+    (fresnelLinearDirect) over the per-pixel texels (edges, NaN, ±inf, beyond the range) in GLSL on llvmpipe and in
+    WGSL on lavapipe, against the float64 mirrors; nothing NaN or inf. Measured in the errors the assertion prints."""
+    import wgpu
+
+    inputs = per_pixel_inputs()
+    outputs = gl_draw(
+        "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + LINEAR_GLSL_MAIN,
+        [inputs.reshape(32, 32, 4)],
+        {"inputs": 0},
+        len(LINEAR_CALLS),
+    )
+    assert_linear_outputs(outputs, inputs, "llvmpipe")
+    device = wgpu_device(monkeypatch)
+    stored = inputs.astype(np.float32)
+    usage = wgpu.BufferUsage
+    input_buffer = device.create_buffer_with_data(data=stored.tobytes(), usage=usage.STORAGE)
+    count = len(LINEAR_CALLS)
+    output_buffer = device.create_buffer(size=len(stored) * count * 16, usage=usage.STORAGE | usage.COPY_SRC)
+    data = wgpu_compute(
+        device,
+        INCLUDES["fresnel_basis.wgsl"] + LINEAR_WGSL_MAIN,
+        [{"buffer": input_buffer}, {"buffer": output_buffer}],
+        output_buffer,
+        len(stored),
+    )
+    output = np.frombuffer(data, np.float32).reshape(len(stored), count, 4)
+    assert_linear_outputs([output[:, k] for k in range(count)], inputs, "lavapipe")
 
 
 OFFLINE_GLSL_MAIN = """

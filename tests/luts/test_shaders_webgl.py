@@ -10,7 +10,14 @@ import numpy as np
 
 from benchmarks.browser import browser_page
 from handoff.shaders import shader_includes
-from tests.conftest import PER_PIXEL_CALLS, assert_per_pixel_outputs, chromium, per_pixel_inputs
+from tests.conftest import (
+    LINEAR_CALLS,
+    PER_PIXEL_CALLS,
+    assert_linear_outputs,
+    assert_per_pixel_outputs,
+    chromium,
+    per_pixel_inputs,
+)
 
 FRAGMENT = """#version 300 es
 precision highp float;
@@ -100,6 +107,22 @@ def test_glsl_es_per_pixel_in_webgl2_matches_the_mirrors():
     result = _render_in_webgl2(fragment, texels, len(PER_PIXEL_CALLS))
     values = [np.array(output, dtype=np.float64).reshape(1024, 4) for output in result["outputs"]]
     assert_per_pixel_outputs(values, inputs, f"WebGL 2 ({result['renderer']})")
+
+
+def test_glsl_es_linear_models_in_webgl2_match_the_mirrors():
+    """Issue 39: the linear models' weights and punctual light (conftest.LINEAR_CALLS) in WebGL 2, as on llvmpipe."""
+    include = dict(shader_includes())["fresnel_basis.glsl"]
+    branches = "\n".join(
+        f"    {'if' if k == 0 else 'else if'} (mode == {k}) result = {call};" for k, call in enumerate(LINEAR_CALLS)
+    )
+    inputs = per_pixel_inputs()
+    result = _render_in_webgl2(
+        FRAGMENT.format(include=include, branches=branches),
+        inputs.astype(np.float32).ravel().tolist(),
+        len(LINEAR_CALLS),
+    )
+    values = [np.array(output, dtype=np.float64).reshape(1024, 4) for output in result["outputs"]]
+    assert_linear_outputs(values, inputs, f"WebGL 2 ({result['renderer']})")
 
 
 AREA_BODY = """

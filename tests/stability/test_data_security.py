@@ -78,7 +78,7 @@ def test_a_smaller_basis_build_removes_the_second_table_of_a_larger_one(built, t
     assert run(["basis", "--count", "2000", "--terms", "8", "--out", eight]) == 0
     assert run(["build", "--size", "6", "--basis", eight, "--format", "exr,ktx2", "--out", built]) == 0
     assert (built / "ggx_basis_rgba_2.exr").exists() and (built / "ggx_basis_rgba_2.ktx2").exists()
-    (built / ".ggx_schlick_rgb.png.abc12345.tmp").write_bytes(b"left by a killed png16 build")
+    (built / ".ggx_schlick_rgba.png.abc12345.tmp").write_bytes(b"left by a killed png16 build")
     (built / "ggx_basis_rgba_2.exr.notes").write_text("not a table of the set")
     assert run(["build", "--size", "6", "--out", built]) == 0
     assert sorted(path.name for path in built.iterdir()) == sorted([*DEFAULT_BUILD_FILES, "ggx_basis_rgba_2.exr.notes"])

@@ -137,7 +137,7 @@ def test_a_crafted_scene_list_removes_no_build_table(built, tmp_path, capsys):
         json.dumps(
             {
                 "materials": {
-                    "m": {"lut": "ggx_basis_rgba.exr", "second_lut": "ggx_schlick_rgb.exr"},
+                    "m": {"lut": "ggx_basis_rgba.exr", "second_lut": "ggx_schlick_rgba.exr"},
                     "n": {"lut": "notes.png", "second_lut": "ggx_ltc.exr"},
                 },
                 "scene_basis": {"file": "fresnel_basis.glsl"},

@@ -20,7 +20,7 @@ from preintegrate.channels import basis_channels, combine, schlick_table_channel
 from preintegrate.lut import build_table
 
 SIZE = 128
-NAMES = ("R", "G", "B", "A", "S", "T", "E")  # four basis channels, Schlick scale and bias, the albedo E
+NAMES = ("R", "G", "B", "A", "S", "T", "E", "D")  # four basis channels, Schlick scale and bias, the albedo E, the dip
 ATTRIBUTES = {"channels": ",".join(NAMES), "convention": "test table"}
 HALF_MIN_NORMAL = 2.0**-14
 HALF_MAX = 65504.0
@@ -29,7 +29,7 @@ SHIPPED = Path(shipped_basis_path()).parent
 
 @pytest.fixture(scope="module")
 def table64():
-    """The 128 × 128 × 7 float64 table of ``fresnel-lut build`` (basis RGBA + Schlick RGB)."""
+    """The 128 × 128 × 8 float64 table of ``fresnel-lut build`` (basis RGBA + Schlick RGBA)."""
     return build_table(combine(basis_channels(), schlick_table_channels()), SIZE)
 
 
@@ -48,7 +48,7 @@ def stored(table64, tmp_path_factory):
 def test_float64_table_is_finite_and_bounded(table64):
     """The table written is finite and |x| ≤ 1 + 2^-24 (albedos of functions bounded by 1; ≤ half a float32 ulp
     of overshoot from the quadrature): no texel can overflow float32 or half."""
-    assert table64.shape == (SIZE, SIZE, 7) and np.all(np.isfinite(table64))
+    assert table64.shape == (SIZE, SIZE, 8) and np.all(np.isfinite(table64))
     assert np.max(np.abs(table64)) <= 1.0 + 2.0**-24
 
 
@@ -100,10 +100,10 @@ def test_half_flush_boundaries(tmp_path):
 
 @pytest.mark.skipif(not (SHIPPED / "ggx_basis_rgba.exr").exists(), reason="no shipped LUTs in luts/")
 def test_shipped_luts_are_the_float32_rounding_of_a_fresh_build(table64):
-    """luts/ggx_basis_rgba.exr and ggx_schlick_rgb.exr equal a fresh float64 build cast to float32, bit for bit (so
+    """luts/ggx_basis_rgba.exr and ggx_schlick_rgba.exr equal a fresh float64 build cast to float32, bit for bit (so
     their storage error is ≤ 2^-24 relative and the shipped files are reproducible)."""
     basis_lut, _ = read_lut(SHIPPED / "ggx_basis_rgba.exr")
-    schlick_lut, _ = read_lut(SHIPPED / "ggx_schlick_rgb.exr")
+    schlick_lut, _ = read_lut(SHIPPED / "ggx_schlick_rgba.exr")
     shipped = np.concatenate([basis_lut, schlick_lut], axis=-1)
     assert shipped.shape == table64.shape
     np.testing.assert_array_equal(shipped, table64.astype(np.float32).astype(np.float64))

@@ -40,7 +40,7 @@ def test_disk_full_in_a_new_folder_leaves_no_folder(tmp_path, monkeypatch, capsy
     assert run(["build", "--size", "6", "--out", out]) == 2
     error = capsys.readouterr().err
     assert_one_line_error(error)
-    assert "ggx_schlick_rgb.exr" in error and "No space left" in error
+    assert "ggx_schlick_rgba.exr" in error and "No space left" in error
     assert list(tmp_path.iterdir()) == []
 
 
@@ -153,7 +153,7 @@ def test_two_builds_into_one_folder_leave_one_consistent_set(tmp_path):
             for command in commands
         ]
         assert [process.wait(timeout=120) for process in processes] == [0, 0]
-        headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgb.exr")]
+        headers = [read_lut(out / name)[1] for name in ("ggx_basis_rgba.exr", "ggx_schlick_rgba.exr")]
         assert headers[0]["pixel_type"] == headers[1]["pixel_type"] and headers[0]["width"] == headers[1]["width"]
 
 

@@ -115,3 +115,10 @@ vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, NdotV, r, f0);
 }
+
+// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 wR, vec3 wG, vec3 wB)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, NdotV, r, wR, wG, wB);
+}

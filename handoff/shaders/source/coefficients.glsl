@@ -41,42 +41,67 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Linear artist models: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of their fixed functions
-// 1 - (1 - mu)^5, (1 - mu)^5, mu (1 - mu)^6).
-{{terms}} fresnelCoefficientsLinear(float w0, float w1, float w2)
-{
-{{linear}}
-}
+// Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
+// fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
+// Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
+// fresnelCoefficients<Model> projects the same weights onto the basis.
 
 // Schlick 1994 with F90 (F90 = 1: the usual Schlick).
-{{terms}} fresnelCoefficientsSchlick(float f0, float f90)
+vec3 fresnelLinearSchlick(float f0, float f90)
 {
-    return fresnelCoefficientsLinear(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
+    return vec3(fresnelSanitize(f0, 0.0, 0.0, 1.0), fresnelSanitize(f90, 0.0, 0.0, 1.0), 0.0);
 }
 
-// Hoffman 2019's absolute reflectance at arccos(1/7).
-{{terms}} fresnelCoefficientsF82(float f0, float f82)
+// Hoffman 2019's absolute reflectance at arccos(1/7) (eq. 4).
+vec3 fresnelLinearF82(float f0, float f82)
 {
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     f82 = fresnelSanitize(f82, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
+    return vec3(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT - f82) / FRESNEL_F82_DIP);
 }
 
 // Adobe's F82 tint (OpenPBR specular_color, MaterialX color82; Hoffman 2023 eq. 3): a tint on Schlick at arccos(1/7).
-{{terms}} fresnelCoefficientsF82Tint(float f0, float tint)
+vec3 fresnelLinearF82Tint(float f0, float tint)
 {
     f0 = fresnelSanitize(f0, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return vec3(f0, 1.0, -(f0 + (1.0 - f0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
 }
 
 // Hoffman 2023's generalised Adobe model, eq. 6, with p = 5.
-{{terms}} fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
+vec3 fresnelLinearGeneralizedAdobe(float r0, float r90, float tint)
 {
     r0 = fresnelSanitize(r0, 0.0, 0.0, 1.0);
     r90 = fresnelSanitize(r90, 0.0, 0.0, 1.0);
     tint = fresnelSanitize(tint, 0.0, 0.0, 1.0);
-    return fresnelCoefficientsLinear(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+    return vec3(r0, r90, -(r0 + (r90 - r0) * FRESNEL_F82_SCHLICK_WEIGHT) * (1.0 - tint) / FRESNEL_F82_DIP);
+}
+
+// The basis coefficients of a linear model's weights: c = w0 P_scale + w1 P_bias + w2 P_dip (the projections of its
+// fixed functions).
+{{terms}} fresnelCoefficientsLinear(vec3 w)
+{
+{{linear}}
+}
+
+{{terms}} fresnelCoefficientsSchlick(float f0, float f90)
+{
+    return fresnelCoefficientsLinear(fresnelLinearSchlick(f0, f90));
+}
+
+{{terms}} fresnelCoefficientsF82(float f0, float f82)
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82(f0, f82));
+}
+
+{{terms}} fresnelCoefficientsF82Tint(float f0, float tint)
+{
+    return fresnelCoefficientsLinear(fresnelLinearF82Tint(f0, tint));
+}
+
+{{terms}} fresnelCoefficientsGeneralizedAdobe(float r0, float r90, float tint)
+{
+    return fresnelCoefficientsLinear(fresnelLinearGeneralizedAdobe(r0, r90, tint));
 }
 
 // All three channels at once, for (eta, kappa) and (r, g) texture reads.

@@ -11,3 +11,15 @@ vec3 fresnelBasisDirect(float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
     {{terms}} b = fresnelBasisCurves(VdotH);
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
+
+// A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))
+// with s = (1 - mu)^5, clamped to [0, 1] as the models are.
+vec3 fresnelLinearDirect(float VdotH, vec3 wR, vec3 wG, vec3 wB)
+{
+    float mu = fresnelSanitize(VdotH, 1.0, 0.0, 1.0);
+    float m = 1.0 - mu;
+    float m2 = m * m;
+    float s = m2 * m2 * m;
+    vec3 t = vec3(1.0 - s, s, mu * s * m);
+    return clamp(vec3(dot(wR, t), dot(wG, t), dot(wB, t)), vec3(0.0), vec3(1.0));
+}

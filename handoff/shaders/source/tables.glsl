@@ -37,14 +37,47 @@ vec3 fresnelBasisAverage({{terms}} cR, {{terms}} cG, {{terms}} cB)
     return clamp(average, vec3(0.0), vec3(1.0));
 }
 
-// The split sum compensated for multiple scattering (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single
-// bounce loses, 1 - E, returns scaled by F_avg. E is GGX's albedo without Fresnel, bbar_0 of the basis table itself
-// (b_0 = 1), so the compensation reads no other table.
+// Multiple-scattering compensation (Kulla and Conty 2017; Fdez-Aguera 2019): the energy a single bounce loses,
+// 1 - E, returns scaled by F_avg, for a single-scattering split sum, GGX's albedo E without Fresnel and F_avg.
+vec3 fresnelCompensate(vec3 single, float albedo, vec3 average)
+{
+    float lost = 1.0 - clamp(albedo, 0.0, 1.0);
+    return single + single * average / (vec3(1.0) - lost * average) * lost;
+}
+
+// The basis split sum compensated for multiple scattering. E is bbar_0 of the basis table itself (b_0 = 1), so the
+// compensation reads no other table.
 vec3 fresnelBasisMultipleScattering(sampler2D lut, sampler2D lut2, float NdotV, float r, {{terms}} cR, {{terms}} cG, {{terms}} cB)
 {
     {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelBasisLutUV(NdotV, r));
     vec3 single = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    float lost = 1.0 - clamp({{albedo}}, 0.0, 1.0);
-    vec3 average = fresnelBasisAverage(cR, cG, cB);
-    return single + single * average / (vec3(1.0) - lost * average) * lost;
+    return fresnelCompensate(single, {{albedo}}, fresnelBasisAverage(cR, cG, cB));
+}
+
+// The exact split sum of a linear model (weights w = (w0, w1, w2) per colour channel, fresnelLinear<Model>): the
+// Schlick table's R, G and A preintegrate 1 - (1 - mu)^5, (1 - mu)^5 and mu (1 - mu)^6, so Fbar = dot(w, (R, G, A)).
+vec3 fresnelLinearWeigh(vec4 t, vec3 wR, vec3 wG, vec3 wB)
+{
+    vec3 terms = vec3(t.x, t.y, t.w);
+    return vec3(dot(wR, terms), dot(wG, terms), dot(wB, terms));
+}
+
+vec3 fresnelLinearSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
+{
+    return fresnelLinearWeigh(textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0), wR, wG, wB);
+}
+
+// A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
+// clamped to [0, 1].
+vec3 fresnelLinearAverage(vec3 wR, vec3 wG, vec3 wB)
+{
+    vec3 average = vec3(dot(wR, FRESNEL_LINEAR_AVERAGES), dot(wG, FRESNEL_LINEAR_AVERAGES), dot(wB, FRESNEL_LINEAR_AVERAGES));
+    return clamp(average, vec3(0.0), vec3(1.0));
+}
+
+// A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
+vec3 fresnelLinearMultipleScattering(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
+{
+    vec4 t = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
