@@ -170,15 +170,22 @@ PER_PIXEL_CALLS = (
     "fresnelBasisCurves(q.z)",
     "fresnelBasisLutUV(q.z, q.w).xyxy",
 )
-#: The GLSL main of those tests (after an include): each fragment reads its texel q and writes every call of
-#: :data:`PER_PIXEL_CALLS` to its own RGBA32F attachment.
-PER_PIXEL_GLSL_MAIN = (
-    "\nuniform sampler2D inputs;\n"
-    + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(PER_PIXEL_CALLS)))
-    + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
-    + "".join(f"    out{k} = {call};\n" for k, call in enumerate(PER_PIXEL_CALLS))
-    + "}\n"
-)
+
+
+def glsl_main(calls) -> str:
+    """The GLSL main of the per-pixel tests (after an include): each fragment reads its texel q and writes every
+    call of ``calls`` to its own RGBA32F attachment."""
+    return (
+        "\nuniform sampler2D inputs;\n"
+        + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(calls)))
+        + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
+        + "".join(f"    out{k} = {call};\n" for k, call in enumerate(calls))
+        + "}\n"
+    )
+
+
+#: The GLSL main of :data:`PER_PIXEL_CALLS`.
+PER_PIXEL_GLSL_MAIN = glsl_main(PER_PIXEL_CALLS)
 
 
 def per_pixel_expected(inputs, constants=None):

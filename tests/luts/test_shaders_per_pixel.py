@@ -35,6 +35,7 @@ from tests.conftest import (
     assert_linear_outputs,
     assert_per_pixel_outputs,
     gl_draw,
+    glsl_main,
     gpu_missing,
     per_pixel_inputs,
     wgpu_compute,
@@ -88,32 +89,32 @@ WGSL_MAIN = (
 )
 
 
-def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
+def _run_wgsl(monkeypatch, main: str, count: int, inputs: np.ndarray) -> list[np.ndarray]:
+    """The WGSL include with ``main`` over the texels ``inputs`` on lavapipe: the ``count`` outputs, (1024, 4) each."""
     import wgpu
 
     device = wgpu_device(monkeypatch)
-    inputs = per_pixel_inputs().astype(np.float32)
+    stored = inputs.astype(np.float32)
     usage = wgpu.BufferUsage
-    input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
-    output_buffer = device.create_buffer(size=len(inputs) * OUTPUTS * 16, usage=usage.STORAGE | usage.COPY_SRC)
+    input_buffer = device.create_buffer_with_data(data=stored.tobytes(), usage=usage.STORAGE)
+    output_buffer = device.create_buffer(size=len(stored) * count * 16, usage=usage.STORAGE | usage.COPY_SRC)
     data = wgpu_compute(
         device,
-        INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN,
+        INCLUDES["fresnel_basis.wgsl"] + main,
         [{"buffer": input_buffer}, {"buffer": output_buffer}],
         output_buffer,
-        len(inputs),
+        len(stored),
     )
-    output = np.frombuffer(data, np.float32).reshape(len(inputs), OUTPUTS, 4)
-    assert_per_pixel_outputs([output[:, k] for k in range(OUTPUTS)], inputs, "lavapipe")
+    output = np.frombuffer(data, np.float32).reshape(len(stored), count, 4)
+    return [output[:, k] for k in range(count)]
 
 
-LINEAR_GLSL_MAIN = (
-    "\nuniform sampler2D inputs;\n"
-    + "".join(f"layout(location = {k}) out vec4 out{k};\n" for k in range(len(LINEAR_CALLS)))
-    + "void main() {\n    vec4 q = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);\n"
-    + "".join(f"    out{k} = {call};\n" for k, call in enumerate(LINEAR_CALLS))
-    + "}\n"
-)
+def test_wgsl_per_pixel_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
+    inputs = per_pixel_inputs().astype(np.float32)
+    assert_per_pixel_outputs(_run_wgsl(monkeypatch, WGSL_MAIN, OUTPUTS, inputs), inputs, "lavapipe")
+
+
+LINEAR_GLSL_MAIN = glsl_main(LINEAR_CALLS)
 LINEAR_WGSL_MAIN = (
     WGSL_MAIN.split("    outputs[")[0]
     + "".join(
@@ -128,8 +129,6 @@ def test_linear_models_per_pixel_on_llvmpipe_and_lavapipe_match_the_mirrors(monk
     """Issue 39: the linear models' weights (fresnelLinear<Model>) and a punctual light's closed form
     (fresnelLinearDirect) over the per-pixel texels (edges, NaN, ±inf, beyond the range) in GLSL on llvmpipe and in
     WGSL on lavapipe, against the float64 mirrors; nothing NaN or inf. Measured in the errors the assertion prints."""
-    import wgpu
-
     inputs = per_pixel_inputs()
     outputs = gl_draw(
         "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + LINEAR_GLSL_MAIN,
@@ -138,21 +137,8 @@ def test_linear_models_per_pixel_on_llvmpipe_and_lavapipe_match_the_mirrors(monk
         len(LINEAR_CALLS),
     )
     assert_linear_outputs(outputs, inputs, "llvmpipe")
-    device = wgpu_device(monkeypatch)
-    stored = inputs.astype(np.float32)
-    usage = wgpu.BufferUsage
-    input_buffer = device.create_buffer_with_data(data=stored.tobytes(), usage=usage.STORAGE)
     count = len(LINEAR_CALLS)
-    output_buffer = device.create_buffer(size=len(stored) * count * 16, usage=usage.STORAGE | usage.COPY_SRC)
-    data = wgpu_compute(
-        device,
-        INCLUDES["fresnel_basis.wgsl"] + LINEAR_WGSL_MAIN,
-        [{"buffer": input_buffer}, {"buffer": output_buffer}],
-        output_buffer,
-        len(stored),
-    )
-    output = np.frombuffer(data, np.float32).reshape(len(stored), count, 4)
-    assert_linear_outputs([output[:, k] for k in range(count)], inputs, "lavapipe")
+    assert_linear_outputs(_run_wgsl(monkeypatch, LINEAR_WGSL_MAIN, count, inputs), inputs, "lavapipe")
 
 
 OFFLINE_GLSL_MAIN = """
