@@ -47,13 +47,13 @@ from .constants import (
 
 __all__ = [
     "coefficients_per_pixel_gulbrandsen",
-    "linear_direct",
-    "linear_split_sum",
-    "linear_weights",
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",
+    "linear_direct",
     "linear_model_curve",
+    "linear_split_sum",
+    "linear_weights",
     "ltc_coordinates",
     "lut_coordinates",
     "rect_light_specular",
@@ -175,16 +175,20 @@ def linear_weights(model: str, **parameters) -> np.ndarray:
     return np.stack(np.broadcast_arrays(r0, r90, -adobe_dip_weight(r0, tint, r90)), axis=-1)
 
 
+def _table_texels(name: str, table, n_dot_v, roughness, constants: ShaderConstants) -> np.ndarray:
+    """The texels of a table on the include's grid as ``fresnelBasisLutUV`` reads them: (NdotV, r) sanitised, r
+    clamped to the grid's rows (a scene's cropped rows), bilinear."""
+    low, high, _, _ = constants.grid.row_mapping
+    roughness = np.clip(sanitize_unit(roughness, 0.5), low, high)
+    return constants.grid.lookup(as_float_array(name, table), sanitize_unit(n_dot_v, 1.0), roughness)
+
+
 def linear_split_sum(schlick_table, n_dot_v, roughness, weights, constants=None, multiple_scattering=False):
     """(…, 3) ``fresnelLinearSplitSum`` (or ``fresnelLinearMultipleScattering``) of weights (…, 3, 3), one w per
     colour channel, from the Schlick table (H, W, 4) read bilinearly at the include's coordinates
     (:func:`preintegrate.multiple_scattering.weigh_schlick_texels` with no weight on B)."""
     constants = shader_constants() if constants is None else constants
-    low, high, _, _ = constants.grid.row_mapping
-    roughness = np.clip(sanitize_unit(roughness, 0.5), low, high)
-    texels = constants.grid.lookup(
-        as_float_array("schlick_table", schlick_table), sanitize_unit(n_dot_v, 1.0), roughness
-    )
+    texels = _table_texels("schlick_table", schlick_table, n_dot_v, roughness, constants)
     weights = as_float_array("weights", weights)
     on_table = np.insert(weights, 2, 0.0, axis=-1)  # R, G, (B = E), A
     return weigh_schlick_texels(on_table, texels, multiple_scattering)
@@ -231,8 +235,7 @@ def rect_light_specular(
     integral = ltc_rect_light_integral(
         ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
     )
-    low, high, _, _ = constants.grid.row_mapping
-    terms = constants.grid.lookup(as_float_array("basis_table", basis_table), n_dot_v, np.clip(roughness, low, high))
+    terms = _table_texels("basis_table", basis_table, n_dot_v, roughness, constants)
     return integral[..., None] * np.einsum("...ck,...k->...c", as_float_array("coefficients", coefficients), terms)
 
 
