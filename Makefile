@@ -16,8 +16,9 @@ TEST_STAMP := $(VENV)/.test-installed-stamp
 
 # what the shader tests run on (only the test set-up installs them; building needs none): the GLSL/HLSL reference
 # compiler, Mesa's software OpenGL with headless EGL and its software Vulkan driver (WebGPU's backend here), and
-# Chromium for WebGL 2 (SwiftShader), driven by Playwright for Python (the 'browser' extra, no browser download)
-SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers chromium
+# Chromium for WebGL 2 (SwiftShader), driven by Playwright for Python (the 'browser' extra, no browser download), and
+# Node.js with npm, which fetches the engines' packages the tests compare with by name and version (npm pack)
+SYSTEM_PACKAGES := glslang-tools libegl1 libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers chromium nodejs
 # another process holding the dpkg lock (unattended upgrades, a second set-up) is waited for, not failed on
 APT := DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 -o Acquire::Retries=3
 
@@ -32,6 +33,7 @@ $(TEST_STAMP): $(STAMP)
 		echo "installing $(SYSTEM_PACKAGES) (Debian)"; \
 		for attempt in 1 2 3 4 5 6 7 8 9 10; do $(APT) update -qq && break; echo "apt-get update busy; retrying"; sleep 15; done; \
 		$(APT) install -y -qq --no-install-recommends $(SYSTEM_PACKAGES) >/dev/null; \
+		command -v npm >/dev/null || $(APT) install -y -qq --no-install-recommends npm >/dev/null; \
 	else \
 		echo "note: not root or no apt-get; the GPU and browser tests need $(SYSTEM_PACKAGES) and skip without them"; \
 	fi

@@ -12,9 +12,14 @@ the linear models, side by side.
    coefficients and of the best two-parameter linear model engines have for them, Hoffman 2019's F82 with the exact
    F0 and F(arccos 1/7) (equal to the F82 tint that matches F there), and Schlick with the exact F0.
 3. **Generalised Adobe with p ≠ 5**: what reading the table's p = 5 columns costs another exponent.
+4. **Side by side, each table read as its shader reads it** (bilinear, at random (μo, r), the F82-tint family): this
+   project's exact table (``fresnelLinearSplitSum``), its basis table with the include's projection, Babylon.js's
+   OpenPBR table (npm ``@babylonjs/core``, 8-bit RGBD decoded to half floats as its ``rgbdDecode`` pass does:
+   :mod:`benchmarks.babylon_table`) and Schlick with F0 from this project's table; against the model's own split sum
+   in float64 at the same points. ``--no-babylon`` leaves Babylon.js out (no npm).
 
-Run: ``.venv/bin/python -m benchmarks.linear_models [--grid N] [--conductors N] [--out FILE]`` (the report:
-``--out report/linear_models.md``).
+Run: ``.venv/bin/python -m benchmarks.linear_models [--grid N] [--conductors N] [--points N] [--no-babylon]
+[--out FILE]`` (the report: ``--out report/linear_models.md``).
 """
 
 from __future__ import annotations
@@ -29,13 +34,15 @@ from basis.models import fresnel_model
 from basis.models.formulas import F82_MU, hoffman2019_curve, schlick_curve
 from benchmarks.output import publish
 from handoff.exr import read_lut
-from handoff.shaders import coefficients_per_pixel_model, linear_model_curve, linear_weights
-from handoff.shipped import SCHLICK_LUT, shipped_lut
+from handoff.shaders import coefficients_per_pixel_model, linear_model_curve, linear_weights, shader_constants
+from handoff.shipped import BASIS_LUT, SCHLICK_LUT, shipped_lut
 from preintegrate.channels import basis_channels, schlick_table_channels
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.quadrature import directional_albedo
 
 THETA = np.linspace(0.0, 0.5 * np.pi, 2001)
+#: The F82-tint family of sections 1 and 4: F0 0.02–1 × tint 0–1.
+F0_RANGE, F0_COUNT, TINT_COUNT = (0.02, 1.0), 50, 21
 
 
 def _summary(errors: np.ndarray) -> tuple[float, float]:
@@ -43,11 +50,15 @@ def _summary(errors: np.ndarray) -> tuple[float, float]:
     return float(np.max(errors)), float(np.median(errors))
 
 
-def f82_tint_family(grid: int = 24, f0_count: int = 50, tint_count: int = 21) -> dict[str, tuple[float, float]]:
+def _family() -> tuple[np.ndarray, np.ndarray]:
+    """(F0, tint) of the F82-tint family, flattened."""
+    grids = np.meshgrid(np.linspace(*F0_RANGE, F0_COUNT), np.linspace(0.0, 1.0, TINT_COUNT))
+    return grids[0].ravel(), grids[1].ravel()
+
+
+def f82_tint_family(grid: int = 24) -> dict[str, tuple[float, float]]:
     """method → (max, median) over the family of max |error|, for F̄ on a grid × grid (μo, r) grid and the curve."""
-    f0, tint = (
-        values.ravel() for values in np.meshgrid(np.linspace(0.02, 1.0, f0_count), np.linspace(0, 1, tint_count))
-    )
+    f0, tint = _family()
     weights = linear_weights("f82-tint", f0=f0, tint=tint)  # (M, 3)
     coefficients = coefficients_per_pixel_model("f82-tint", f0=f0, tint=tint)  # (M, 4): the include's projection
     table = read_lut(shipped_lut(SCHLICK_LUT))[0]
@@ -91,6 +102,42 @@ def conductors(count: int = 2000, seed: int = 39) -> dict[str, tuple[float, floa
     }
 
 
+def side_by_side(points: int = 2000, babylon: bool = True, seed: int = 39) -> dict[str, tuple[float, float]]:
+    """path → (max, median) over the F82-tint family of max |error| of the split sum E·F̄ at ``points`` random
+    (μo, r) ∈ [0, 1]², each table read bilinearly as its shader reads it."""
+    f0, tint = _family()
+    rng = np.random.default_rng(seed)
+    mu_o, roughness = rng.uniform(0.0, 1.0, points), rng.uniform(0.0, 1.0, points)
+    linear = directional_albedo(schlick_table_channels().functions, mu_o, roughness_to_alpha(roughness))
+    exact = linear[:, [0, 1, 3]] @ linear_weights("f82-tint", f0=f0, tint=tint).T  # (P, M)
+    grid = shader_constants().grid
+    ours = grid.lookup(read_lut(shipped_lut(SCHLICK_LUT))[0], mu_o, roughness)  # (P, 4)
+    basis_texels = grid.lookup(read_lut(shipped_lut(BASIS_LUT))[0], mu_o, roughness)
+    coefficients = coefficients_per_pixel_model("f82-tint", f0=f0, tint=tint)
+    extra = {}
+    paths = {
+        "this project's exact table (fresnelLinearSplitSum)": ours[:, [0, 1, 3]]
+        @ linear_weights("f82-tint", f0=f0, tint=tint).T,
+        "this project's basis table, projected (fresnelCoefficientsF82Tint)": basis_texels @ coefficients.T,
+    }
+    if babylon:
+        from benchmarks.babylon_table import VERSION, f82_tint_albedo, openpbr_table
+
+        table = openpbr_table()
+        paths[f"Babylon.js {VERSION} OpenPBR table (8-bit RGBD, half floats)"] = f82_tint_albedo(
+            table, f0, tint, mu_o, roughness
+        )
+        # its storage alone: at 24² of its texel centres, where bilinear filtering returns a texel
+        centres = (np.round(np.linspace(0, 127, 24)) + 0.5) / 128.0
+        u, v = (values.ravel() for values in np.meshgrid(centres, centres))
+        at_centres = directional_albedo(schlick_table_channels().functions, u, roughness_to_alpha(v))[:, [0, 1, 3]]
+        storage = f82_tint_albedo(table, f0, tint, u, v) - at_centres @ linear_weights("f82-tint", f0=f0, tint=tint).T
+        extra = {f"Babylon.js {VERSION}, at 24² of its texel centres (its storage alone)": storage}
+    paths["Schlick with F0 (tint dropped), this project's table"] = ours[:, :1] * f0 + ours[:, 1:2]
+    errors = {name: _summary(np.max(np.abs(values - exact), axis=0)) for name, values in paths.items()}
+    return errors | {name: _summary(np.max(np.abs(values), axis=0)) for name, values in extra.items()}
+
+
 def other_exponents(exponents=(3.0, 4.0, 4.5, 5.5, 6.0, 7.0), steps: int = 11) -> dict[str, tuple[float, float]]:
     """exponent p → (max, median) over r0, r90, tint on a grid of max over θ |F_p − F_5|: what reading the p = 5
     columns of the table costs a generalised Adobe material of another exponent."""
@@ -104,7 +151,7 @@ def other_exponents(exponents=(3.0, 4.0, 4.5, 5.5, 6.0, 7.0), steps: int = 11) -
     }
 
 
-def markdown(family: dict, metals: dict, exponents: dict, grid: int) -> str:
+def markdown(family: dict, metals: dict, exponents: dict, grid: int, shared: dict, points: int) -> str:
     lines = [
         f"`python -m benchmarks.linear_models --grid {grid}`: max and median over the materials of each one's max "
         f"|error| (F̄ at {grid}² texels of the shipped 128² grid, both ends of both axes among them; F over 2001 θ). "
@@ -138,6 +185,16 @@ def markdown(family: dict, metals: dict, exponents: dict, grid: int) -> str:
         "|---|---:|---:|",
     ]
     lines += [f"| {name} | {high:.2e} | {middle:.2e} |" for name, (high, middle) in exponents.items()]
+    lines += [
+        "",
+        f"**Side by side, each table read as its shader reads it** (the F82-tint family above, E·F̄ at {points} random",
+        "(μo, r) ∈ [0, 1]², bilinear with clamp at each table's own coordinates; against the model's split sum in",
+        "float64 at the same points, so each row holds its table's storage and its interpolation):",
+        "",
+        "| path | max | median |",
+        "|---|---:|---:|",
+    ]
+    lines += [f"| {name} | {high:.2e} | {middle:.2e} |" for name, (high, middle) in shared.items()]
     return "\n".join(lines) + "\n"
 
 
@@ -145,10 +202,17 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--grid", type=int, default=24, help="(mu_o, r) points a side for Fbar (default 24)")
     parser.add_argument("--conductors", type=int, default=2000, help="random conductors (default 2000)")
+    parser.add_argument("--points", type=int, default=2000, help="random (mu_o, r) of the side by side (default 2000)")
+    parser.add_argument("--no-babylon", action="store_true", help="leave Babylon.js's table out (fetched with npm)")
     parser.add_argument("--out", default=None, help="also write the Markdown here")
     arguments = parser.parse_args(argv)
     text = markdown(
-        f82_tint_family(arguments.grid), conductors(arguments.conductors), other_exponents(), arguments.grid
+        f82_tint_family(arguments.grid),
+        conductors(arguments.conductors),
+        other_exponents(),
+        arguments.grid,
+        side_by_side(arguments.points, babylon=not arguments.no_babylon),
+        arguments.points,
     )
     publish(text, arguments.out)
     return 0
