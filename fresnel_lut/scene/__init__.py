@@ -35,6 +35,9 @@ always travel together. Every scene comes with the shader include generated for 
 scene's own basis where a table holds it, else of the generic one), ``fresnel_basis_scene.{glsl,hlsl,wgsl}``, named
 apart from the default build's ``fresnel_basis.*`` so that a scene written beside a build never replaces that
 build's include, and listed in ``scene_coefficients.json`` as ``shader_includes``.
+**Path**: each material's entry in ``scene_coefficients.json`` and the report say which path it takes and why
+(:meth:`fresnel_lut.scene.ScenePlan.path`: README's rule, an exact table for a linear model's curve, the basis for a
+physical one, and where the scene's own basis holds a linear model as closely, the table it spares).
 **Accuracy first**: a material that some layout holds to one 10-bit step
 (:data:`fresnel_lut.scene.plan.ACCURACY_GOAL`, 1/1023) is held to it; the others to the tolerance.
 **Tables**: any combination of the Schlick table, one basis table (generic or the scene's) and the models'

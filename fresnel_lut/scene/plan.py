@@ -53,6 +53,41 @@ class ScenePlan:
     candidates: dict[str, Layout]
     table_values: dict[str, np.ndarray]  # the tables to write: (rows, columns, channels) per name of ``tables``
     aims: dict[str, float]  # per material: the error the build held it to (ACCURACY_GOAL where reachable)
+    exact: dict[str, bool]  # per material: whether its layout's functions hold its curve exactly (lookup error only)
+
+    def path(self, name: str) -> dict[str, str]:
+        """README's rule ("Which path for which material") as the plan applied it to material ``name``: ``choice``
+        (``exact table``, ``basis`` or ``Schlick approximation``) and ``why``, with the errors of F̄ it weighed."""
+        layout, error, aim = self.layouts[name], self.errors[name], self.aims[name]
+        if self.exact[name]:
+            return {
+                "choice": "exact table",
+                "why": f"{layout} holds its curve exactly: what remains ({error:.2e} in Fbar) is the bilinear lookup",
+            }
+        others = {
+            other: value[name]
+            for other, value in self.full_errors.items()
+            if other != layout and np.isfinite(value[name]) and other.startswith("model:")
+        }
+        declined = "".join(
+            f"; its exact table {other} ({value:.2e}) would add a table" for other, value in others.items()
+        )
+        if self.candidates[layout].kind == "model":
+            return {
+                "choice": "exact table",
+                "why": f"{layout} holds the model before its clamp to [0, 1], which this material's curve meets: "
+                f"{error:.2e} in Fbar, within its aim {aim:.3g}",
+            }
+        if self.candidates[layout].kind == "schlick":
+            return {
+                "choice": "Schlick approximation",
+                "why": f"F0 on Schlick's two channels holds it to {error:.2e}, within its aim {aim:.3g}" + declined,
+            }
+        return {
+            "choice": "basis",
+            "why": f"{layout} holds it to {error:.2e}, within its aim {aim:.3g}, in the fewest channels that do"
+            + (declined or "; no linear model's table holds a curve of its kind"),
+        }
 
     @property
     def grid(self) -> LutGrid:
@@ -305,4 +340,10 @@ def _plan_for_width(scene: Scene, basis: Basis, candidates: _Candidates, width: 
         candidates={name: candidates.layouts[name] for name in tables},
         table_values={name: table_rows[name][chosen_rows] for name in tables},
         aims=aims,
+        exact={
+            m.name: bool(
+                np.max(np.abs(functions[layouts[m.name]] @ weights_of[m.name, layouts[m.name]].T - m.curve)) <= 1e-9
+            )
+            for m in scene.materials
+        },
     )

@@ -152,6 +152,7 @@ def write_scene(
             "coefficients": plan.coefficients[material.name].tolist(),
             "max_abs_error_fbar": plan.errors[material.name],
             "max_abs_error_fbar_full_default_build": plan.default_build_errors[material.name],
+            "path": plan.path(material.name),
         }
         for material in plan.scene.materials
     }
@@ -220,6 +221,14 @@ def write_scene(
             )
             + " |"
             for m in plan.scene.materials
+        ],
+        "",
+        'Paths (README\'s rule, "Which path for which material", as this plan applied it):',
+        "",
+        *[
+            f"- {_cell(m.name)}: {path['choice']} ({path['why']})"
+            for m in plan.scene.materials
+            for path in [plan.path(m.name)]
         ],
         "",
         (

@@ -76,6 +76,7 @@ def test_models_with_schlicks_functions_get_the_schlick_table(tmp_path, material
 def test_schlick_only_scene_gets_the_two_channel_table(tmp_path):
     plan = plan_scene(read_scene(scene_file(tmp_path, SCHLICK_ONLY)))
     assert plan.tables == ("schlick",) and set(plan.layouts.values()) == {"schlick"}
+    assert {plan.path(name)["choice"] for name in plan.layouts} == {"exact table"}
     result = write_scene(plan, tmp_path / "out")
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
         *(f"fresnel_basis_scene.{language}" for language in ("glsl", "hlsl", "wgsl")),
@@ -107,6 +108,8 @@ def test_dielectric_scene_gets_the_terms_the_measurements_justify(tmp_path):
     plan = plan_scene(read_scene(scene_file(tmp_path, f"tolerance = {DEFAULT_TOLERANCE}\n" + DIELECTRICS)))
     full = plan.full_errors
     assert plan.tables == ("scene-basis-4",)
+    assert plan.path("window")["choice"] == "basis"
+    assert "no linear model's table holds a curve of its kind" in plan.path("window")["why"]
     assert all(full["scene-basis-4"][name] < full["basis-4"][name] for name in plan.layouts)
     assert any(full["basis-3"][name] > DEFAULT_TOLERANCE for name in plan.layouts)
     plan = plan_scene(read_scene(scene_file(tmp_path, "tolerance = 0.013\n" + DIELECTRICS, size=16)))
@@ -252,7 +255,16 @@ roughness = [0.3, 0.6]
     plan = plan_scene(read_scene(path))
     assert plan.full_errors["basis-4"]["old copper"] > DEFAULT_TOLERANCE
     assert plan.tables == ("model:f82",) and plan.errors["old copper"] <= DEFAULT_TOLERANCE
-    write_scene(plan, tmp_path / "out")
+    # README's rule, said where the plan is written: a linear model inside [0, 1] takes its exact table
+    assert plan.path("old copper") == {
+        "choice": "exact table",
+        "why": f"model:f82 holds its curve exactly: what remains ({plan.errors['old copper']:.2e} in Fbar) is the "
+        "bilinear lookup",
+    }
+    result = write_scene(plan, tmp_path / "out")
+    written = json.loads((tmp_path / "out" / "scene_coefficients.json").read_text(encoding="utf-8"))
+    assert written["materials"]["old copper"]["path"] == plan.path("old copper")
+    assert "- old copper: exact table (model:f82 holds its curve exactly" in result["text"]
     table, header = read_lut(tmp_path / "out" / "scene_ggx_f82.exr")
     assert table.shape[-1] == 3 and "x (1-x)^6" in header["combination"]
     weights = np.array(plan.coefficients["old copper"])
@@ -264,6 +276,24 @@ roughness = [0.3, 0.6]
         lambda x: model.evaluate(x[..., None], f0=f0, f82=f82), plan.grid.mu_o[i], rows[j] ** 2, samples=400_000, seed=8
     )
     np.testing.assert_array_less(np.abs(weights @ table[j, i] - mean), 4.0 * error + 1e-6)
+
+
+def test_a_linear_model_the_scenes_basis_holds_as_well_says_why_it_is_not_on_its_exact_table(tmp_path):
+    """An F82-tint brass beside a glass: the scene's own basis, which the glass needs, holds the brass as closely as
+    its exact table (both at the 32-column lookup floor, 7.9e-4), so the plan ships one table and says so."""
+    body = DIELECTRICS.split("[[material]]")[1]
+    path = scene_file(
+        tmp_path,
+        "[[material]]"
+        + body
+        + '[[material]]\nname = "brass"\nmodel = "adobe"\nf0 = [0.9, 0.8, 0.5]\ntint = [0.97, 0.95, 0.9]\n'
+        + "roughness = [0.3, 0.5]\n",
+    )
+    plan = plan_scene(read_scene(path))
+    assert plan.tables == ("scene-basis-4",)
+    path = plan.path("brass")
+    assert path["choice"] == "basis" and "its exact table model:adobe" in path["why"], path
+    assert plan.full_errors["scene-basis-4"]["brass"] <= plan.full_errors["model:adobe"]["brass"] * 1.01
 
 
 #: Scene files with values of the wrong type or form → words the one-line error must contain.
