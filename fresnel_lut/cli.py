@@ -126,6 +126,8 @@ def command_build(arguments) -> int:
         raise ParameterError("--basis goes with the basis table, not with --model")
     if arguments.model is not None and arguments.ltc:
         raise ParameterError("--ltc goes with the default build, not with --model")
+    if arguments.model is not None and arguments.coefficient_table:
+        raise ParameterError("--coefficient-table goes with the default build, not with --model")
     if arguments.ltc_size is not None and not arguments.ltc:
         raise ParameterError("--ltc-size goes with --ltc")
     ltc = (
@@ -152,7 +154,16 @@ def command_build(arguments) -> int:
     if arguments.model is None:
         ltc_progress = Progress(f"fitting {ltc.width}x{ltc.height} LTC texels", "rows") if ltc is not None else None
         paths = write_default_build(
-            out, basis, grid, order, formats, arguments.half, progress, ltc, _after(progress, ltc_progress)
+            out,
+            basis,
+            grid,
+            order,
+            formats,
+            arguments.half,
+            progress,
+            ltc,
+            _after(progress, ltc_progress),
+            arguments.coefficient_table,
         )
         if ltc_progress is not None:
             ltc_progress.close()

@@ -113,6 +113,12 @@ def make_parser() -> argparse.ArgumentParser:
     )
     build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
     build.add_argument(
+        "--coefficient-table",
+        action="store_true",
+        help="also write fresnel_coefficients_rg: Gulbrandsen's (r, g) -> coefficients for one fetch per pixel "
+        "(512 x 128, minimax over theta; about 25 s; make luts does)",
+    )
+    build.add_argument(
         "--model",
         default=None,
         help="instead: the exact split-sum table of one linear model "

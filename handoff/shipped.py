@@ -1,7 +1,7 @@
 """The files a build ships and what names them: the default build's table names, a linear model's table name, the
 header every table carries, and the shipped tables read back.
 
-Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
+Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
 ``model_lut_name``, ``shipped_lut``, ``shipped_tables``, ``table_header``, ``lut_attributes``.
 """
 
@@ -21,6 +21,7 @@ from .exr import read_lut
 __all__ = [
     "AVERAGE_LUT",
     "BASIS_LUT",
+    "COEFFICIENT_LUT",
     "GENERATOR",
     "LTC_LUT",
     "RGBA",
@@ -40,6 +41,9 @@ SCHLICK_LUT = "ggx_schlick_rgba.exr"
 AVERAGE_LUT = "ggx_albedo_average.exr"
 #: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).
 LTC_LUT = "ggx_ltc.exr"
+#: Gulbrandsen's (r, g) → c2, c3 of a four-term basis (``fresnel-lut build --coefficient-table``;
+#: :mod:`basis.coefficient_table`); a basis of K terms has K − 2 channels (``fresnel_coefficients_rgba`` for six).
+COEFFICIENT_LUT = "fresnel_coefficients_rg.exr"
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")

@@ -1,7 +1,7 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
 Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
-``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``table_file_name``,
+``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, REFLECTIVITY_MAX, coefficient_table
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import fresnel_model
 from basis.storage import write_together
@@ -43,12 +44,23 @@ from preintegrate.quadrature import DEFAULT_ORDER
 from .exr import read_lut
 from .formats import FORMATS, check_formats, file_family
 from .shaders import LANGUAGES, SHADER_INCLUDES, shader_includes
-from .shipped import AVERAGE_LUT, BASIS_LUT, LTC_LUT, RGBA, SCHLICK_LUT, lut_attributes, model_lut_name, table_header
+from .shipped import (
+    AVERAGE_LUT,
+    BASIS_LUT,
+    COEFFICIENT_LUT,
+    LTC_LUT,
+    RGBA,
+    SCHLICK_LUT,
+    lut_attributes,
+    model_lut_name,
+    table_header,
+)
 
 __all__ = [
     "DEFAULT_BUILD_FILES",
     "DEFAULT_SET",
     "Table",
+    "coefficient_build_table",
     "default_tables",
     "kept_ltc_grid",
     "ltc_build_table",
@@ -82,6 +94,11 @@ def _stem(file_name: str) -> str:
 #: 2026). A default build owns these in every format: those it does not write are removed. The area lights' LTC
 #: table joins the set only when the build fits it (``--ltc``): a build without it keeps the folder's.
 DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), "ggx_schlick_rgb", _stem(AVERAGE_LUT))
+
+
+def _coefficient_stem(terms: int) -> str:
+    """The coefficient table's stem for a basis of K terms: K − 2 channels."""
+    return _stem(COEFFICIENT_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: terms - 2]
 
 
 #: Every file of a default build of a four-term basis: the tables and the generated shader include.
@@ -245,11 +262,13 @@ def write_default_build(
     progress: Callable[[int, int], None] | None = None,
     ltc: LutGrid | None = None,
     ltc_progress: Callable[[int, int], None] | None = None,
+    coefficients: bool = False,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
-    area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too."""
+    area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too; with ``coefficients``
+    (``--coefficient-table``), the table of Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
     if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
@@ -262,13 +281,17 @@ def write_default_build(
     tables = default_tables(basis, grid, order, progress)
     if ltc is not None:
         tables.append(ltc_build_table(ltc, ltc_progress))
+    if coefficients:
+        tables.append(coefficient_build_table(basis))
     return write_tables(
         tables,
         out,
         formats,
         half,
         texts=includes,
-        owned=DEFAULT_SET + ((_stem(LTC_LUT),) if ltc is not None else ()),
+        owned=DEFAULT_SET
+        + ((_stem(LTC_LUT),) if ltc is not None else ())
+        + (tuple(_coefficient_stem(k) for k in range(3, 7)) if coefficients else ()),
         owned_files=[*(name for name, _ in SHADER_INCLUDES.values()), *LEGACY_INCLUDES],
     )
 
@@ -316,6 +339,39 @@ def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:
         ltc_lobe_error_mean=f"{float(np.mean(fit.error)):.6g}",
     )
     return Table(_stem(LTC_LUT), fit.inverse, LTC_CHANNELS, header)
+
+
+def coefficient_build_table(
+    basis: Basis | None = None, fit: str = "minimax", command: str = "fresnel-lut build --coefficient-table"
+) -> Table:
+    """The table of Gulbrandsen's (r, g) → c2 … c_(K−1) (:func:`basis.coefficient_table.coefficient_table`) of a
+    basis of three to six terms, with the basis hash, the axes and the criterion in its header."""
+    basis = resolve_basis(basis)
+    if not 3 <= basis.n_terms <= 6:
+        raise ParameterError(
+            f"the coefficient table holds c2 ... c(K-1) in one RGBA texture: a basis of 3 to 6 terms, not {basis.n_terms}"
+        )
+    width, height = COEFFICIENT_TABLE_SIZE
+    names = tuple(f"c{k}" for k in range(2, basis.n_terms))
+    header = table_header(
+        "gulbrandsen coefficients",
+        names,
+        "per colour channel: c0 = r, c1 = 1 - r, (c2 ...) = texture(x, y) (all 0 at r = 0)",
+        width,
+        height,
+        command,
+        f"columns: x = r^(1/4) - sqrt(1 - r)/2 at {width} end points from r = 0 to {REFLECTIVITY_MAX}; rows: y = "
+        f"1 - (1 - g)^(1/4) at {height} end points from g = 0 to 1; texel centres on both ends (bilinear, clamp)",
+        basis_hash=basis.content_hash,
+        fit=fit,
+        criterion=(
+            "minimax over theta of |F - F_exact| on the basis grid, c0 and c1 exact (40 Lawson steps); bounds the "
+            "split sum's error too"
+            if fit == "minimax"
+            else "the four-point solve at the basis' fit angles"
+        ),
+    )
+    return Table(_coefficient_stem(basis.n_terms), coefficient_table(basis, fit), names, header)
 
 
 def write_model_build(

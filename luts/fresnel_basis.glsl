@@ -5,6 +5,7 @@
 // Per pixel, per colour channel, one vec4 per channel (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):
 //   fresnelCoefficientsNK(eta, kappa)               exact Fresnel at the 2 fit angles + a constant 2x2 inverse
 //   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same
+//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta
 //   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)
 //   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
@@ -59,6 +60,7 @@ const vec3 FRESNEL_LINEAR_AVERAGES = vec3(0.952380952, 0.0476190476, 0.007936507
 const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
+const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(vec4 c, vec4 x)
@@ -158,6 +160,20 @@ vec4 fresnelCoefficientsGulbrandsen(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
+// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
+// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+vec4 fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, float g)
+{
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
+    float y = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    float f90 = r > 0.0 ? 1.0 : 0.0;
+    return vec4(r, f90 - r, f90 * t.x, f90 * t.y);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -234,6 +250,13 @@ void fresnelCoefficientsGulbrandsen3(vec3 r, vec3 g, out vec4 cR, out vec4 cG, o
     cR = fresnelCoefficientsGulbrandsen(r.x, g.x);
     cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
     cB = fresnelCoefficientsGulbrandsen(r.z, g.z);
+}
+
+void fresnelCoefficientsGulbrandsenTable3(sampler2D coefficientLut, vec3 r, vec3 g, out vec4 cR, out vec4 cG, out vec4 cB)
+{
+    cR = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.x, g.x);
+    cG = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.y, g.y);
+    cB = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.z, g.z);
 }
 
 // The curves b_0 .. b_(K-1) at mu = V.H: b_0 = 1, the others polynomials in the warped cosine x (Horner).

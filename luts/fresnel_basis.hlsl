@@ -5,6 +5,7 @@
 // Per pixel, per colour channel, one vec4 per channel (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):
 //   fresnelCoefficientsNK(eta, kappa)               exact Fresnel at the 2 fit angles + a constant 2x2 inverse
 //   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same
+//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta
 //   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)
 //   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
@@ -59,6 +60,7 @@ static const float3 FRESNEL_LINEAR_AVERAGES = float3(0.952380952, 0.0476190476, 
 static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // scale, offset
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 static const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
+static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(float4 c, float4 x)
@@ -158,6 +160,20 @@ float4 fresnelCoefficientsGulbrandsen(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
+// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
+// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+float4 fresnelCoefficientsGulbrandsenTable(Texture2D<float4> coefficientLut, SamplerState linearClamp, float r, float g)
+{
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
+    float y = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    float4 t = coefficientLut.SampleLevel(linearClamp, float2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0);
+    float f90 = r > 0.0 ? 1.0 : 0.0;
+    return float4(r, f90 - r, f90 * t.x, f90 * t.y);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -234,6 +250,13 @@ void fresnelCoefficientsGulbrandsen3(float3 r, float3 g, out float4 cR, out floa
     cR = fresnelCoefficientsGulbrandsen(r.x, g.x);
     cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
     cB = fresnelCoefficientsGulbrandsen(r.z, g.z);
+}
+
+void fresnelCoefficientsGulbrandsenTable3(Texture2D<float4> coefficientLut, SamplerState linearClamp, float3 r, float3 g, out float4 cR, out float4 cG, out float4 cB)
+{
+    cR = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, r.x, g.x);
+    cG = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, r.y, g.y);
+    cB = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, r.z, g.z);
 }
 
 // The curves b_0 .. b_(K-1) at mu = V.H: b_0 = 1, the others polynomials in the warped cosine x (Horner).

@@ -5,6 +5,7 @@
 // Per pixel, per colour channel, one vec4 per channel (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):
 //   fresnelCoefficientsNK(eta, kappa)               exact Fresnel at the 2 fit angles + a constant 2x2 inverse
 //   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same
+//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta
 //   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)
 //   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
@@ -59,6 +60,7 @@ const FRESNEL_LINEAR_AVERAGES: vec3f = vec3f(0.952380952, 0.0476190476, 0.007936
 const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offset
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
+const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 fn fresnelTermsDot(c: vec4f, x: vec4f) -> f32
@@ -160,6 +162,21 @@ fn fresnelCoefficientsGulbrandsen(rIn: f32, g: f32) -> vec4f
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
+// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
+// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+fn fresnelCoefficientsGulbrandsenTable(coefficientLut: texture_2d<f32>, linearClamp: sampler, rIn: f32, g: f32) -> vec4f
+{
+    var r = rIn;
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    let x: f32 = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
+    let y: f32 = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    let f90: f32 = select(0.0, 1.0, r > 0.0);
+    return vec4f(r, f90 - r, f90 * t.x, f90 * t.y);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -234,6 +251,8 @@ fn fresnelCoefficientsGeneralizedAdobe(r0: f32, r90: f32, tint: f32) -> vec4f
 // fresnelCoefficientsNK3: GLSL and HLSL only (WGSL has no out parameters)
 
 // fresnelCoefficientsGulbrandsen3: GLSL and HLSL only (WGSL has no out parameters)
+
+// fresnelCoefficientsGulbrandsenTable3: GLSL and HLSL only (WGSL has no out parameters)
 
 // The curves b_0 .. b_(K-1) at mu = V.H: b_0 = 1, the others polynomials in the warped cosine x (Horner).
 fn fresnelBasisCurves(muIn: f32) -> vec4f

@@ -4,7 +4,8 @@ arithmetic.
 
 Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_includes``,
 ``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``,
-``coefficients_per_pixel_nk``, ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``,
+``coefficients_per_pixel_nk``, ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``,
+``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``lut_coordinates``, ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``,
 ``linear_weights``, ``linear_split_sum``, ``linear_direct``,
 ``warped_cosine``, ``unwarped_cosine``, ``PER_PIXEL_MODELS``, ``CURVE_WARPS``, ``CURVE_SEGMENTS``,
@@ -42,6 +43,7 @@ from .constants import (
 from .include import INCLUDE_STEM, SHADER_INCLUDES, shader_includes, shader_source
 from .mirrors import (
     coefficients_per_pixel_gulbrandsen,
+    coefficients_per_pixel_gulbrandsen_table,
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
     direct_fresnel,
@@ -69,6 +71,7 @@ __all__ = [
     "SHADER_INCLUDES",
     "ShaderConstants",
     "coefficients_per_pixel_gulbrandsen",
+    "coefficients_per_pixel_gulbrandsen_table",
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",

@@ -9,7 +9,8 @@ record of a basis of five to eight terms), then the bodies of ``source/*.glsl`` 
 
 * ``{{terms}}``: one channel's coefficients and terms: ``vec4`` for K ≤ 4, ``FresnelTerms8`` (``.lo`` terms 0-3,
   ``.hi`` 4-7) for K > 4;
-* ``{{solve}}``, ``{{linear}}``, ``{{curves}}``, ``{{fetch}}``, ``{{averages}}``, ``{{albedo}}``, ``{{column}}``:
+* ``{{solve}}``, ``{{linear}}``, ``{{curves}}``, ``{{fetch}}``, ``{{averages}}``, ``{{albedo}}``, ``{{column}}``,
+  ``{{table_terms}}``:
   statements or expressions generated from the basis and the grid;
 * a texture ``lut2`` (the second table of a basis of five to eight terms) and every argument passing it exist only
   where K > 4.
@@ -23,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, REFLECTIVITY_MAX, warp_reflectivity
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
@@ -231,6 +233,23 @@ def _curve_parts(c: ShaderConstants) -> tuple[list[str], str]:
     return constants, "\n".join(statements)
 
 
+def _coefficient_table_parts(k: int) -> tuple[str, str]:
+    """(constant, return expression) of ``fresnelCoefficientsGulbrandsenTable``: the affine maps of its warped axes
+    onto the texel centres of a :data:`~basis.coefficient_table.COEFFICIENT_TABLE_SIZE` table (end points on both
+    ends), and c0 = r, c1 = f90 − r, c2 … from the fetch t (K − 2 ≤ 4 channels); a basis of more than six terms has
+    no table (``fresnel-lut build --coefficient-table`` refuses it) and solves instead."""
+    width, height = COEFFICIENT_TABLE_SIZE
+    low, high = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
+    x_scale = (width - 1) / (width * (high - low))
+    y_scale = (height - 1) / height
+    axes = [x_scale, 0.5 / width - low * x_scale, y_scale, 0.5 / height]
+    constant = _constant("FRESNEL_COEFFICIENT_AXES", axes, "x scale, x offset, y scale, y offset of the table's texels")
+    if k > 6:
+        return constant, "fresnelCoefficientsGulbrandsen(r, g)"
+    rest = [f"f90 * t.{axis}" for axis in "xyzw"[: k - 2]]
+    return constant, _terms_value(["r", "f90 - r", *rest], k > 4)
+
+
 def _header(c: ShaderConstants, language: str, command: str) -> str:
     k, m = c.n_terms, c.n_terms - 2
     solve = (
@@ -251,6 +270,7 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
             "// Per pixel, per colour channel, " + kind + ' (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):',
             f"//   fresnelCoefficientsNK(eta, kappa)               {solve}",
             "//   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same",
+            "//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta",
             "//   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)",
             "//   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82",
             "//   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)",
@@ -338,8 +358,10 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         else ("fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")
     )
     fetch = "textureLod(lut, uv, 0.0)"
+    axes_constant, table_terms = _coefficient_table_parts(c.n_terms)
     placeholders = {
         "terms": "FresnelTerms8" if wide else "vec4",
+        "table_terms": table_terms,
         "solve": solve,
         "linear": f"    return {f'fresnelTerms8({linear[0]}, {linear[1]})' if wide else linear[0]};",
         "curves": curves,
@@ -368,6 +390,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LUT_COLUMNS", grid.column_mapping, "scale, offset"),
         _constant("FRESNEL_LUT_ROWS", grid.row_mapping, "lo, hi, scale, offset"),
         _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
+        axes_constant,
         "",
     ]
     bodies = [(SOURCE_FOLDER / name).read_text(encoding="utf-8") for name in SOURCES]

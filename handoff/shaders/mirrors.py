@@ -2,7 +2,8 @@
 computes, and the tests compare the two.
 
 Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
-``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_model``, ``direct_fresnel``, ``lut_coordinates``,
+``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_model``,
+``direct_fresnel``, ``lut_coordinates``,
 ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
 ``linear_direct``.
 
@@ -10,7 +11,8 @@ Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``
   for η = 1, κ = 0), (c2 … c_(K−1)) = S⁻¹ (F(θ_i) − c0 − c1 b1(θ_i)) with the exact Fresnel equations (Hoffman
   2020, "1823: Fresnel's Equations") at the K − 2 fit angles: for the shipped basis two Fresnel evaluations (one
   vec2) and a constant 2 × 2 product.
-* **Gulbrandsen (r, g)** → (η, κ) in closed form (Gulbrandsen 2014, eq. 7–9) → the same solve.
+* **Gulbrandsen (r, g)** → (η, κ) in closed form (Gulbrandsen 2014, eq. 7–9) → the same solve; or c0 = r, c1 = 1 − r
+  and the rest from one bilinear fetch of the coefficient table (:mod:`basis.coefficient_table`).
 * **Linear artist models** (Schlick F0/F90; Hoffman 2019's F82; the F82 tint of Adobe, OpenPBR's
   ``specular_color`` and MaterialX's ``color82``, Hoffman 2023 eq. 3; Hoffman 2023's generalised Adobe with
   p = 5, eq. 6): F = Σ_n w_n t_n(μ) with t = (1 − (1 − μ)⁵, (1 − μ)⁵, μ (1 − μ)⁶), so c = Σ_n w_n P_n with P_n the
@@ -27,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from basis.coefficient_table import coefficients_from_coefficient_table
 from basis.models.formulas import adobe_dip_weight, f82_dip_weight
 from basis.validation import ParameterError, as_float_array, check_choice
 from preintegrate.ltc import ltc_grid
@@ -47,6 +50,7 @@ from .constants import (
 
 __all__ = [
     "coefficients_per_pixel_gulbrandsen",
+    "coefficients_per_pixel_gulbrandsen_table",
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",
@@ -145,6 +149,22 @@ def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: Shade
     reflectivity, edge_tint = np.broadcast_arrays(*sanitize_gulbrandsen(reflectivity, edge_tint))
     # Gulbrandsen's mapping is built so that F(0) = r: the shaders skip the closed form
     return _coefficients_solve(reflectivity, *_gulbrandsen_eta_kappa2(reflectivity, edge_tint), constants)
+
+
+def coefficients_per_pixel_gulbrandsen_table(
+    table, reflectivity, edge_tint, constants: ShaderConstants | None = None
+) -> np.ndarray:
+    """(…, K) coefficients of (r, g) texels read from the coefficient table (H, W, K − 2) as
+    ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights; GPUs round them to 8 bits); a basis of
+    more than six terms, which has no table, solves as the include does."""
+    constants = shader_constants() if constants is None else constants
+    reflectivity, edge_tint = np.broadcast_arrays(*sanitize_gulbrandsen(reflectivity, edge_tint))
+    if constants.n_terms > 6:
+        return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
+    table = as_float_array("table", table)
+    if table.ndim != 3 or table.shape[-1] != constants.n_terms - 2:
+        raise ParameterError(f"table must be (H, W, {constants.n_terms - 2}) for this basis, got {table.shape}")
+    return coefficients_from_coefficient_table(table, reflectivity, edge_tint)
 
 
 def linear_weights(model: str, **parameters) -> np.ndarray:

@@ -1,7 +1,8 @@
 """Issue 37 item 3: the GLSL, HLSL and WGSL includes offer the same functions with the same signatures, for bases of
 four terms (one vec4 per channel) and of more (a FresnelTerms8 and two tables), with these reasoned exceptions:
 
-* WGSL has no out parameters: ``fresnelCoefficientsNK3`` and ``fresnelCoefficientsGulbrandsen3`` (which fill three
+* WGSL has no out parameters: ``fresnelCoefficientsNK3``, ``fresnelCoefficientsGulbrandsen3`` and
+  ``fresnelCoefficientsGulbrandsenTable3`` (which fill three
   channels' coefficients through them) are GLSL and HLSL only; WGSL calls ``fresnelCoefficientsNK`` (or
   ``…Gulbrandsen``) per channel;
 * HLSL and WGSL sample a texture through a separate sampler: a function that reads textures takes one,
@@ -23,7 +24,11 @@ from handoff.shaders.constants import shader_constants
 
 #: The functions each language lacks, with the reason (module docstring).
 EXCEPTIONS = {
-    "wgsl": {"fresnelCoefficientsNK3": "no out parameters", "fresnelCoefficientsGulbrandsen3": "no out parameters"}
+    "wgsl": {
+        "fresnelCoefficientsNK3": "no out parameters",
+        "fresnelCoefficientsGulbrandsen3": "no out parameters",
+        "fresnelCoefficientsGulbrandsenTable3": "no out parameters",
+    }
 }
 #: Each language's types in one vocabulary.
 _TYPES = {

@@ -41,6 +41,20 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
+// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
+// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+{{terms}} fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, float g)
+{
+    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
+    float y = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    float f90 = r > 0.0 ? 1.0 : 0.0;
+    return {{table_terms}};
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -117,4 +131,11 @@ void fresnelCoefficientsGulbrandsen3(vec3 r, vec3 g, out {{terms}} cR, out {{ter
     cR = fresnelCoefficientsGulbrandsen(r.x, g.x);
     cG = fresnelCoefficientsGulbrandsen(r.y, g.y);
     cB = fresnelCoefficientsGulbrandsen(r.z, g.z);
+}
+
+void fresnelCoefficientsGulbrandsenTable3(sampler2D coefficientLut, vec3 r, vec3 g, out {{terms}} cR, out {{terms}} cG, out {{terms}} cB)
+{
+    cR = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.x, g.x);
+    cG = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.y, g.y);
+    cB = fresnelCoefficientsGulbrandsenTable(coefficientLut, r.z, g.z);
 }
