@@ -27,6 +27,7 @@ def _run(*argv, timeout=300):
 def test_every_benchmark_is_listed_here():
     assert ENTRIES == [
         "area_lights",
+        "coefficient_table",
         "commands",
         "fuzz",
         "gpu_compiler",
@@ -70,6 +71,18 @@ def test_linear_models_runs_small():
     babylon_storage = next(line for line in completed.stdout.splitlines() if "its storage alone" in line)
     assert 1e-3 < float(babylon_storage.strip("|").split("|")[1]) < 0.03, babylon_storage
     assert cells("this project's exact table")[0] < cells("Babylon.js")[0]
+
+
+def test_coefficient_table_runs_small():
+    """The coefficient-table study at 300 random points: on the Gulbrandsen grid the table is never worse than the
+    four-point solve and better at the median; the four-point table holds its model within 1e-4 everywhere."""
+    completed = _run("benchmarks.coefficient_table", "--points", "300")
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    row = next(line for line in completed.stdout.splitlines() if line.startswith("| Gulbrandsen grid"))
+    median, worst = (float(value) for value in row.strip("|").split("|")[5].split("/"))
+    assert median < 0.8 and worst <= 1.0 and row.strip("|").split("|")[6].strip() == "0", row
+    four_point = next(line for line in completed.stdout.splitlines() if line.startswith("| four-point"))
+    assert float(four_point.strip("|").split("|")[1]) <= 1e-4, four_point
 
 
 @pytest.mark.slow
