@@ -126,8 +126,8 @@ def command_build(arguments) -> int:
         raise ParameterError("--basis goes with the basis table, not with --model")
     if arguments.model is not None and arguments.ltc:
         raise ParameterError("--ltc goes with the default build, not with --model")
-    if arguments.model is not None and arguments.coefficient_table:
-        raise ParameterError("--coefficient-table goes with the default build, not with --model")
+    if arguments.model is not None and arguments.pixel_tables:
+        raise ParameterError("--pixel-tables goes with the default build, not with --model")
     if arguments.ltc_size is not None and not arguments.ltc:
         raise ParameterError("--ltc-size goes with --ltc")
     ltc = (
@@ -163,7 +163,7 @@ def command_build(arguments) -> int:
             progress,
             ltc,
             _after(progress, ltc_progress),
-            arguments.coefficient_table,
+            arguments.pixel_tables,
         )
         if ltc_progress is not None:
             ltc_progress.close()

@@ -113,10 +113,11 @@ def make_parser() -> argparse.ArgumentParser:
     )
     build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
     build.add_argument(
-        "--coefficient-table",
+        "--pixel-tables",
         action="store_true",
-        help="also write fresnel_coefficients_rg: Gulbrandsen's (r, g) -> coefficients for one fetch per pixel "
-        "(512 x 128, minimax over theta; about 25 s; make luts does)",
+        help="also write the per-pixel tables: fresnel_coefficients_rg (Gulbrandsen's (r, g) -> coefficients, 512 x "
+        "128, minimax over theta; about 25 s) and fresnel_curves_rgb (b1..b3 over V.H for punctual lights); make "
+        "luts does",
     )
     build.add_argument(
         "--model",

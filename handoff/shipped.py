@@ -1,7 +1,8 @@
 """The files a build ships and what names them: the default build's table names, a linear model's table name, the
 header every table carries, and the shipped tables read back.
 
-Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
+Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``CURVE_LUT``,
+``CURVE_LUT_SIZE``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
 ``model_lut_name``, ``shipped_lut``, ``shipped_tables``, ``table_header``, ``lut_attributes``.
 """
 
@@ -22,6 +23,8 @@ __all__ = [
     "AVERAGE_LUT",
     "BASIS_LUT",
     "COEFFICIENT_LUT",
+    "CURVE_LUT",
+    "CURVE_LUT_SIZE",
     "GENERATOR",
     "LTC_LUT",
     "RGBA",
@@ -41,9 +44,14 @@ SCHLICK_LUT = "ggx_schlick_rgba.exr"
 AVERAGE_LUT = "ggx_albedo_average.exr"
 #: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).
 LTC_LUT = "ggx_ltc.exr"
-#: Gulbrandsen's (r, g) → c2, c3 of a four-term basis (``fresnel-lut build --coefficient-table``;
+#: Gulbrandsen's (r, g) → c2, c3 of a four-term basis (``fresnel-lut build --pixel-tables``;
 #: :mod:`basis.coefficient_table`); a basis of K terms has K − 2 channels (``fresnel_coefficients_rgba`` for six).
 COEFFICIENT_LUT = "fresnel_coefficients_rg.exr"
+#: The direct-light curves b_1 … b_(K−1) of the basis over μ = V·H, one row (``fresnel-lut build --pixel-tables``), and
+#: its texels (end points of μ from 0 to 1): WebGL 2's guaranteed largest texture width; linear interpolation between
+#: them holds the shipped basis' curves within 2.5e-5 (the include's polynomial: 2.2e-5).
+CURVE_LUT = "fresnel_curves_rgb.exr"
+CURVE_LUT_SIZE = 2048
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")

@@ -1,7 +1,7 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
 Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
-``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``table_file_name``,
+``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``curve_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
 A :class:`Table` is a name (the file's stem), its values (H, W, K) on a :class:`~preintegrate.lut.LutGrid`, its
@@ -48,6 +48,8 @@ from .shipped import (
     AVERAGE_LUT,
     BASIS_LUT,
     COEFFICIENT_LUT,
+    CURVE_LUT,
+    CURVE_LUT_SIZE,
     LTC_LUT,
     RGBA,
     SCHLICK_LUT,
@@ -61,6 +63,7 @@ __all__ = [
     "DEFAULT_SET",
     "Table",
     "coefficient_build_table",
+    "curve_table",
     "default_tables",
     "kept_ltc_grid",
     "ltc_build_table",
@@ -268,7 +271,8 @@ def write_default_build(
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
     area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too; with ``coefficients``
-    (``--coefficient-table``), the table of Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)."""
+    (``--pixel-tables``), the per-pixel tables: Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)
+    and the direct-light curves over V·H (:func:`curve_table`)."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
     if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
@@ -282,7 +286,7 @@ def write_default_build(
     if ltc is not None:
         tables.append(ltc_build_table(ltc, ltc_progress))
     if coefficients:
-        tables.append(coefficient_build_table(basis))
+        tables += [coefficient_build_table(basis), curve_table(basis)]
     return write_tables(
         tables,
         out,
@@ -291,7 +295,12 @@ def write_default_build(
         texts=includes,
         owned=DEFAULT_SET
         + ((_stem(LTC_LUT),) if ltc is not None else ())
-        + (tuple(_coefficient_stem(k) for k in range(3, 7)) if coefficients else ()),
+        + (
+            tuple(_coefficient_stem(k) for k in range(3, 7))
+            + ("fresnel_curves_r", "fresnel_curves_rg", "fresnel_curves_rgb", "fresnel_curves_rgba")
+            if coefficients
+            else ()
+        ),
         owned_files=[*(name for name, _ in SHADER_INCLUDES.values()), *LEGACY_INCLUDES],
     )
 
@@ -342,7 +351,7 @@ def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:
 
 
 def coefficient_build_table(
-    basis: Basis | None = None, fit: str = "minimax", command: str = "fresnel-lut build --coefficient-table"
+    basis: Basis | None = None, fit: str = "minimax", command: str = "fresnel-lut build --pixel-tables"
 ) -> Table:
     """The table of Gulbrandsen's (r, g) → c2 … c_(K−1) (:func:`basis.coefficient_table.coefficient_table`) of a
     basis of three to six terms, with the basis hash, the axes and the criterion in its header."""
@@ -372,6 +381,30 @@ def coefficient_build_table(
         ),
     )
     return Table(_coefficient_stem(basis.n_terms), coefficient_table(basis, fit), names, header)
+
+
+def curve_table(basis: Basis | None = None, command: str = "fresnel-lut build --pixel-tables") -> Table:
+    """The direct-light curves b_1 … b_(K−1) of a basis of two to five terms at :data:`CURVE_LUT_SIZE` end points of
+    μ = V·H (one row; ``fresnelBasisDirectTable`` reads it with one fetch)."""
+    basis = resolve_basis(basis)
+    if not 2 <= basis.n_terms <= 5:
+        raise ParameterError(
+            f"the curve table holds b1 ... b(K-1) in one RGBA texture: a basis of 2 to 5 terms, not {basis.n_terms}"
+        )
+    names = tuple(f"b{k}" for k in range(1, basis.n_terms))
+    header = table_header(
+        "direct-light curves",
+        names,
+        "F(V.H) = c0 + sum_k c_k texture(V.H).k per colour channel (b0 = 1)",
+        CURVE_LUT_SIZE,
+        1,
+        command,
+        f"one row; columns: mu = V.H at {CURVE_LUT_SIZE} end points from 0 to 1 (texel centres on both ends; bilinear, "
+        "clamp)",
+        basis_hash=basis.content_hash,
+    )
+    values = basis.evaluate_mu(np.linspace(0.0, 1.0, CURVE_LUT_SIZE))[None, :, 1:]
+    return Table(_stem(CURVE_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: basis.n_terms - 1], values, names, header)
 
 
 def write_model_build(

@@ -11,7 +11,8 @@
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
 //   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5
 // then, with the same coefficients: image-based light fresnelBasisSplitSum (or
-// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights
+// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...) (or fresnelBasisDirectTable
+// with the curve table), rectangular lights
 // fresnelBasisRectLight. Tables: lut (and one SamplerState linearClamp after them), read at level 0 through
 // fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).
 // Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:
@@ -61,6 +62,7 @@ static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // sca
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 static const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
 static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
+static const float2 FRESNEL_CURVE_TABLE = float2(0.999511719, 0.000244140625);  // scale, offset of mu
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(float4 c, float4 x)
@@ -73,6 +75,14 @@ float fresnelTermsDot(float4 c, float4 x)
 float fresnelSanitize(float x, float fallback, float lo, float hi)
 {
     return ((asuint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
+}
+
+// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
+// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
+// fallback may be an end of the range.
+float fresnelUnitClamp(float x, float hi)
+{
+    return asfloat(clamp(asint(x), 0, asint(hi)));
 }
 
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
@@ -161,14 +171,15 @@ float4 fresnelCoefficientsGulbrandsen(float r, float g)
 }
 
 // Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
 // F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
 // coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
 float4 fresnelCoefficientsGulbrandsenTable(Texture2D<float4> coefficientLut, SamplerState linearClamp, float r, float g)
 {
-    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    r = fresnelUnitClamp(r, 0.9999);
     float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    float y = 1.0 - sqrt(sqrt(1.0 - fresnelUnitClamp(g, 1.0)));
     float4 t = coefficientLut.SampleLevel(linearClamp, float2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return float4(r, f90 - r, f90 * t.x, f90 * t.y);
@@ -285,6 +296,17 @@ float4 fresnelBasisCurves(float mu)
 float3 fresnelBasisDirect(float VdotH, float4 cR, float4 cG, float4 cB)
 {
     float4 b = fresnelBasisCurves(VdotH);
+    return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// The same from the curve table (fresnel_curves_rgb, `fresnel-lut build --pixel-tables`): b_1 .. b_(K-1) at
+// FRESNEL_CURVE_TABLE's end points of mu = V.H, one bilinear fetch in place of the polynomial; V.H through
+// fresnelUnitClamp. A basis of more than five terms has no such table and evaluates the polynomial.
+float3 fresnelBasisDirectTable(Texture2D<float4> curveLut, SamplerState linearClamp, float VdotH, float4 cR, float4 cG, float4 cB)
+{
+    float mu = fresnelUnitClamp(VdotH, 1.0);
+    float4 t = curveLut.SampleLevel(linearClamp, float2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0);
+    float4 b = float4(1.0, t.x, t.y, t.z);
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 

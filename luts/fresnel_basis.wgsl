@@ -11,7 +11,8 @@
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
 //   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5
 // then, with the same coefficients: image-based light fresnelBasisSplitSum (or
-// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights
+// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...) (or fresnelBasisDirectTable
+// with the curve table), rectangular lights
 // fresnelBasisRectLight. Tables: lut (and one sampler), read at level 0 through
 // fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).
 // Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:
@@ -61,6 +62,7 @@ const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offs
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
 const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
+const FRESNEL_CURVE_TABLE: vec2f = vec2f(0.999511719, 0.000244140625);  // scale, offset of mu
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 fn fresnelTermsDot(c: vec4f, x: vec4f) -> f32
@@ -73,6 +75,14 @@ fn fresnelTermsDot(c: vec4f, x: vec4f) -> f32
 fn fresnelSanitize(x: f32, fallback: f32, lo: f32, hi: f32) -> f32
 {
     return select(clamp(x, lo, hi), fallback, ((bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u));
+}
+
+// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
+// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
+// fallback may be an end of the range.
+fn fresnelUnitClamp(x: f32, hi: f32) -> f32
+{
+    return bitcast<f32>(clamp(bitcast<i32>(x), 0, bitcast<i32>(hi)));
 }
 
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
@@ -163,15 +173,16 @@ fn fresnelCoefficientsGulbrandsen(rIn: f32, g: f32) -> vec4f
 }
 
 // Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
 // F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
 // coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
 fn fresnelCoefficientsGulbrandsenTable(coefficientLut: texture_2d<f32>, linearClamp: sampler, rIn: f32, g: f32) -> vec4f
 {
     var r = rIn;
-    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    r = fresnelUnitClamp(r, 0.9999);
     let x: f32 = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
-    let y: f32 = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    let y: f32 = 1.0 - sqrt(sqrt(1.0 - fresnelUnitClamp(g, 1.0)));
     let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
     let f90: f32 = select(0.0, 1.0, r > 0.0);
     return vec4f(r, f90 - r, f90 * t.x, f90 * t.y);
@@ -281,6 +292,17 @@ fn fresnelBasisCurves(muIn: f32) -> vec4f
 fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let b: vec4f = fresnelBasisCurves(VdotH);
+    return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// The same from the curve table (fresnel_curves_rgb, `fresnel-lut build --pixel-tables`): b_1 .. b_(K-1) at
+// FRESNEL_CURVE_TABLE's end points of mu = V.H, one bilinear fetch in place of the polynomial; V.H through
+// fresnelUnitClamp. A basis of more than five terms has no such table and evaluates the polynomial.
+fn fresnelBasisDirectTable(curveLut: texture_2d<f32>, linearClamp: sampler, VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
+{
+    let mu: f32 = fresnelUnitClamp(VdotH, 1.0);
+    let t: vec4f = textureSampleLevel(curveLut, linearClamp, vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0.0);
+    let b: vec4f = vec4f(1.0, t.x, t.y, t.z);
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 

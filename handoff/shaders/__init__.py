@@ -3,10 +3,10 @@ direct-light curves, rectangular lights, the tables' coordinates), its constants
 arithmetic.
 
 Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_includes``,
-``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``,
+``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``unit_clamp``,
 ``coefficients_per_pixel_nk``, ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``,
 ``coefficients_per_pixel_model``,
-``direct_fresnel``, ``lut_coordinates``, ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``,
+``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``, ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``,
 ``linear_weights``, ``linear_split_sum``, ``linear_direct``,
 ``warped_cosine``, ``unwarped_cosine``, ``PER_PIXEL_MODELS``, ``CURVE_WARPS``, ``CURVE_SEGMENTS``,
 ``FINE_CURVE_SEGMENTS``, ``CURVE_TOLERANCE``.
@@ -47,6 +47,7 @@ from .mirrors import (
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
     direct_fresnel,
+    direct_fresnel_table,
     linear_direct,
     linear_model_curve,
     linear_split_sum,
@@ -57,6 +58,7 @@ from .mirrors import (
     sanitize_gulbrandsen,
     sanitize_nk,
     sanitize_unit,
+    unit_clamp,
 )
 from .translate import LANGUAGES, translate
 
@@ -75,6 +77,7 @@ __all__ = [
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",
+    "direct_fresnel_table",
     "linear_direct",
     "linear_model_curve",
     "linear_split_sum",
@@ -85,6 +88,7 @@ __all__ = [
     "sanitize_gulbrandsen",
     "sanitize_nk",
     "sanitize_unit",
+    "unit_clamp",
     "shader_constants",
     "shader_includes",
     "shader_source",

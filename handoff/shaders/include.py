@@ -10,7 +10,7 @@ record of a basis of five to eight terms), then the bodies of ``source/*.glsl`` 
 * ``{{terms}}``: one channel's coefficients and terms: ``vec4`` for K ≤ 4, ``FresnelTerms8`` (``.lo`` terms 0-3,
   ``.hi`` 4-7) for K > 4;
 * ``{{solve}}``, ``{{linear}}``, ``{{curves}}``, ``{{fetch}}``, ``{{averages}}``, ``{{albedo}}``, ``{{column}}``,
-  ``{{table_terms}}``:
+  ``{{table_terms}}``, ``{{curve_terms}}``:
   statements or expressions generated from the basis and the grid;
 * a texture ``lut2`` (the second table of a basis of five to eight terms) and every argument passing it exist only
   where K > 4.
@@ -31,6 +31,7 @@ from basis.validation import ParameterError, safe_line
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
+from ..shipped import CURVE_LUT_SIZE
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
 
@@ -237,7 +238,7 @@ def _coefficient_table_parts(k: int) -> tuple[str, str]:
     """(constant, return expression) of ``fresnelCoefficientsGulbrandsenTable``: the affine maps of its warped axes
     onto the texel centres of a :data:`~basis.coefficient_table.COEFFICIENT_TABLE_SIZE` table (end points on both
     ends), and c0 = r, c1 = f90 − r, c2 … from the fetch t (K − 2 ≤ 4 channels); a basis of more than six terms has
-    no table (``fresnel-lut build --coefficient-table`` refuses it) and solves instead."""
+    no table (``fresnel-lut build --pixel-tables`` refuses it) and solves instead."""
     width, height = COEFFICIENT_TABLE_SIZE
     low, high = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
     x_scale = (width - 1) / (width * (high - low))
@@ -248,6 +249,18 @@ def _coefficient_table_parts(k: int) -> tuple[str, str]:
         return constant, "fresnelCoefficientsGulbrandsen(r, g)"
     rest = [f"f90 * t.{axis}" for axis in "xyzw"[: k - 2]]
     return constant, _terms_value(["r", "f90 - r", *rest], k > 4)
+
+
+def _curve_table_parts(k: int) -> tuple[str, str]:
+    """(constant, terms expression) of ``fresnelBasisDirectTable``: the map of μ onto the texel centres of the
+    :data:`~handoff.shipped.CURVE_LUT_SIZE` end points, and b = (1, t.x, …) from the fetch t; more than five terms
+    evaluate the polynomial instead."""
+    constant = _constant(
+        "FRESNEL_CURVE_TABLE", [(CURVE_LUT_SIZE - 1) / CURVE_LUT_SIZE, 0.5 / CURVE_LUT_SIZE], "scale, offset of mu"
+    )
+    if k > 5:
+        return constant, "fresnelBasisCurves(mu)"
+    return constant, _terms_value(["1.0", *(f"t.{axis}" for axis in "xyzw"[: k - 1])], k > 4)
 
 
 def _header(c: ShaderConstants, language: str, command: str) -> str:
@@ -276,7 +289,8 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
             "//   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)",
             "//   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5",
             "// then, with the same coefficients: image-based light fresnelBasisSplitSum (or",
-            "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights",
+            "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...) (or fresnelBasisDirectTable",
+            "// with the curve table), rectangular lights",
             f"// fresnelBasisRectLight. Tables: {textures}{sampler[language]}, read at level 0 through",
             "// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).",
             "// Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:",
@@ -359,9 +373,11 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
     )
     fetch = "textureLod(lut, uv, 0.0)"
     axes_constant, table_terms = _coefficient_table_parts(c.n_terms)
+    curve_table_constant, curve_terms = _curve_table_parts(c.n_terms)
     placeholders = {
         "terms": "FresnelTerms8" if wide else "vec4",
         "table_terms": table_terms,
+        "curve_terms": curve_terms,
         "solve": solve,
         "linear": f"    return {f'fresnelTerms8({linear[0]}, {linear[1]})' if wide else linear[0]};",
         "curves": curves,
@@ -391,6 +407,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LUT_ROWS", grid.row_mapping, "lo, hi, scale, offset"),
         _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
         axes_constant,
+        curve_table_constant,
         "",
     ]
     bodies = [(SOURCE_FOLDER / name).read_text(encoding="utf-8") for name in SOURCES]

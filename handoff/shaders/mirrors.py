@@ -1,9 +1,9 @@
 """The shaders' arithmetic in Python, operation for operation (in float64): engines' CPU tools get the numbers the GPU
 computes, and the tests compare the two.
 
-Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``coefficients_per_pixel_nk``,
+Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``unit_clamp``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_model``,
-``direct_fresnel``, ``lut_coordinates``,
+``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``,
 ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
 ``linear_direct``.
 
@@ -54,6 +54,7 @@ __all__ = [
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
     "direct_fresnel",
+    "direct_fresnel_table",
     "linear_direct",
     "linear_model_curve",
     "linear_split_sum",
@@ -64,6 +65,7 @@ __all__ = [
     "sanitize_gulbrandsen",
     "sanitize_nk",
     "sanitize_unit",
+    "unit_clamp",
 ]
 
 
@@ -71,6 +73,13 @@ def sanitize_unit(value, fallback: float = 0.0, low: float = 0.0, high: float = 
     """A texel value as the shaders read it: NaN → ``fallback``, else clamped to [low, high] (±inf to the ends)."""
     value = as_float_array("value", value, finite=False)
     return np.where(np.isnan(value), fallback, np.clip(value, low, high))
+
+
+def unit_clamp(value, high: float) -> np.ndarray:
+    """``fresnelUnitClamp``: clamped to [0, high] as one integer clamp of the float's bits does it: NaN → ``high`` or 0
+    by its sign bit, −0 and negatives → 0, +inf → ``high``."""
+    value = as_float_array("value", value, finite=False)
+    return np.where(np.isnan(value), np.where(np.signbit(value), 0.0, high), np.clip(value, 0.0, high))
 
 
 def sanitize_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
@@ -158,7 +167,9 @@ def coefficients_per_pixel_gulbrandsen_table(
     ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights; GPUs round them to 8 bits); a basis of
     more than six terms, which has no table, solves as the include does."""
     constants = shader_constants() if constants is None else constants
-    reflectivity, edge_tint = np.broadcast_arrays(*sanitize_gulbrandsen(reflectivity, edge_tint))
+    reflectivity, edge_tint = np.broadcast_arrays(
+        unit_clamp(reflectivity, REFLECTIVITY_LIMITS[1]), unit_clamp(edge_tint, 1.0)
+    )
     if constants.n_terms > 6:
         return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
     table = as_float_array("table", table)
@@ -219,6 +230,19 @@ def linear_direct(weights, v_dot_h) -> np.ndarray:
     [0, 1] as the models are (:func:`basis.models.formulas.fresnel_Hoffman2019`)."""
     terms = linear_functions(sanitize_unit(v_dot_h, 1.0))[..., None, :]
     return np.clip(np.sum(as_float_array("weights", weights) * terms, axis=-1), 0.0, 1.0)
+
+
+def direct_fresnel_table(table, coefficients, v_dot_h) -> np.ndarray:
+    """``fresnelBasisDirectTable``: F(V·H) = c0 + Σ_k c_k t_k with t the curve table (1, W, K − 1) read linearly at
+    V·H (through :func:`unit_clamp`) on its end points: coefficients (…, K), V·H (…) → (…)."""
+    table = as_float_array("table", table)
+    coefficients = as_float_array("coefficients", coefficients)
+    if table.ndim != 3 or table.shape[0] != 1 or table.shape[-1] != coefficients.shape[-1] - 1:
+        raise ParameterError(f"table must be (1, W, {coefficients.shape[-1] - 1}), got {table.shape}")
+    mu = unit_clamp(v_dot_h, 1.0)
+    grid = np.linspace(0.0, 1.0, table.shape[1])
+    curves = np.stack([np.ones_like(mu)] + [np.interp(mu, grid, table[0, :, k]) for k in range(table.shape[-1])], -1)
+    return np.sum(coefficients * curves, axis=-1)
 
 
 def coefficients_per_pixel_model(model: str, constants: ShaderConstants | None = None, **parameters) -> np.ndarray:

@@ -60,6 +60,8 @@ _FUNCTIONS = {
     "mix": ("lerp", "mix"),
     "atan": ("atan2", "atan2"),
     "floatBitsToUint": ("asuint", "bitcast<u32>"),
+    "floatBitsToInt": ("asint", "bitcast<i32>"),
+    "intBitsToFloat": ("asfloat", "bitcast<f32>"),
     "fract": ("frac", "fract"),
     "inversesqrt": ("rsqrt", "inverseSqrt"),
 }

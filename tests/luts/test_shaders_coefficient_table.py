@@ -1,9 +1,11 @@
-"""The coefficient-table path (issue 38): ``fresnelCoefficientsGulbrandsenTable`` of the generated include, with the
-shipped luts/fresnel_coefficients_rg.exr, run for real on Mesa's llvmpipe (GLSL) and lavapipe (WGSL through wgpu)
-against its Python mirror (``handoff.shaders.coefficients_per_pixel_gulbrandsen_table``), over (r, g) spanning the
-table, its edges (r = 0, r → 1, g at 0 and 1) and bad values (NaN, ±inf, negative, beyond 1): no NaN or inf, and the
-coefficients within 1e-5 of the mirror's exact bilinear weights (float32 coordinates and filtering; measured 3.4e-6 on
-both).
+"""The per-pixel tables (issue 38): ``fresnelCoefficientsGulbrandsenTable`` and ``fresnelBasisDirectTable`` of the
+generated include, with the shipped luts/fresnel_coefficients_rg.exr and luts/fresnel_curves_rgb.exr, run for real on
+Mesa's llvmpipe (GLSL) and lavapipe (WGSL through wgpu) against their Python mirrors
+(``coefficients_per_pixel_gulbrandsen_table``, ``direct_fresnel_table``), over (r, g) spanning the table, its edges
+(r = 0, r → 1, g at 0 and 1) and bad values (NaN, ±inf, negative, beyond 1), and V·H over [0, 1] and the same bad
+values: no NaN or inf, the coefficients and F(V·H) within 1e-5 of the mirrors' exact linear weights (float32
+coordinates and filtering; measured 3.4e-6 and 2.5e-6 on both). A NaN goes to an end of its range by its sign bit
+(``fresnelUnitClamp``).
 
 Against the float64 model and exact Fresnel: tests/basis/test_coefficient_table.py.
 """
@@ -12,12 +14,13 @@ import numpy as np
 
 from basis.storage import shipped_path
 from handoff.exr import read_lut
-from handoff.shaders import coefficients_per_pixel_gulbrandsen_table, shader_includes
-from handoff.shipped import COEFFICIENT_LUT
+from handoff.shaders import coefficients_per_pixel_gulbrandsen_table, direct_fresnel_table, shader_includes
+from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT
 from tests.conftest import gl_draw, wgpu_compute, wgpu_device
 
 INCLUDES = dict(shader_includes())
 TABLE, HEADER = read_lut(shipped_path(COEFFICIENT_LUT))
+CURVES = read_lut(shipped_path(CURVE_LUT))[0]  # (1, 2048, 3)
 #: float32 coordinates and filtering against float64 (measured 3.4e-6 on llvmpipe and lavapipe).
 TOLERANCE = 1e-5
 
@@ -31,48 +34,74 @@ def _inputs() -> np.ndarray:
     special = [0.0, 0.9999, 1.0, np.nan, np.inf, -np.inf, -0.5, 2.0, 1e-12, 0.5]
     r[128 : 128 + 10], g[138 : 138 + 10] = special, special
     g[148:158] = [0.0, 1.0, 0.0, 1.0, np.nan, 0.0, 1.0, 0.5, 1.0, 0.0]
-    return np.stack([r, g, np.zeros_like(r), np.zeros_like(r)], axis=-1).astype(np.float32)
+    v_dot_h = rng.uniform(0.0, 1.0, 1024)
+    v_dot_h[:10] = special
+    v_dot_h[10:74] = rng.uniform(0.0, 1e-3, 64)  # grazing, where the curves bend
+    v_dot_h[74] = -np.nan
+    return np.stack([r, g, v_dot_h, np.zeros_like(r)], axis=-1).astype(np.float32)
 
 
-def _assert(outputs: np.ndarray, inputs: np.ndarray, where: str) -> None:
+def _assert(coefficients: np.ndarray, direct: np.ndarray, inputs: np.ndarray, where: str) -> None:
     expected = coefficients_per_pixel_gulbrandsen_table(TABLE, inputs[:, 0], inputs[:, 1])
-    assert np.all(np.isfinite(outputs)), f"{where}: non-finite output"
-    error = float(np.max(np.abs(outputs - expected)))
-    assert error <= TOLERANCE, f"{where}: max |GPU - mirror| {error:.3g}"
+    assert np.all(np.isfinite(coefficients)) and np.all(np.isfinite(direct)), f"{where}: non-finite output"
+    error = float(np.max(np.abs(coefficients - expected)))
+    assert error <= TOLERANCE, f"{where}: coefficients, max |GPU - mirror| {error:.3g}"
+    expected = np.stack(
+        [
+            direct_fresnel_table(CURVES, expected, inputs[:, 2]),
+            direct_fresnel_table(CURVES, expected[::-1], inputs[:, 2]),
+        ],
+        axis=-1,
+    )
+    error = float(np.max(np.abs(direct[:, :2] - expected)))
+    assert error <= TOLERANCE, f"{where}: direct light from the curve table, max |GPU - mirror| {error:.3g}"
 
 
 GLSL_MAIN = """
 uniform sampler2D inputs;
 uniform sampler2D coefficientLut;
-out vec4 coefficients;
+uniform sampler2D curveLut;
+layout(location = 0) out vec4 coefficients;
+layout(location = 1) out vec4 direct;
 void main() {
-    vec4 a = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+    ivec2 texel = ivec2(gl_FragCoord.xy);
+    vec4 a = texelFetch(inputs, texel, 0);
+    vec4 mirrored = texelFetch(inputs, ivec2(31, 31) - texel, 0);  // the coefficients of the texel opposite
     coefficients = fresnelCoefficientsGulbrandsenTable(coefficientLut, a.x, a.y);
+    vec4 other = fresnelCoefficientsGulbrandsenTable(coefficientLut, mirrored.x, mirrored.y);
+    direct = vec4(fresnelBasisDirectTable(curveLut, a.z, coefficients, other, other).xy, 0.0, 0.0);
 }
 """
 
 
 def test_glsl_on_mesa_llvmpipe_matches_the_mirror():
     inputs = _inputs()
-    (outputs,) = gl_draw(
+    coefficients, direct = gl_draw(
         "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + GLSL_MAIN,
-        [inputs.reshape(32, 32, 4), TABLE],
-        {"inputs": 0, "coefficientLut": 1},
-        1,
+        [inputs.reshape(32, 32, 4), TABLE, CURVES],
+        {"inputs": 0, "coefficientLut": 1, "curveLut": 2},
+        2,
     )
-    _assert(outputs, inputs, "llvmpipe")
+    _assert(coefficients, direct, inputs, "llvmpipe")
 
 
 WGSL_MAIN = """
 @group(0) @binding(0) var<storage, read> inputs: array<vec4f>;
 @group(0) @binding(1) var<storage, read_write> outputs: array<vec4f>;
 @group(0) @binding(2) var coefficientLut: texture_2d<f32>;
-@group(0) @binding(3) var linearClamp: sampler;
+@group(0) @binding(3) var curveLut: texture_2d<f32>;
+@group(0) @binding(4) var linearClamp: sampler;
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if (i >= arrayLength(&inputs)) { return; }
-    outputs[i] = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, inputs[i].x, inputs[i].y);
+    let count = arrayLength(&inputs);
+    if (i >= count) { return; }
+    let a = inputs[i];
+    let mirrored = inputs[count - 1u - i];  // the texel opposite, as the GLSL pass reads it
+    let c = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, a.x, a.y);
+    let other = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, mirrored.x, mirrored.y);
+    outputs[2u * i] = c;
+    outputs[2u * i + 1u] = vec4f(fresnelBasisDirectTable(curveLut, linearClamp, a.z, c, other, other).xy, 0.0, 0.0);
 }
 """
 
@@ -84,29 +113,33 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_mirror(monkeypatch):
     device = wgpu_device(monkeypatch, features=("float32-filterable",))
     usage = wgpu.BufferUsage
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
-    output_buffer = device.create_buffer(size=len(inputs) * 16, usage=usage.STORAGE | usage.COPY_SRC)
-    rgba = np.zeros(TABLE.shape[:2] + (4,), np.float32)
-    rgba[..., : TABLE.shape[2]] = TABLE
-    texture = device.create_texture(
-        size=(TABLE.shape[1], TABLE.shape[0], 1),
-        format=wgpu.TextureFormat.rgba32float,
-        usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-    )
-    device.queue.write_texture(
-        {"texture": texture},
-        rgba.tobytes(),
-        {"bytes_per_row": TABLE.shape[1] * 16, "rows_per_image": TABLE.shape[0]},
-        (TABLE.shape[1], TABLE.shape[0], 1),
-    )
+    output_buffer = device.create_buffer(size=len(inputs) * 32, usage=usage.STORAGE | usage.COPY_SRC)
+    views = []
+    for table in (TABLE, CURVES):
+        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
+        rgba[..., : table.shape[2]] = table
+        texture = device.create_texture(
+            size=(table.shape[1], table.shape[0], 1),
+            format=wgpu.TextureFormat.rgba32float,
+            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+        )
+        device.queue.write_texture(
+            {"texture": texture},
+            rgba.tobytes(),
+            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
+            (table.shape[1], table.shape[0], 1),
+        )
+        views.append(texture.create_view())
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     data = wgpu_compute(
         device,
         INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN,
-        [{"buffer": input_buffer}, {"buffer": output_buffer}, texture.create_view(), sampler],
+        [{"buffer": input_buffer}, {"buffer": output_buffer}, *views, sampler],
         output_buffer,
         len(inputs),
     )
-    _assert(np.frombuffer(data, np.float32).reshape(len(inputs), 4), inputs, "lavapipe")
+    output = np.frombuffer(data, np.float32).reshape(len(inputs), 2, 4)
+    _assert(output[:, 0], output[:, 1], inputs, "lavapipe")
 
 
 def test_the_table_is_the_shipped_basis_and_its_axes():

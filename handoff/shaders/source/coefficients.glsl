@@ -42,14 +42,15 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
 }
 
 // Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --coefficient-table` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
+// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
 // F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
 // coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
 {{terms}} fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, float g)
 {
-    r = fresnelSanitize(r, 0.0, 0.0, 0.9999);
+    r = fresnelUnitClamp(r, 0.9999);
     float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - fresnelSanitize(g, 0.0, 0.0, 1.0)));
+    float y = 1.0 - sqrt(sqrt(1.0 - fresnelUnitClamp(g, 1.0)));
     vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return {{table_terms}};

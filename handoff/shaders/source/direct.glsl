@@ -12,6 +12,17 @@ vec3 fresnelBasisDirect(float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// The same from the curve table (fresnel_curves_rgb, `fresnel-lut build --pixel-tables`): b_1 .. b_(K-1) at
+// FRESNEL_CURVE_TABLE's end points of mu = V.H, one bilinear fetch in place of the polynomial; V.H through
+// fresnelUnitClamp. A basis of more than five terms has no such table and evaluates the polynomial.
+vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    float mu = fresnelUnitClamp(VdotH, 1.0);
+    vec4 t = textureLod(curveLut, vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0.0);
+    {{terms}} b = {{curve_terms}};
+    return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
 // A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))
 // with s = (1 - mu)^5, clamped to [0, 1] as the models are.
 vec3 fresnelLinearDirect(float VdotH, vec3 wR, vec3 wG, vec3 wB)

@@ -5,6 +5,14 @@ float fresnelSanitize(float x, float fallback, float lo, float hi)
     return ((floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
 }
 
+// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
+// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
+// fallback may be an end of the range.
+float fresnelUnitClamp(float x, float hi)
+{
+    return intBitsToFloat(clamp(floatBitsToInt(x), 0, floatBitsToInt(hi)));
+}
+
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
 // Equations"), written as basis/fresnel.py writes it: finite at mu = 0 and for kappa >> eta.
 float fresnelExact(float mu, float eta, float kappa)
