@@ -13,6 +13,9 @@ as a textured material would):
 * ``basis uniform``: coefficients as uniforms, the basis table, the basis' direct-light curves;
 * ``basis per pixel (eta, kappa)``, ``(r, g)``, ``(F0, F82 tint)``: the generated include's per-pixel solves from
   texture reads, then the same as above;
+* ``basis per pixel (r, g), tables``: the per-pixel tables of ``build --pixel-tables`` instead of the solve and the
+  polynomial (``fresnelCoefficientsGulbrandsenTable3``, one fetch per colour channel; ``fresnelBasisDirectTable``);
+  ``basis uniform, curve table``: the uniform coefficients with the curve table (issue 38);
 * ``schlick, two textures``: Schlick reading as many textures as the per-pixel variants (its F0 the product of
   two): what a second texture costs, apart from any Fresnel;
 * ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light;
@@ -54,11 +57,14 @@ from basis import default_basis
 from basis.fresnel import fresnel_kernel
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.models import fresnel_model
+from basis.storage import shipped_path
 from basis.training import holdout_materials
 from benchmarks.gpu_compiler import compiler_estimates
 from benchmarks.output import machine, publish
+from handoff.exr import read_lut
 from handoff.shaders import (
     coefficients_per_pixel_gulbrandsen,
+    coefficients_per_pixel_gulbrandsen_table,
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
     shader_constants,
@@ -66,7 +72,7 @@ from handoff.shaders import (
     unwarped_cosine,
     warped_cosine,
 )
-from handoff.shipped import shipped_tables
+from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT, shipped_tables
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 
 SIZE = 128
@@ -80,7 +86,7 @@ ARTIST_R_MAX = 0.9
 VERTEX = "#version 330\nin vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }\n"
 COMMON = """
 uniform sampler2D basisLut; uniform sampler2D schlickLut; uniform sampler2D mapA; uniform sampler2D mapB;
-uniform sampler2D mapC;
+uniform sampler2D mapC; uniform sampler2D coefficientLut; uniform sampler2D curveTable;
 uniform vec2 size; uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform float roughness;
 out vec4 colour;
 const vec3 EYE = vec3(0.0, 0.0, 4.0), LIGHT = vec3(1.5, 2.0, 3.0);  // per-pixel V and L: nothing folds to a constant
@@ -119,6 +125,12 @@ VARIANTS = {
     fresnelCoefficientsGulbrandsen3(texture(mapA, uv).rgb, texture(mapB, uv).rgb, pR, pG, pB);
     Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
     F = fresnelBasisDirect(VdotH, pR, pG, pB);""",
+    "basis per pixel (r, g), tables": """vec4 pR, pG, pB;
+    fresnelCoefficientsGulbrandsenTable3(coefficientLut, texture(mapA, uv).rgb, texture(mapB, uv).rgb, pR, pG, pB);
+    Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
+    F = fresnelBasisDirectTable(curveTable, VdotH, pR, pG, pB);""",
+    "basis uniform, curve table": """Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, cR, cG, cB);
+    F = fresnelBasisDirectTable(curveTable, VdotH, cR, cG, cB);""",
     "basis per pixel (F0, F82 tint)": """vec3 f0 = texture(mapA, uv).rgb, tint = texture(mapB, uv).rgb;
     vec4 pR = fresnelCoefficientsF82Tint(f0.r, tint.r), pG = fresnelCoefficientsF82Tint(f0.g, tint.g);
     vec4 pB = fresnelCoefficientsF82Tint(f0.b, tint.b);
@@ -221,7 +233,13 @@ def frame_times(
     try:
         rng = np.random.default_rng(3)
         maps = [rng.uniform(0.05, 0.95, (256, 256, 4)).astype("f4") for _ in range(3)]
-        textures = [*shipped_tables(), *maps[:2], curve_table(default_basis(), shader_constants()), maps[2]]
+        textures = [
+            *shipped_tables(),
+            *maps[:2],
+            curve_table(default_basis(), shader_constants()),
+            maps[2],
+            *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT)),
+        ]
         for unit, table in enumerate(textures):
             texture = context.texture(
                 table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, "f4").tobytes(), dtype="f4"
@@ -235,7 +253,8 @@ def frame_times(
         passes = {}
         for name, variant in variants.items():
             program = context.program(vertex_shader=VERTEX, fragment_shader=fragment_source(variant))
-            for index, uniform in enumerate(("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC")):
+            units = ("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC", "coefficientLut", "curveTable")
+            for index, uniform in enumerate(units):
                 if uniform in program:
                     program[uniform] = index
             for uniform, value in (
@@ -332,6 +351,10 @@ def errors() -> dict[str, tuple[float, float]]:
         "basis uniform": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (eta, kappa)": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (r, g)": measure(artist_curves, coefficients_per_pixel_gulbrandsen(r, g)),
+        "basis per pixel (r, g), tables": measure(
+            artist_curves, coefficients_per_pixel_gulbrandsen_table(read_lut(shipped_path(COEFFICIENT_LUT))[0], r, g)
+        ),
+        "basis uniform, curve table": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (F0, F82 tint)": measure(
             tint_curves, coefficients_per_pixel_model("f82-tint", f0=f0, tint=tint)
         ),

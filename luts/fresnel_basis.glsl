@@ -185,6 +185,21 @@ vec4 fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, floa
     return vec4(r, f90 - r, f90 * t.x, f90 * t.y);
 }
 
+// (eta, kappa) through the same table: Gulbrandsen's r = F(0) in closed form and his g = (n_max - eta) /
+// (n_max - n_min) (JCGT 2014, the inverse of eq. 7-9), written as (1 + q - eta (1 - q)) (1 + r) / (2 q (1 + q)),
+// q = sqrt(r), which n_max - n_min = 2 q (1 + q) / ((1 - q)(1 + r)) keeps free of float32 cancellation; g clamped to
+// [0, 1], so a material outside Gulbrandsen's gamut (eta < n_min) reads as its nearest edge.
+vec4 fresnelCoefficientsNKTable(sampler2D coefficientLut, float eta, float kappa)
+{
+    eta = fresnelSanitize(eta, 1.5, 1e-4, 1e4);
+    kappa = fresnelSanitize(kappa, 0.0, 0.0, 1e4);
+    float kappa2 = kappa * kappa;
+    float r = min(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), 0.9999);
+    float q = sqrt(r);
+    float g = q > 0.0 ? (1.0 + q - eta * (1.0 - q)) * (1.0 + r) / (2.0 * q * (1.0 + q)) : 0.0;
+    return fresnelCoefficientsGulbrandsenTable(coefficientLut, r, clamp(g, 0.0, 1.0));
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and

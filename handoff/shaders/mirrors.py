@@ -2,7 +2,8 @@
 computes, and the tests compare the two.
 
 Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``unit_clamp``, ``coefficients_per_pixel_nk``,
-``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_model``,
+``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_nk_table``,
+``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``,
 ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
 ``linear_direct``.
@@ -53,6 +54,7 @@ __all__ = [
     "coefficients_per_pixel_gulbrandsen_table",
     "coefficients_per_pixel_model",
     "coefficients_per_pixel_nk",
+    "coefficients_per_pixel_nk_table",
     "direct_fresnel",
     "direct_fresnel_table",
     "linear_direct",
@@ -230,6 +232,20 @@ def linear_direct(weights, v_dot_h) -> np.ndarray:
     [0, 1] as the models are (:func:`basis.models.formulas.fresnel_Hoffman2019`)."""
     terms = linear_functions(sanitize_unit(v_dot_h, 1.0))[..., None, :]
     return np.clip(np.sum(as_float_array("weights", weights) * terms, axis=-1), 0.0, 1.0)
+
+
+def coefficients_per_pixel_nk_table(table, eta, kappa, constants: ShaderConstants | None = None) -> np.ndarray:
+    """(…, K) coefficients of (η, κ) texels through Gulbrandsen's (r, g) and the coefficient table, as
+    ``fresnelCoefficientsNKTable`` computes them: r = F(0) (at most 0.9999), g = (1 + q − η (1 − q))(1 + r) /
+    (2 q (1 + q)), q = √r (:func:`basis.gulbrandsen.nk_to_gulbrandsen`'s g without its cancellation), clamped to
+    [0, 1]; 0 at r = 0."""
+    eta, kappa = np.broadcast_arrays(*sanitize_nk(eta, kappa))
+    kappa2 = kappa * kappa
+    r = np.minimum(((eta - 1.0) ** 2 + kappa2) / ((eta + 1.0) ** 2 + kappa2), REFLECTIVITY_LIMITS[1])
+    q = np.sqrt(r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = np.where(q > 0.0, (1.0 + q - eta * (1.0 - q)) * (1.0 + r) / (2.0 * q * (1.0 + q)), 0.0)
+    return coefficients_per_pixel_gulbrandsen_table(table, r, np.clip(g, 0.0, 1.0), constants)
 
 
 def direct_fresnel_table(table, coefficients, v_dot_h) -> np.ndarray:

@@ -1,7 +1,9 @@
-"""The per-pixel tables (issue 38): ``fresnelCoefficientsGulbrandsenTable`` and ``fresnelBasisDirectTable`` of the
+"""The per-pixel tables (issue 38): ``fresnelCoefficientsGulbrandsenTable``, ``fresnelCoefficientsNKTable`` and
+``fresnelBasisDirectTable`` of the
 generated include, with the shipped luts/fresnel_coefficients_rg.exr and luts/fresnel_curves_rgb.exr, run for real on
 Mesa's llvmpipe (GLSL) and lavapipe (WGSL through wgpu) against their Python mirrors
-(``coefficients_per_pixel_gulbrandsen_table``, ``direct_fresnel_table``), over (r, g) spanning the table, its edges
+(``coefficients_per_pixel_gulbrandsen_table``, ``…_nk_table``, ``direct_fresnel_table``), over (r, g) spanning the
+table, its edges
 (r = 0, r → 1, g at 0 and 1) and bad values (NaN, ±inf, negative, beyond 1), and V·H over [0, 1] and the same bad
 values: no NaN or inf, the coefficients and F(V·H) within 1e-5 of the mirrors' exact linear weights (float32
 coordinates and filtering; measured 3.4e-6 and 2.5e-6 on both). A NaN goes to an end of its range by its sign bit
@@ -14,7 +16,12 @@ import numpy as np
 
 from basis.storage import shipped_path
 from handoff.exr import read_lut
-from handoff.shaders import coefficients_per_pixel_gulbrandsen_table, direct_fresnel_table, shader_includes
+from handoff.shaders import (
+    coefficients_per_pixel_gulbrandsen_table,
+    coefficients_per_pixel_nk_table,
+    direct_fresnel_table,
+    shader_includes,
+)
 from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT
 from tests.conftest import gl_draw, wgpu_compute, wgpu_device
 
@@ -23,6 +30,10 @@ TABLE, HEADER = read_lut(shipped_path(COEFFICIENT_LUT))
 CURVES = read_lut(shipped_path(CURVE_LUT))[0]  # (1, 2048, 3)
 #: float32 coordinates and filtering against float64 (measured 3.4e-6 on llvmpipe and lavapipe).
 TOLERANCE = 1e-5
+#: The (η, κ) path: r and g in float32 before the lookup, where y = 1 − (1 − g)^¼ has unbounded slope at g → 1: at
+#: η ≤ 1e-3 with κ ~ 5 (r → 0.9999, g within 6e-8 of 1) the coefficients move by 1.7e-4 (measured, both drivers) for
+#: inputs float32 cannot tell apart; for η > 1e-3 by 6.1e-5 at most.
+NK_TOLERANCE = 2e-4
 
 
 def _inputs() -> np.ndarray:
@@ -41,7 +52,16 @@ def _inputs() -> np.ndarray:
     return np.stack([r, g, v_dot_h, np.zeros_like(r)], axis=-1).astype(np.float32)
 
 
-def _assert(coefficients: np.ndarray, direct: np.ndarray, inputs: np.ndarray, where: str) -> None:
+def _nk(inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The (η, κ) both passes derive from a texel's first two lanes, in float32 as the GPU does."""
+    with np.errstate(invalid="ignore"):
+        return inputs[:, 0] * np.float32(4.0), inputs[:, 1] * np.float32(8.0)
+
+
+def _assert(coefficients: np.ndarray, direct: np.ndarray, nk: np.ndarray, inputs: np.ndarray, where: str) -> None:
+    assert np.all(np.isfinite(nk)), f"{where}: non-finite output"
+    error = float(np.max(np.abs(nk - coefficients_per_pixel_nk_table(TABLE, *_nk(inputs)))))
+    assert error <= NK_TOLERANCE, f"{where}: (eta, kappa) coefficients, max |GPU - mirror| {error:.3g}"
     expected = coefficients_per_pixel_gulbrandsen_table(TABLE, inputs[:, 0], inputs[:, 1])
     assert np.all(np.isfinite(coefficients)) and np.all(np.isfinite(direct)), f"{where}: non-finite output"
     error = float(np.max(np.abs(coefficients - expected)))
@@ -63,6 +83,7 @@ uniform sampler2D coefficientLut;
 uniform sampler2D curveLut;
 layout(location = 0) out vec4 coefficients;
 layout(location = 1) out vec4 direct;
+layout(location = 2) out vec4 nk;
 void main() {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     vec4 a = texelFetch(inputs, texel, 0);
@@ -70,19 +91,20 @@ void main() {
     coefficients = fresnelCoefficientsGulbrandsenTable(coefficientLut, a.x, a.y);
     vec4 other = fresnelCoefficientsGulbrandsenTable(coefficientLut, mirrored.x, mirrored.y);
     direct = vec4(fresnelBasisDirectTable(curveLut, a.z, coefficients, other, other).xy, 0.0, 0.0);
+    nk = fresnelCoefficientsNKTable(coefficientLut, a.x * 4.0, a.y * 8.0);
 }
 """
 
 
 def test_glsl_on_mesa_llvmpipe_matches_the_mirror():
     inputs = _inputs()
-    coefficients, direct = gl_draw(
+    coefficients, direct, nk = gl_draw(
         "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + GLSL_MAIN,
         [inputs.reshape(32, 32, 4), TABLE, CURVES],
         {"inputs": 0, "coefficientLut": 1, "curveLut": 2},
-        2,
+        3,
     )
-    _assert(coefficients, direct, inputs, "llvmpipe")
+    _assert(coefficients, direct, nk, inputs, "llvmpipe")
 
 
 WGSL_MAIN = """
@@ -100,8 +122,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let mirrored = inputs[count - 1u - i];  // the texel opposite, as the GLSL pass reads it
     let c = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, a.x, a.y);
     let other = fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, mirrored.x, mirrored.y);
-    outputs[2u * i] = c;
-    outputs[2u * i + 1u] = vec4f(fresnelBasisDirectTable(curveLut, linearClamp, a.z, c, other, other).xy, 0.0, 0.0);
+    outputs[3u * i] = c;
+    outputs[3u * i + 1u] = vec4f(fresnelBasisDirectTable(curveLut, linearClamp, a.z, c, other, other).xy, 0.0, 0.0);
+    outputs[3u * i + 2u] = fresnelCoefficientsNKTable(coefficientLut, linearClamp, a.x * 4.0, a.y * 8.0);
 }
 """
 
@@ -113,7 +136,7 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_mirror(monkeypatch):
     device = wgpu_device(monkeypatch, features=("float32-filterable",))
     usage = wgpu.BufferUsage
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
-    output_buffer = device.create_buffer(size=len(inputs) * 32, usage=usage.STORAGE | usage.COPY_SRC)
+    output_buffer = device.create_buffer(size=len(inputs) * 48, usage=usage.STORAGE | usage.COPY_SRC)
     views = []
     for table in (TABLE, CURVES):
         rgba = np.zeros(table.shape[:2] + (4,), np.float32)
@@ -138,8 +161,8 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_mirror(monkeypatch):
         output_buffer,
         len(inputs),
     )
-    output = np.frombuffer(data, np.float32).reshape(len(inputs), 2, 4)
-    _assert(output[:, 0], output[:, 1], inputs, "lavapipe")
+    output = np.frombuffer(data, np.float32).reshape(len(inputs), 3, 4)
+    _assert(output[:, 0], output[:, 1], output[:, 2], inputs, "lavapipe")
 
 
 def test_the_table_is_the_shipped_basis_and_its_axes():
