@@ -25,6 +25,8 @@ precision highp int;
 precision highp sampler2D;
 {include}
 uniform sampler2D inputs;
+uniform sampler2D table0;
+uniform sampler2D table1;
 uniform int mode;
 out vec4 result;
 void main() {{
@@ -33,10 +35,11 @@ void main() {{
 }}
 """
 PAGE = """<!doctype html><html><body><canvas id="c" width="32" height="32"></canvas><script>
-function run(fragmentSource, inputs, modes) {
+function run(fragmentSource, inputs, modes, tables) {
   const gl = document.getElementById("c").getContext("webgl2");
   if (!gl) return {error: "no WebGL 2"};
   if (!gl.getExtension("EXT_color_buffer_float")) return {error: "no EXT_color_buffer_float"};
+  if (tables.length && !gl.getExtension("OES_texture_float_linear")) return {error: "no OES_texture_float_linear"};
   const compile = (type, source) => {
     const shader = gl.createShader(type); gl.shaderSource(shader, source); gl.compileShader(shader);
     if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(shader));
@@ -64,6 +67,18 @@ function run(fragmentSource, inputs, modes) {
   gl.activeTexture(gl.TEXTURE0);
   gl.bindTexture(gl.TEXTURE_2D, input);
   gl.uniform1i(gl.getUniformLocation(program, "inputs"), 0);
+  tables.forEach((table, index) => {  // RGBA32F, bilinear, clamp to edge: as the include expects its tables
+    const texture = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE1 + index);
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, table.width, table.height, 0, gl.RGBA, gl.FLOAT,
+                  new Float32Array(table.data));
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+    gl.uniform1i(gl.getUniformLocation(program, "table" + index), 1 + index);
+  });
   const quad = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, quad);
   gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 1, -1, -1, 1, 1, 1]), gl.STATIC_DRAW);
@@ -84,13 +99,22 @@ function run(fragmentSource, inputs, modes) {
 </script></body></html>"""
 
 
-def _render_in_webgl2(fragment: str, texels: list, modes: int) -> dict:
-    """The page's ``run`` of ``fragment`` over a 32 × 32 texture of ``texels`` for ``modes`` draws, in a fresh headless
-    Chromium; no error on the page or its console."""
+def _render_in_webgl2(fragment: str, texels: list, modes: int, tables=()) -> dict:
+    """The page's ``run`` of ``fragment`` over a 32 × 32 texture of ``texels`` for ``modes`` draws, with ``tables``
+    ((H, W, C) arrays, uploaded as RGBA32F with bilinear filtering to uniforms ``table0``, ``table1``, …), in a fresh
+    headless Chromium; no error on the page or its console."""
+    uploads = []
+    for table in tables:
+        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
+        rgba[..., : table.shape[2]] = table
+        uploads.append({"width": table.shape[1], "height": table.shape[0], "data": rgba.ravel().tolist()})
     with chromium() as browser:
         page, messages = browser_page(browser)
         page.set_content(PAGE)
-        result = page.evaluate("([source, inputs, modes]) => run(source, inputs, modes)", [fragment, texels, modes])
+        result = page.evaluate(
+            "([source, inputs, modes, tables]) => run(source, inputs, modes, tables)",
+            [fragment, texels, modes, uploads],
+        )
     assert "error" not in result, result.get("error")
     assert not [text for kind, text in messages if kind in ("error", "pageerror")], messages
     return result
@@ -158,3 +182,46 @@ def test_glsl_es_area_light_in_webgl2_matches_the_mirror():
     want = np.maximum(polygon_integral(np.einsum("yxij,yxvj->yxvi", inverse, corners)), 0.0)
     assert np.all(np.isfinite(got))
     assert np.max(np.abs(got - want)) <= 1e-5, np.max(np.abs(got - want))
+
+
+def test_glsl_es_per_pixel_tables_in_webgl2_match_the_mirrors():
+    """Issue 38: ``fresnelCoefficientsGulbrandsenTable``, ``fresnelCoefficientsNKTable`` and ``fresnelBasisDirectTable``
+    with the shipped per-pixel tables (RGBA32F, bilinear: OES_texture_float_linear) in WebGL 2, over the inputs of
+    tests/luts/test_shaders_coefficient_table.py: the coefficients within 1e-5 of the mirrors (2e-4 for (η, κ), whose
+    r and g float32 computes before the lookup), F(V·H) within 1e-5, nothing NaN or inf."""
+    from basis.storage import shipped_path
+    from handoff.exr import read_lut
+    from handoff.shaders import (
+        coefficients_per_pixel_gulbrandsen_table,
+        coefficients_per_pixel_nk_table,
+        direct_fresnel_table,
+    )
+    from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT
+
+    table, curves = (read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT))
+    rng = np.random.default_rng(38)
+    r, g, v_dot_h = (rng.uniform(0.0, 1.0, 1024) for _ in range(3))
+    special = [0.0, 0.9999, 1.0, np.nan, np.inf, -np.inf, -0.5, 2.0, 1e-12, 0.5]
+    r[:10], g[10:20], v_dot_h[20:30] = special, special, special
+    r[30:94] = rng.uniform(0.95, 0.9999, 64)
+    inputs = np.stack([r, g, v_dot_h, np.zeros_like(r)], axis=-1).astype(np.float32)
+    body = """
+    vec4 c = fresnelCoefficientsGulbrandsenTable(table0, q.x, q.y);
+    if (mode == 0) result = c;
+    else if (mode == 1) result = vec4(fresnelBasisDirectTable(table1, q.z, c, c, c).x, 0.0, 0.0, 0.0);
+    else result = fresnelCoefficientsNKTable(table0, q.x * 4.0, q.y * 8.0);
+"""
+    include = dict(shader_includes())["fresnel_basis.glsl"]
+    result = _render_in_webgl2(
+        FRAGMENT.format(include=include, branches=body), inputs.ravel().tolist(), 3, (table, curves)
+    )
+    coefficients, direct, nk = (np.array(output, dtype=np.float64).reshape(1024, 4) for output in result["outputs"])
+    assert all(np.all(np.isfinite(values)) for values in (coefficients, direct, nk))
+    expected = coefficients_per_pixel_gulbrandsen_table(table, inputs[:, 0], inputs[:, 1])
+    assert np.max(np.abs(coefficients - expected)) <= 1e-5, np.max(np.abs(coefficients - expected))
+    light = direct_fresnel_table(curves, expected, inputs[:, 2])
+    assert np.max(np.abs(direct[:, 0] - light)) <= 1e-5, np.max(np.abs(direct[:, 0] - light))
+    with np.errstate(invalid="ignore"):
+        eta, kappa = inputs[:, 0] * np.float32(4.0), inputs[:, 1] * np.float32(8.0)
+    error = np.max(np.abs(nk - coefficients_per_pixel_nk_table(table, eta, kappa)))
+    assert error <= 2e-4, error
