@@ -49,7 +49,7 @@ def test_readme_offline_coefficient_maps_are_the_shaders_numbers():
 #: What README's GLSL snippets take as given: the engine's own uniforms and BRDF functions.
 _GLSL_PRELUDE = """#version 330
 {includes}
-uniform sampler2D ggxBasisLut, basisLut, schlickLut, ltcLut, reflectivityMap, edgeTintMap;
+uniform sampler2D ggxBasisLut, basisLut, schlickLut, ltcLut, reflectivityMap, edgeTintMap, coefficientLut, curveLut;
 uniform sampler2D coefficientsRed, coefficientsGreen, coefficientsBlue;
 uniform vec2 uv;
 uniform vec3 N, V, L, prefiltered, lightColor, worldPosition, lightCorner0, lightCorner1, lightCorner2, lightCorner3;
