@@ -15,6 +15,7 @@ as a textured material would):
   texture reads, then the same as above;
 * ``basis per pixel (r, g), tables``: the per-pixel tables of ``build --pixel-tables`` instead of the solve and the
   polynomial (``fresnelCoefficientsGulbrandsenTable3``, one fetch per colour channel; ``fresnelBasisDirectTable``);
+  ``basis per pixel (eta, kappa), tables``: (η, κ) through Gulbrandsen's (r, g) in closed form and the same tables;
   ``basis uniform, curve table``: the uniform coefficients with the curve table (issue 38);
 * ``schlick, two textures``: Schlick reading as many textures as the per-pixel variants (its F0 the product of
   two): what a second texture costs, apart from any Fresnel;
@@ -67,6 +68,7 @@ from handoff.shaders import (
     coefficients_per_pixel_gulbrandsen_table,
     coefficients_per_pixel_model,
     coefficients_per_pixel_nk,
+    coefficients_per_pixel_nk_table,
     shader_constants,
     shader_includes,
     unwarped_cosine,
@@ -127,6 +129,12 @@ VARIANTS = {
     F = fresnelBasisDirect(VdotH, pR, pG, pB);""",
     "basis per pixel (r, g), tables": """vec4 pR, pG, pB;
     fresnelCoefficientsGulbrandsenTable3(coefficientLut, texture(mapA, uv).rgb, texture(mapB, uv).rgb, pR, pG, pB);
+    Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
+    F = fresnelBasisDirectTable(curveTable, VdotH, pR, pG, pB);""",
+    "basis per pixel (eta, kappa), tables": """vec3 eta = texture(mapA, uv).rgb, kappa = texture(mapB, uv).rgb;
+    vec4 pR = fresnelCoefficientsNKTable(coefficientLut, eta.r, kappa.r);
+    vec4 pG = fresnelCoefficientsNKTable(coefficientLut, eta.g, kappa.g);
+    vec4 pB = fresnelCoefficientsNKTable(coefficientLut, eta.b, kappa.b);
     Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
     F = fresnelBasisDirectTable(curveTable, VdotH, pR, pG, pB);""",
     "basis uniform, curve table": """Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, cR, cG, cB);
@@ -353,6 +361,9 @@ def errors() -> dict[str, tuple[float, float]]:
         "basis per pixel (r, g)": measure(artist_curves, coefficients_per_pixel_gulbrandsen(r, g)),
         "basis per pixel (r, g), tables": measure(
             artist_curves, coefficients_per_pixel_gulbrandsen_table(read_lut(shipped_path(COEFFICIENT_LUT))[0], r, g)
+        ),
+        "basis per pixel (eta, kappa), tables": measure(
+            metal_curves, coefficients_per_pixel_nk_table(read_lut(shipped_path(COEFFICIENT_LUT))[0], eta, kappa)
         ),
         "basis uniform, curve table": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (F0, F82 tint)": measure(

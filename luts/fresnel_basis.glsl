@@ -77,12 +77,17 @@ float fresnelSanitize(float x, float fallback, float lo, float hi)
     return ((floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
 }
 
-// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
-// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
-// fallback may be an end of the range.
+// x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
+// integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
+// where the fallback may be an end of the range.
+float fresnelBitsClamp(float x, float lo, float hi)
+{
+    return intBitsToFloat(clamp(floatBitsToInt(x), floatBitsToInt(lo), floatBitsToInt(hi)));
+}
+
 float fresnelUnitClamp(float x, float hi)
 {
-    return intBitsToFloat(clamp(floatBitsToInt(x), 0, floatBitsToInt(hi)));
+    return fresnelBitsClamp(x, 0.0, hi);
 }
 
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
@@ -174,30 +179,37 @@ vec4 fresnelCoefficientsGulbrandsen(float r, float g)
 // by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
 // F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
 // coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
-// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
-vec4 fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, float g)
+// fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
+vec4 fresnelCoefficientsTableRead(sampler2D coefficientLut, float r, float q, float g)
 {
-    r = fresnelUnitClamp(r, 0.9999);
-    float x = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - fresnelUnitClamp(g, 1.0)));
+    float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
+    float y = 1.0 - sqrt(sqrt(1.0 - g));
     vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return vec4(r, f90 - r, f90 * t.x, f90 * t.y);
 }
 
+// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
+vec4 fresnelCoefficientsGulbrandsenTable(sampler2D coefficientLut, float r, float g)
+{
+    r = fresnelUnitClamp(r, 0.9999);
+    return fresnelCoefficientsTableRead(coefficientLut, r, sqrt(r), fresnelUnitClamp(g, 1.0));
+}
+
 // (eta, kappa) through the same table: Gulbrandsen's r = F(0) in closed form and his g = (n_max - eta) /
 // (n_max - n_min) (JCGT 2014, the inverse of eq. 7-9), written as (1 + q - eta (1 - q)) (1 + r) / (2 q (1 + q)),
 // q = sqrt(r), which n_max - n_min = 2 q (1 + q) / ((1 - q)(1 + r)) keeps free of float32 cancellation; g clamped to
-// [0, 1], so a material outside Gulbrandsen's gamut (eta < n_min) reads as its nearest edge.
+// [0, 1], so a material outside Gulbrandsen's gamut (eta < n_min) reads as its nearest edge. Inputs through
+// fresnelBitsClamp: eta to [1e-4, 1e4], kappa to [0, 1e4], a NaN to an end by its sign bit.
 vec4 fresnelCoefficientsNKTable(sampler2D coefficientLut, float eta, float kappa)
 {
-    eta = fresnelSanitize(eta, 1.5, 1e-4, 1e4);
-    kappa = fresnelSanitize(kappa, 0.0, 0.0, 1e4);
+    eta = fresnelBitsClamp(eta, 1e-4, 1e4);
+    kappa = fresnelUnitClamp(kappa, 1e4);
     float kappa2 = kappa * kappa;
     float r = min(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), 0.9999);
     float q = sqrt(r);
     float g = q > 0.0 ? (1.0 + q - eta * (1.0 - q)) * (1.0 + r) / (2.0 * q * (1.0 + q)) : 0.0;
-    return fresnelCoefficientsGulbrandsenTable(coefficientLut, r, clamp(g, 0.0, 1.0));
+    return fresnelCoefficientsTableRead(coefficientLut, r, q, clamp(g, 0.0, 1.0));
 }
 
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).

@@ -77,12 +77,17 @@ fn fresnelSanitize(x: f32, fallback: f32, lo: f32, hi: f32) -> f32
     return select(clamp(x, lo, hi), fallback, ((bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u));
 }
 
-// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
-// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
-// fallback may be an end of the range.
+// x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
+// integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
+// where the fallback may be an end of the range.
+fn fresnelBitsClamp(x: f32, lo: f32, hi: f32) -> f32
+{
+    return bitcast<f32>(clamp(bitcast<i32>(x), bitcast<i32>(lo), bitcast<i32>(hi)));
+}
+
 fn fresnelUnitClamp(x: f32, hi: f32) -> f32
 {
-    return bitcast<f32>(clamp(bitcast<i32>(x), 0, bitcast<i32>(hi)));
+    return fresnelBitsClamp(x, 0.0, hi);
 }
 
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
@@ -176,33 +181,40 @@ fn fresnelCoefficientsGulbrandsen(rIn: f32, g: f32) -> vec4f
 // by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
 // F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
 // coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
-// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
-fn fresnelCoefficientsGulbrandsenTable(coefficientLut: texture_2d<f32>, linearClamp: sampler, rIn: f32, g: f32) -> vec4f
+// fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
+fn fresnelCoefficientsTableRead(coefficientLut: texture_2d<f32>, linearClamp: sampler, r: f32, q: f32, g: f32) -> vec4f
 {
-    var r = rIn;
-    r = fresnelUnitClamp(r, 0.9999);
-    let x: f32 = sqrt(sqrt(r)) - 0.5 * sqrt(1.0 - r);
-    let y: f32 = 1.0 - sqrt(sqrt(1.0 - fresnelUnitClamp(g, 1.0)));
+    let x: f32 = sqrt(q) - 0.5 * sqrt(1.0 - r);
+    let y: f32 = 1.0 - sqrt(sqrt(1.0 - g));
     let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
     let f90: f32 = select(0.0, 1.0, r > 0.0);
     return vec4f(r, f90 - r, f90 * t.x, f90 * t.y);
 }
 
+// Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
+fn fresnelCoefficientsGulbrandsenTable(coefficientLut: texture_2d<f32>, linearClamp: sampler, rIn: f32, g: f32) -> vec4f
+{
+    var r = rIn;
+    r = fresnelUnitClamp(r, 0.9999);
+    return fresnelCoefficientsTableRead(coefficientLut, linearClamp, r, sqrt(r), fresnelUnitClamp(g, 1.0));
+}
+
 // (eta, kappa) through the same table: Gulbrandsen's r = F(0) in closed form and his g = (n_max - eta) /
 // (n_max - n_min) (JCGT 2014, the inverse of eq. 7-9), written as (1 + q - eta (1 - q)) (1 + r) / (2 q (1 + q)),
 // q = sqrt(r), which n_max - n_min = 2 q (1 + q) / ((1 - q)(1 + r)) keeps free of float32 cancellation; g clamped to
-// [0, 1], so a material outside Gulbrandsen's gamut (eta < n_min) reads as its nearest edge.
+// [0, 1], so a material outside Gulbrandsen's gamut (eta < n_min) reads as its nearest edge. Inputs through
+// fresnelBitsClamp: eta to [1e-4, 1e4], kappa to [0, 1e4], a NaN to an end by its sign bit.
 fn fresnelCoefficientsNKTable(coefficientLut: texture_2d<f32>, linearClamp: sampler, etaIn: f32, kappaIn: f32) -> vec4f
 {
     var eta = etaIn;
     var kappa = kappaIn;
-    eta = fresnelSanitize(eta, 1.5, 1e-4, 1e4);
-    kappa = fresnelSanitize(kappa, 0.0, 0.0, 1e4);
+    eta = fresnelBitsClamp(eta, 1e-4, 1e4);
+    kappa = fresnelUnitClamp(kappa, 1e4);
     let kappa2: f32 = kappa * kappa;
     let r: f32 = min(((eta - 1.0) * (eta - 1.0) + kappa2) / ((eta + 1.0) * (eta + 1.0) + kappa2), 0.9999);
     let q: f32 = sqrt(r);
     let g: f32 = select(0.0, (1.0 + q - eta * (1.0 - q)) * (1.0 + r) / (2.0 * q * (1.0 + q)), q > 0.0);
-    return fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, r, clamp(g, 0.0, 1.0));
+    return fresnelCoefficientsTableRead(coefficientLut, linearClamp, r, q, clamp(g, 0.0, 1.0));
 }
 
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).

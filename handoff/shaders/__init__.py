@@ -3,7 +3,7 @@ direct-light curves, rectangular lights, the tables' coordinates), its constants
 arithmetic.
 
 Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_includes``,
-``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``unit_clamp``,
+``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``bits_clamp``,
 ``coefficients_per_pixel_nk``, ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``,
 ``coefficients_per_pixel_nk_table``, ``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``, ``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``,
@@ -42,6 +42,7 @@ from .constants import (
 )
 from .include import INCLUDE_STEM, SHADER_INCLUDES, shader_includes, shader_source
 from .mirrors import (
+    bits_clamp,
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_gulbrandsen_table,
     coefficients_per_pixel_model,
@@ -59,7 +60,6 @@ from .mirrors import (
     sanitize_gulbrandsen,
     sanitize_nk,
     sanitize_unit,
-    unit_clamp,
 )
 from .translate import LANGUAGES, translate
 
@@ -73,6 +73,7 @@ __all__ = [
     "PER_PIXEL_MODELS",
     "SHADER_INCLUDES",
     "ShaderConstants",
+    "bits_clamp",
     "coefficients_per_pixel_gulbrandsen",
     "coefficients_per_pixel_gulbrandsen_table",
     "coefficients_per_pixel_model",
@@ -90,7 +91,6 @@ __all__ = [
     "sanitize_gulbrandsen",
     "sanitize_nk",
     "sanitize_unit",
-    "unit_clamp",
     "shader_constants",
     "shader_includes",
     "shader_source",

@@ -1,7 +1,7 @@
 """The shaders' arithmetic in Python, operation for operation (in float64): engines' CPU tools get the numbers the GPU
 computes, and the tests compare the two.
 
-Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``unit_clamp``, ``coefficients_per_pixel_nk``,
+Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``bits_clamp``, ``coefficients_per_pixel_nk``,
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_nk_table``,
 ``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``,
@@ -50,6 +50,7 @@ from .constants import (
 )
 
 __all__ = [
+    "bits_clamp",
     "coefficients_per_pixel_gulbrandsen",
     "coefficients_per_pixel_gulbrandsen_table",
     "coefficients_per_pixel_model",
@@ -67,7 +68,6 @@ __all__ = [
     "sanitize_gulbrandsen",
     "sanitize_nk",
     "sanitize_unit",
-    "unit_clamp",
 ]
 
 
@@ -77,11 +77,12 @@ def sanitize_unit(value, fallback: float = 0.0, low: float = 0.0, high: float = 
     return np.where(np.isnan(value), fallback, np.clip(value, low, high))
 
 
-def unit_clamp(value, high: float) -> np.ndarray:
-    """``fresnelUnitClamp``: clamped to [0, high] as one integer clamp of the float's bits does it: NaN → ``high`` or 0
-    by its sign bit, −0 and negatives → 0, +inf → ``high``."""
+def bits_clamp(value, low: float, high: float) -> np.ndarray:
+    """``fresnelBitsClamp`` (and ``fresnelUnitClamp``, low = 0): clamped to [low, high], 0 ≤ low < high, as one
+    integer clamp of the float's bits does it: NaN → ``high`` or ``low`` by its sign bit, −0 and negatives → ``low``,
+    +inf → ``high``."""
     value = as_float_array("value", value, finite=False)
-    return np.where(np.isnan(value), np.where(np.signbit(value), 0.0, high), np.clip(value, 0.0, high))
+    return np.where(np.isnan(value), np.where(np.signbit(value), low, high), np.clip(value, low, high))
 
 
 def sanitize_nk(eta, kappa) -> tuple[np.ndarray, np.ndarray]:
@@ -170,7 +171,7 @@ def coefficients_per_pixel_gulbrandsen_table(
     more than six terms, which has no table, solves as the include does."""
     constants = shader_constants() if constants is None else constants
     reflectivity, edge_tint = np.broadcast_arrays(
-        unit_clamp(reflectivity, REFLECTIVITY_LIMITS[1]), unit_clamp(edge_tint, 1.0)
+        bits_clamp(reflectivity, *REFLECTIVITY_LIMITS), bits_clamp(edge_tint, 0.0, 1.0)
     )
     if constants.n_terms > 6:
         return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
@@ -239,7 +240,7 @@ def coefficients_per_pixel_nk_table(table, eta, kappa, constants: ShaderConstant
     ``fresnelCoefficientsNKTable`` computes them: r = F(0) (at most 0.9999), g = (1 + q − η (1 − q))(1 + r) /
     (2 q (1 + q)), q = √r (:func:`basis.gulbrandsen.nk_to_gulbrandsen`'s g without its cancellation), clamped to
     [0, 1]; 0 at r = 0."""
-    eta, kappa = np.broadcast_arrays(*sanitize_nk(eta, kappa))
+    eta, kappa = np.broadcast_arrays(bits_clamp(eta, *ETA_LIMITS), bits_clamp(kappa, *KAPPA_LIMITS))
     kappa2 = kappa * kappa
     r = np.minimum(((eta - 1.0) ** 2 + kappa2) / ((eta + 1.0) ** 2 + kappa2), REFLECTIVITY_LIMITS[1])
     q = np.sqrt(r)
@@ -250,12 +251,12 @@ def coefficients_per_pixel_nk_table(table, eta, kappa, constants: ShaderConstant
 
 def direct_fresnel_table(table, coefficients, v_dot_h) -> np.ndarray:
     """``fresnelBasisDirectTable``: F(V·H) = c0 + Σ_k c_k t_k with t the curve table (1, W, K − 1) read linearly at
-    V·H (through :func:`unit_clamp`) on its end points: coefficients (…, K), V·H (…) → (…)."""
+    V·H (through :func:`bits_clamp`) on its end points: coefficients (…, K), V·H (…) → (…)."""
     table = as_float_array("table", table)
     coefficients = as_float_array("coefficients", coefficients)
     if table.ndim != 3 or table.shape[0] != 1 or table.shape[-1] != coefficients.shape[-1] - 1:
         raise ParameterError(f"table must be (1, W, {coefficients.shape[-1] - 1}), got {table.shape}")
-    mu = unit_clamp(v_dot_h, 1.0)
+    mu = bits_clamp(v_dot_h, 0.0, 1.0)
     grid = np.linspace(0.0, 1.0, table.shape[1])
     curves = np.stack([np.ones_like(mu)] + [np.interp(mu, grid, table[0, :, k]) for k in range(table.shape[-1])], -1)
     return np.sum(coefficients * curves, axis=-1)

@@ -5,12 +5,17 @@ float fresnelSanitize(float x, float fallback, float lo, float hi)
     return ((floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
 }
 
-// x clamped to [0, hi] (hi > 0) in one integer clamp of its bits, which orders non-negative floats as integers: NaN
-// goes to hi or 0 by its sign bit, -0 and negatives to 0, +inf to hi. Cheaper than fresnelSanitize where the
-// fallback may be an end of the range.
+// x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
+// integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
+// where the fallback may be an end of the range.
+float fresnelBitsClamp(float x, float lo, float hi)
+{
+    return intBitsToFloat(clamp(floatBitsToInt(x), floatBitsToInt(lo), floatBitsToInt(hi)));
+}
+
 float fresnelUnitClamp(float x, float hi)
 {
-    return intBitsToFloat(clamp(floatBitsToInt(x), 0, floatBitsToInt(hi)));
+    return fresnelBitsClamp(x, 0.0, hi);
 }
 
 // Exact unpolarised Fresnel reflectance of eta + i kappa at mu = cos(theta) (Hoffman 2020, "1823: Fresnel's
