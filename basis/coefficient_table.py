@@ -115,9 +115,10 @@ def coefficient_table(
     return coefficients[..., 2:]
 
 
-def coefficient_table_lookup(table, reflectivity, edge_tint) -> np.ndarray:
+def coefficient_table_lookup(table, reflectivity, edge_tint, weight_bits: int | None = None) -> np.ndarray:
     """(…, C) of a table (H, W, C) on this module's axes read as a GPU reads it (bilinear, clamp to edge, texel
-    centres at the axes' end points) at (r, g) in [0, :data:`REFLECTIVITY_MAX`] × [0, 1] (unchecked: callers clamp)."""
+    centres at the axes' end points) at (r, g) in [0, :data:`REFLECTIVITY_MAX`] × [0, 1] (unchecked: callers clamp);
+    with ``weight_bits``, each filter weight rounded to that many bits, as GPUs that filter with 8-bit weights do."""
     table = as_float_array("table", table)
     height, width = table.shape[:2]
     x0, x1 = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
@@ -125,14 +126,18 @@ def coefficient_table_lookup(table, reflectivity, edge_tint) -> np.ndarray:
     v = np.clip(warp_edge_tint(edge_tint), 0.0, 1.0) * (height - 1)
     i, j = np.minimum(np.floor(u).astype(int), width - 2), np.minimum(np.floor(v).astype(int), height - 2)
     fu, fv = (u - i)[..., None], (v - j)[..., None]
+    if weight_bits is not None:
+        step = 2.0 ** check_positive_int("weight_bits", weight_bits, low=1, high=52)
+        fu, fv = np.round(fu * step) / step, np.round(fv * step) / step
     return (1 - fv) * ((1 - fu) * table[j, i] + fu * table[j, i + 1]) + fv * (
         (1 - fu) * table[j + 1, i] + fu * table[j + 1, i + 1]
     )
 
 
-def coefficients_from_coefficient_table(table, reflectivity, edge_tint) -> np.ndarray:
+def coefficients_from_coefficient_table(table, reflectivity, edge_tint, weight_bits: int | None = None) -> np.ndarray:
     """(…, K) coefficients of Gulbrandsen's (r, g) from a :func:`coefficient_table` (H, W, K − 2): c0 = r,
-    c1 = 1 − r, the rest read bilinearly; all 0 at r = 0. r in [0, :data:`REFLECTIVITY_MAX`], g in [0, 1].
+    c1 = 1 − r, the rest read bilinearly (``weight_bits``: :func:`coefficient_table_lookup`); all 0 at r = 0. r in
+    [0, :data:`REFLECTIVITY_MAX`], g in [0, 1].
 
     >>> table = coefficient_table(size=(64, 16), fit="four-point")
     >>> c = coefficients_from_coefficient_table(table, 0.5, 0.5)
@@ -147,6 +152,6 @@ def coefficients_from_coefficient_table(table, reflectivity, edge_tint) -> np.nd
     check_broadcast(reflectivity=reflectivity, edge_tint=edge_tint)
     reflectivity, edge_tint = np.broadcast_arrays(reflectivity, edge_tint)
     reflects = (reflectivity > 0.0)[..., None]
-    rest = np.where(reflects, coefficient_table_lookup(table, reflectivity, edge_tint), 0.0)
+    rest = np.where(reflects, coefficient_table_lookup(table, reflectivity, edge_tint, weight_bits), 0.0)
     first = np.stack([reflectivity, np.where(reflectivity > 0.0, 1.0 - reflectivity, 0.0)], axis=-1)
     return np.concatenate([first, rest], axis=-1)

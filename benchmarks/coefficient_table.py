@@ -39,6 +39,8 @@ from handoff.exr import read_lut
 from handoff.shipped import COEFFICIENT_LUT
 
 THETA = np.linspace(0.0, 0.5 * np.pi, 1025)
+#: Bits of a GPU's bilinear filter weights (Direct3D asks at least 8; many GPUs filter with exactly 8).
+FILTER_WEIGHT_BITS = 8
 G_SEARCH = np.linspace(0.0, 1.0, 401)
 
 
@@ -107,13 +109,16 @@ def interpolation_rows(table: np.ndarray, points: int, seed: int = 38) -> list[s
     curves = basis.evaluate(THETA)
     rng = np.random.default_rng(seed)
     r, g = rng.uniform(0.01, 0.98, points), rng.uniform(0.0, 1.0, points)
+    minimax = coefficients_least_squares(*gulbrandsen_to_nk(r, g), basis, fit="minimax")
     models = {
-        "minimax (shipped)": (table, coefficients_least_squares(*gulbrandsen_to_nk(r, g), basis, fit="minimax")),
-        "four-point": (coefficient_table(basis, fit="four-point"), coefficients_from_gulbrandsen(r, g, basis)),
+        "minimax (shipped)": (table, minimax, None),
+        f"minimax (shipped), {FILTER_WEIGHT_BITS}-bit filter weights": (table, minimax, FILTER_WEIGHT_BITS),
+        "four-point": (coefficient_table(basis, fit="four-point"), coefficients_from_gulbrandsen(r, g, basis), None),
     }
     rows = []
-    for name, (values, model) in models.items():
-        error = np.max(np.abs(curves @ (coefficients_from_coefficient_table(values, r, g) - model).T), axis=0)
+    for name, (values, model, bits) in models.items():
+        read = coefficients_from_coefficient_table(values, r, g, bits)
+        error = np.max(np.abs(curves @ (read - model).T), axis=0)
         rows.append(
             f"| {name} | {np.max(error):.2e} | {np.percentile(error, 99):.2e} | {np.median(error):.2e} | "
             f"{100 * np.mean(error <= 1e-4):.1f} % |"

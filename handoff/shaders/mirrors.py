@@ -164,11 +164,12 @@ def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: Shade
 
 
 def coefficients_per_pixel_gulbrandsen_table(
-    table, reflectivity, edge_tint, constants: ShaderConstants | None = None
+    table, reflectivity, edge_tint, constants: ShaderConstants | None = None, weight_bits: int | None = None
 ) -> np.ndarray:
     """(…, K) coefficients of (r, g) texels read from the coefficient table (H, W, K − 2) as
-    ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights; GPUs round them to 8 bits); a basis of
-    more than six terms, which has no table, solves as the include does."""
+    ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights, or rounded to ``weight_bits`` as GPUs
+    that filter with 8-bit weights round them); a basis of more than six terms, which has no table, solves as the
+    include does."""
     constants = shader_constants() if constants is None else constants
     reflectivity, edge_tint = np.broadcast_arrays(
         bits_clamp(reflectivity, *REFLECTIVITY_LIMITS), bits_clamp(edge_tint, 0.0, 1.0)
@@ -178,7 +179,7 @@ def coefficients_per_pixel_gulbrandsen_table(
     table = as_float_array("table", table)
     if table.ndim != 3 or table.shape[-1] != constants.n_terms - 2:
         raise ParameterError(f"table must be (H, W, {constants.n_terms - 2}) for this basis, got {table.shape}")
-    return coefficients_from_coefficient_table(table, reflectivity, edge_tint)
+    return coefficients_from_coefficient_table(table, reflectivity, edge_tint, weight_bits)
 
 
 def linear_weights(model: str, **parameters) -> np.ndarray:
@@ -235,7 +236,9 @@ def linear_direct(weights, v_dot_h) -> np.ndarray:
     return np.clip(np.sum(as_float_array("weights", weights) * terms, axis=-1), 0.0, 1.0)
 
 
-def coefficients_per_pixel_nk_table(table, eta, kappa, constants: ShaderConstants | None = None) -> np.ndarray:
+def coefficients_per_pixel_nk_table(
+    table, eta, kappa, constants: ShaderConstants | None = None, weight_bits: int | None = None
+) -> np.ndarray:
     """(…, K) coefficients of (η, κ) texels through Gulbrandsen's (r, g) and the coefficient table, as
     ``fresnelCoefficientsNKTable`` computes them: r = F(0) (at most 0.9999), g = (1 + q − η (1 − q))(1 + r) /
     (2 q (1 + q)), q = √r (:func:`basis.gulbrandsen.nk_to_gulbrandsen`'s g without its cancellation), clamped to
@@ -246,19 +249,24 @@ def coefficients_per_pixel_nk_table(table, eta, kappa, constants: ShaderConstant
     q = np.sqrt(r)
     with np.errstate(divide="ignore", invalid="ignore"):
         g = np.where(q > 0.0, (1.0 + q - eta * (1.0 - q)) * (1.0 + r) / (2.0 * q * (1.0 + q)), 0.0)
-    return coefficients_per_pixel_gulbrandsen_table(table, r, np.clip(g, 0.0, 1.0), constants)
+    return coefficients_per_pixel_gulbrandsen_table(table, r, np.clip(g, 0.0, 1.0), constants, weight_bits)
 
 
-def direct_fresnel_table(table, coefficients, v_dot_h) -> np.ndarray:
+def direct_fresnel_table(table, coefficients, v_dot_h, weight_bits: int | None = None) -> np.ndarray:
     """``fresnelBasisDirectTable``: F(V·H) = c0 + Σ_k c_k t_k with t the curve table (1, W, K − 1) read linearly at
-    V·H (through :func:`bits_clamp`) on its end points: coefficients (…, K), V·H (…) → (…)."""
+    V·H (through :func:`bits_clamp`) on its end points (the filter weight rounded to ``weight_bits`` if given):
+    coefficients (…, K), V·H (…) → (…)."""
     table = as_float_array("table", table)
     coefficients = as_float_array("coefficients", coefficients)
     if table.ndim != 3 or table.shape[0] != 1 or table.shape[-1] != coefficients.shape[-1] - 1:
         raise ParameterError(f"table must be (1, W, {coefficients.shape[-1] - 1}), got {table.shape}")
-    mu = bits_clamp(v_dot_h, 0.0, 1.0)
-    grid = np.linspace(0.0, 1.0, table.shape[1])
-    curves = np.stack([np.ones_like(mu)] + [np.interp(mu, grid, table[0, :, k]) for k in range(table.shape[-1])], -1)
+    position = bits_clamp(v_dot_h, 0.0, 1.0) * (table.shape[1] - 1)
+    left = np.minimum(np.floor(position).astype(int), table.shape[1] - 2)
+    weight = (position - left)[..., None]
+    if weight_bits is not None:
+        weight = np.round(weight * 2.0**weight_bits) / 2.0**weight_bits
+    read = table[0, left] * (1.0 - weight) + table[0, left + 1] * weight
+    curves = np.concatenate([np.ones(read.shape[:-1] + (1,)), read], axis=-1)
     return np.sum(coefficients * curves, axis=-1)
 
 
