@@ -16,7 +16,8 @@ as a textured material would):
 * ``basis per pixel (r, g), tables``: the per-pixel tables of ``build --pixel-tables`` instead of the solve and the
   polynomial (``fresnelCoefficientsGulbrandsenTable3``, one fetch per colour channel; ``fresnelBasisDirectTable``);
   ``basis per pixel (eta, kappa), tables``: (η, κ) through Gulbrandsen's (r, g) in closed form and the same tables;
-  ``basis uniform, curve table``: the uniform coefficients with the curve table (issue 38);
+  ``basis uniform, curve table``: the uniform coefficients with the curve table (issue 38); and
+  :data:`IN_ATLAS`: the tables' pass reading all its tables from one atlas (``build --atlas``);
 * ``schlick, two textures``: Schlick reading as many textures as the per-pixel variants (its F0 the product of
   two): what a second texture costs, apart from any Fresnel;
 * ``exact x E``: exact conductor Fresnel per pixel times E (the Schlick table's B), and exact F for the light;
@@ -64,6 +65,7 @@ from benchmarks.gpu_compiler import compiler_estimates
 from benchmarks.output import machine, publish
 from handoff.exr import read_lut
 from handoff.shaders import (
+    ATLAS_INCLUDE_STEM,
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_gulbrandsen_table,
     coefficients_per_pixel_model,
@@ -75,6 +77,7 @@ from handoff.shaders import (
     warped_cosine,
 )
 from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT, shipped_tables
+from handoff.tables import ATLAS_STEM
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 
 SIZE = 128
@@ -198,22 +201,32 @@ SOLVED_OFFLINE = {
     Fbar = fresnelBasisSplitSumRGB(basisLut, NdotV, roughness, pR, pG, pB);
     F = fresnelBasisDirect(VdotH, pR, pG, pB);""",
 }
+#: The tables' pass through the atlas include, every table the pass reads from one texture (``build --atlas``): what
+#: one sampler costs against three.
+ATLAS_VARIANT = "basis per pixel (r, g), tables in one atlas (one sampler)"
+IN_ATLAS = {ATLAS_VARIANT: VARIANTS["basis per pixel (r, g), tables"]}
 #: Every pass the benchmark times and compiles.
-ALL_VARIANTS = {**VARIANTS, **DECOMPOSITION, **DIRECT_ALTERNATIVES, **SOLVED_OFFLINE}
+ALL_VARIANTS = {**VARIANTS, **DECOMPOSITION, **DIRECT_ALTERNATIVES, **SOLVED_OFFLINE, **IN_ATLAS}
 SPLIT_SUM = """
 vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG, vec4 cB) {
-    vec4 b = textureLod(lut, vec2(NdotV, r), 0.0);
+    vec4 b = textureLod(lut, fresnelAtlasBasis(vec2(NdotV, r)), 0.0);  // the identity but in an atlas include
     return vec3(dot(cR, b), dot(cG, b), dot(cB, b));
 }
 """
 
 
-def fragment_source(variant: str, version: str = "330") -> str:
-    """The whole fragment shader of one variant: the generated include, the diagnostics and :data:`COMMON` around
-    the variant's lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan compiler)."""
+def fragment_source(variant: str, version: str = "330", atlas: bool = False) -> str:
+    """The whole fragment shader of one variant: the generated include (``atlas``: the shipped atlas include), the
+    diagnostics and :data:`COMMON` around the variant's lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan
+    compiler)."""
+    include = (
+        shipped_path(f"{ATLAS_INCLUDE_STEM}.glsl").read_text(encoding="utf-8")
+        if atlas
+        else dict(shader_includes())["fresnel_basis.glsl"]
+    )
     return (
         f"#version {version}\n"
-        + dict(shader_includes())["fresnel_basis.glsl"]
+        + include
         + f"const float CURVE_TABLE_SCALE = {(CURVE_TABLE_SIZE - 1) / CURVE_TABLE_SIZE!r};\n"
         + f"const float CURVE_TABLE_OFFSET = {0.5 / CURVE_TABLE_SIZE!r};\n"
         + SPLIT_SUM
@@ -226,7 +239,9 @@ def gpu_compiler_estimates() -> tuple[dict[str, dict[str, int]], str]:
     """ACO's statistics of every variant's fragment shader compiled for AMD RDNA 2 (:mod:`benchmarks.gpu_compiler`),
     and the compiler in words: a GPU's own compiler on the same shaders, where llvmpipe's software texture filtering
     dilutes the arithmetic."""
-    return compiler_estimates({name: fragment_source(body, "450") for name, body in ALL_VARIANTS.items()})
+    return compiler_estimates(
+        {name: fragment_source(body, "450", name in IN_ATLAS) for name, body in ALL_VARIANTS.items()}
+    )
 
 
 def frame_times(
@@ -246,7 +261,7 @@ def frame_times(
             *maps[:2],
             curve_table(default_basis(), shader_constants()),
             maps[2],
-            *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT)),
+            *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT, f"{ATLAS_STEM}.exr")),
         ]
         for unit, table in enumerate(textures):
             texture = context.texture(
@@ -260,11 +275,14 @@ def frame_times(
         quad = context.buffer(np.array([-1, -1, 1, -1, -1, 1, 1, 1], dtype="f4").tobytes())
         passes = {}
         for name, variant in variants.items():
-            program = context.program(vertex_shader=VERTEX, fragment_shader=fragment_source(variant))
+            program = context.program(
+                vertex_shader=VERTEX, fragment_shader=fragment_source(variant, atlas=name in IN_ATLAS)
+            )
             units = ("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC", "coefficientLut", "curveTable")
             for index, uniform in enumerate(units):
-                if uniform in program:
-                    program[uniform] = index
+                if uniform in program:  # an atlas pass reads its three tables from the atlas, unit 8
+                    atlased = name in IN_ATLAS and uniform in ("basisLut", "coefficientLut", "curveTable")
+                    program[uniform] = 8 if atlased else index
             for uniform, value in (
                 ("size", (width, height)),
                 ("roughness", 0.5),
@@ -511,6 +529,17 @@ def main(argv=None) -> int:
         f"| {compiled('basis per pixel (r, g)')} |",
     ]
     for name in SOLVED_OFFLINE:
+        milliseconds, ratio = cost(name)
+        lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
+    lines += [
+        "",
+        "One sampler: the tables' pass reading its three tables (basis, coefficients, curves) from the atlas of "
+        "`build --atlas` through `fresnel_basis_atlas.glsl` (one multiply-add per read), against three textures:",
+        "",
+        "| tables | ms per frame | cost / Schlick | range | RDNA 2 instructions | RDNA 2 throughput cost / Schlick |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name in ("basis per pixel (r, g), tables", ATLAS_VARIANT):
         milliseconds, ratio = cost(name)
         lines.append(f"| {name} | {milliseconds:.2f} | {ratio} | {compiled(name)} |")
     lines += [

@@ -126,6 +126,8 @@ def command_build(arguments) -> int:
         raise ParameterError("--basis goes with the basis table, not with --model")
     if arguments.model is not None and arguments.ltc:
         raise ParameterError("--ltc goes with the default build, not with --model")
+    if arguments.model is not None and arguments.atlas:
+        raise ParameterError("--atlas goes with the default build, not with --model")
     if arguments.model is not None and arguments.pixel_tables:
         raise ParameterError("--pixel-tables goes with the default build, not with --model")
     if arguments.ltc_size is not None and not arguments.ltc:
@@ -164,6 +166,7 @@ def command_build(arguments) -> int:
             ltc,
             _after(progress, ltc_progress),
             arguments.pixel_tables,
+            arguments.atlas,
         )
         if ltc_progress is not None:
             ltc_progress.close()

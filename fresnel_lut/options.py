@@ -120,6 +120,12 @@ def make_parser() -> argparse.ArgumentParser:
         "luts does",
     )
     build.add_argument(
+        "--atlas",
+        action="store_true",
+        help="also pack every table the include reads into one texture, fresnel_atlas_rgba, with the include that reads "
+        "it, fresnel_basis_atlas.{glsl,hlsl,wgsl} (one sampler; needs --ltc and --pixel-tables; make luts does)",
+    )
+    build.add_argument(
         "--model",
         default=None,
         help="instead: the exact split-sum table of one linear model "

@@ -48,10 +48,11 @@ LTC_LUT = "ggx_ltc.exr"
 #: :mod:`basis.coefficient_table`); a basis of K terms has K − 2 channels (``fresnel_coefficients_rgba`` for six).
 COEFFICIENT_LUT = "fresnel_coefficients_rg.exr"
 #: The direct-light curves b_1 … b_(K−1) of the basis over μ = V·H, one row (``fresnel-lut build --pixel-tables``), and
-#: its texels (end points of μ from 0 to 1): WebGL 2's guaranteed largest texture width; linear interpolation between
-#: them holds the shipped basis' curves within 2.5e-5, 6.0e-5 with 8-bit filter weights (the polynomial: 2.2e-5).
+#: its texels (end points of μ from 0 to 1): with a guard texel on each side, WebGL 2's guaranteed largest texture width
+#: (an atlas holds it: handoff.atlas); linear interpolation between them holds the shipped basis' curves within 2.5e-5,
+#: 6.0e-5 with 8-bit filter weights (the polynomial: 2.2e-5).
 CURVE_LUT = "fresnel_curves_rgb.exr"
-CURVE_LUT_SIZE = 2048
+CURVE_LUT_SIZE = 2046
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")

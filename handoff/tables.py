@@ -1,6 +1,6 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
-Public objects: ``Table``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
+Public objects: ``Table``, ``ATLAS_STEM``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
 ``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``curve_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
@@ -41,9 +41,10 @@ from preintegrate.lut import LutGrid, build_table
 from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
 from preintegrate.quadrature import DEFAULT_ORDER
 
+from .atlas import pack_atlas
 from .exr import read_lut
 from .formats import FORMATS, check_formats, file_family
-from .shaders import LANGUAGES, SHADER_INCLUDES, shader_includes
+from .shaders import ATLAS_INCLUDE_STEM, INCLUDE_STEM, LANGUAGES, SHADER_INCLUDES, shader_includes
 from .shipped import (
     AVERAGE_LUT,
     BASIS_LUT,
@@ -59,6 +60,7 @@ from .shipped import (
 )
 
 __all__ = [
+    "ATLAS_STEM",
     "DEFAULT_BUILD_FILES",
     "DEFAULT_SET",
     "Table",
@@ -266,15 +268,20 @@ def write_default_build(
     ltc: LutGrid | None = None,
     ltc_progress: Callable[[int, int], None] | None = None,
     coefficients: bool = False,
+    atlas: bool = False,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
     area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too; with ``coefficients``
     (``--pixel-tables``), the per-pixel tables: Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)
-    and the direct-light curves over V·H (:func:`curve_table`)."""
+    and the direct-light curves over V·H (:func:`curve_table`); with ``atlas`` (``--atlas``, which needs both), every
+    table the include reads packed into one texture (:func:`handoff.atlas.pack_atlas`) and the include that reads it,
+    ``fresnel_basis_atlas.*``."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
+    if atlas and (ltc is None or not coefficients):
+        raise ParameterError("--atlas packs every table the include reads: build it with --ltc and --pixel-tables")
     if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
         raise ParameterError(f"ltc must be an LTC table's grid (preintegrate.ltc.ltc_grid) or None, got {ltc!r}")
     visibility = (LutGrid(128, 128) if grid is None else grid).visibility
@@ -287,6 +294,10 @@ def write_default_build(
         tables.append(ltc_build_table(ltc, ltc_progress))
     if coefficients:
         tables += [coefficient_build_table(basis), curve_table(basis)]
+    if atlas:
+        packed, atlas_includes = _atlas(tables, basis, grid, ltc.width, command="fresnel-lut build --atlas")
+        tables.append(packed)
+        includes += atlas_includes
     return write_tables(
         tables,
         out,
@@ -295,14 +306,49 @@ def write_default_build(
         texts=includes,
         owned=DEFAULT_SET
         + ((_stem(LTC_LUT),) if ltc is not None else ())
+        + ((ATLAS_STEM,) if atlas else ())
         + (
             tuple(_coefficient_stem(k) for k in range(3, 7))
             + ("fresnel_curves_r", "fresnel_curves_rg", "fresnel_curves_rgb", "fresnel_curves_rgba")
             if coefficients
             else ()
         ),
-        owned_files=[*(name for name, _ in SHADER_INCLUDES.values()), *LEGACY_INCLUDES],
+        owned_files=[
+            *(name for name, _ in SHADER_INCLUDES.values()),
+            *(name.replace(INCLUDE_STEM, ATLAS_INCLUDE_STEM, 1) for name, _ in SHADER_INCLUDES.values()),
+            *LEGACY_INCLUDES,
+        ],
     )
+
+
+#: The atlas' stem (``fresnel-lut build --atlas``).
+ATLAS_STEM = "fresnel_atlas_rgba"
+
+
+def _atlas(tables: list[Table], basis: Basis, grid, ltc_size: int, command: str) -> tuple[Table, list[tuple[str, str]]]:
+    """The atlas of a build's tables, by role, and the includes that read it."""
+    by_stem = {table.name: table.values for table in tables}
+    stems = {
+        "basis": _stem(BASIS_LUT),
+        "basis2": f"{_stem(BASIS_LUT)}_2",
+        "schlick": _stem(SCHLICK_LUT),
+        "ltc": _stem(LTC_LUT),
+        "coefficients": _coefficient_stem(basis.n_terms),
+        "curves": _stem(CURVE_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: basis.n_terms - 1],
+    }
+    values, layout = pack_atlas({role: by_stem[stem] for role, stem in stems.items() if stem in by_stem})
+    header = table_header(
+        "atlas",
+        RGBA,
+        "every table the include fresnel_basis_atlas reads, each in its rectangle inside a guard ring of its edge texels",
+        layout.width,
+        layout.height,
+        command,
+        "tables at (x0, y0, width, height) of their first texel: " + layout.describe(),
+        basis_hash=basis.content_hash,
+    )
+    maps = {role: layout.uv_map(role) for role in layout.rects}
+    return Table(ATLAS_STEM, values, RGBA, header), shader_includes(basis, command, grid, ltc_size, atlas=maps)
 
 
 def kept_ltc_grid(out, visibility: str) -> LutGrid | None:

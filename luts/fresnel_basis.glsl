@@ -62,12 +62,38 @@ const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
 const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-const vec2 FRESNEL_CURVE_TABLE = vec2(0.999511719, 0.000244140625);  // scale, offset of mu
+const vec2 FRESNEL_CURVE_TABLE = vec2(0.999511241, 0.000244379277);  // scale, offset of mu
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(vec4 c, vec4 x)
 {
     return dot(c, x);
+}
+
+// The tables' addresses: the identity: every table is its own texture (an atlas build maps them into one).
+vec2 fresnelAtlasBasis(vec2 uv)
+{
+    return uv;
+}
+
+vec2 fresnelAtlasSchlick(vec2 uv)
+{
+    return uv;
+}
+
+vec2 fresnelAtlasLtc(vec2 uv)
+{
+    return uv;
+}
+
+vec2 fresnelAtlasCoefficients(vec2 uv)
+{
+    return uv;
+}
+
+vec2 fresnelAtlasCurves(vec2 uv)
+{
+    return uv;
 }
 
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
@@ -184,7 +210,7 @@ vec4 fresnelCoefficientsTableRead(sampler2D coefficientLut, float r, float q, fl
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
     float y = 1.0 - sqrt(sqrt(1.0 - g));
-    vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    vec4 t = textureLod(coefficientLut, fresnelAtlasCoefficients(vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return vec4(r, f90 - r, f90 * t.x, f90 * t.y);
 }
@@ -332,7 +358,7 @@ vec3 fresnelBasisDirect(float VdotH, vec4 cR, vec4 cG, vec4 cB)
 vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, vec4 cR, vec4 cG, vec4 cB)
 {
     float mu = fresnelUnitClamp(VdotH, 1.0);
-    vec4 t = textureLod(curveLut, vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0.0);
+    vec4 t = textureLod(curveLut, fresnelAtlasCurves(vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
     vec4 b = vec4(1.0, t.x, t.y, t.z);
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
@@ -363,7 +389,7 @@ vec2 fresnelBasisLutUV(float NdotV, float perceptualRoughness)
 // screen-space derivatives pick).
 vec4 fresnelBasisTerms(sampler2D lut, vec2 uv)
 {
-    return textureLod(lut, uv, 0.0);
+    return textureLod(lut, fresnelAtlasBasis(uv), 0.0);
 }
 
 // The split sum of the basis (Belcour, Bati, Barla 2020, eq. 5): Fbar = sum_k c_k bbar_k(mu_o, r) per colour channel.
@@ -376,7 +402,7 @@ vec3 fresnelBasisSplitSum(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG,
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 f0)
 {
-    vec4 scaleBias = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    vec4 scaleBias = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return f0 * scaleBias.x + vec3(scaleBias.y);
 }
 
@@ -415,7 +441,7 @@ vec3 fresnelLinearWeigh(vec4 t, vec3 wR, vec3 wG, vec3 wB)
 
 vec3 fresnelLinearSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
-    return fresnelLinearWeigh(textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0), wR, wG, wB);
+    return fresnelLinearWeigh(textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -429,7 +455,7 @@ vec3 fresnelLinearAverage(vec3 wR, vec3 wG, vec3 wB)
 // A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
 vec3 fresnelLinearMultipleScattering(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
-    vec4 t = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
 
@@ -519,7 +545,7 @@ float fresnelLtcQuad(vec3 p[4])
 float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 t = textureLod(ltcLut, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
     vec3 T1 = V - N * dot(V, N);
     T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
     float tangential = length(T1);

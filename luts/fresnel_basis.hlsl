@@ -62,12 +62,38 @@ static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // sca
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 static const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
 static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-static const float2 FRESNEL_CURVE_TABLE = float2(0.999511719, 0.000244140625);  // scale, offset of mu
+static const float2 FRESNEL_CURVE_TABLE = float2(0.999511241, 0.000244379277);  // scale, offset of mu
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(float4 c, float4 x)
 {
     return dot(c, x);
+}
+
+// The tables' addresses: the identity: every table is its own texture (an atlas build maps them into one).
+float2 fresnelAtlasBasis(float2 uv)
+{
+    return uv;
+}
+
+float2 fresnelAtlasSchlick(float2 uv)
+{
+    return uv;
+}
+
+float2 fresnelAtlasLtc(float2 uv)
+{
+    return uv;
+}
+
+float2 fresnelAtlasCoefficients(float2 uv)
+{
+    return uv;
+}
+
+float2 fresnelAtlasCurves(float2 uv)
+{
+    return uv;
 }
 
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
@@ -184,7 +210,7 @@ float4 fresnelCoefficientsTableRead(Texture2D<float4> coefficientLut, SamplerSta
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
     float y = 1.0 - sqrt(sqrt(1.0 - g));
-    float4 t = coefficientLut.SampleLevel(linearClamp, float2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0);
+    float4 t = coefficientLut.SampleLevel(linearClamp, fresnelAtlasCoefficients(float2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return float4(r, f90 - r, f90 * t.x, f90 * t.y);
 }
@@ -332,7 +358,7 @@ float3 fresnelBasisDirect(float VdotH, float4 cR, float4 cG, float4 cB)
 float3 fresnelBasisDirectTable(Texture2D<float4> curveLut, SamplerState linearClamp, float VdotH, float4 cR, float4 cG, float4 cB)
 {
     float mu = fresnelUnitClamp(VdotH, 1.0);
-    float4 t = curveLut.SampleLevel(linearClamp, float2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0);
+    float4 t = curveLut.SampleLevel(linearClamp, fresnelAtlasCurves(float2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0);
     float4 b = float4(1.0, t.x, t.y, t.z);
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
@@ -363,7 +389,7 @@ float2 fresnelBasisLutUV(float NdotV, float perceptualRoughness)
 // screen-space derivatives pick).
 float4 fresnelBasisTerms(Texture2D<float4> lut, SamplerState linearClamp, float2 uv)
 {
-    return lut.SampleLevel(linearClamp, uv, 0);
+    return lut.SampleLevel(linearClamp, fresnelAtlasBasis(uv), 0);
 }
 
 // The split sum of the basis (Belcour, Bati, Barla 2020, eq. 5): Fbar = sum_k c_k bbar_k(mu_o, r) per colour channel.
@@ -376,7 +402,7 @@ float3 fresnelBasisSplitSum(Texture2D<float4> lut, SamplerState linearClamp, flo
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 float3 fresnelSchlickSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 f0)
 {
-    float4 scaleBias = schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0);
+    float4 scaleBias = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
     return f0 * scaleBias.x + float3(scaleBias.y);
 }
 
@@ -415,7 +441,7 @@ float3 fresnelLinearWeigh(float4 t, float3 wR, float3 wG, float3 wB)
 
 float3 fresnelLinearSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 wR, float3 wG, float3 wB)
 {
-    return fresnelLinearWeigh(schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0), wR, wG, wB);
+    return fresnelLinearWeigh(schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0), wR, wG, wB);
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -429,7 +455,7 @@ float3 fresnelLinearAverage(float3 wR, float3 wG, float3 wB)
 // A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
 float3 fresnelLinearMultipleScattering(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 wR, float3 wG, float3 wB)
 {
-    float4 t = schlickLut.SampleLevel(linearClamp, fresnelBasisLutUV(NdotV, r), 0);
+    float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
     return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
 
@@ -519,7 +545,7 @@ float fresnelLtcQuad(float3 p[4])
 float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    float4 t = ltcLut.SampleLevel(linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0);
+    float4 t = ltcLut.SampleLevel(linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0);
     float3 T1 = V - N * dot(V, N);
     T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
     float tangential = length(T1);

@@ -62,12 +62,38 @@ const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offs
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
 const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-const FRESNEL_CURVE_TABLE: vec2f = vec2f(0.999511719, 0.000244140625);  // scale, offset of mu
+const FRESNEL_CURVE_TABLE: vec2f = vec2f(0.999511241, 0.000244379277);  // scale, offset of mu
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 fn fresnelTermsDot(c: vec4f, x: vec4f) -> f32
 {
     return dot(c, x);
+}
+
+// The tables' addresses: the identity: every table is its own texture (an atlas build maps them into one).
+fn fresnelAtlasBasis(uv: vec2f) -> vec2f
+{
+    return uv;
+}
+
+fn fresnelAtlasSchlick(uv: vec2f) -> vec2f
+{
+    return uv;
+}
+
+fn fresnelAtlasLtc(uv: vec2f) -> vec2f
+{
+    return uv;
+}
+
+fn fresnelAtlasCoefficients(uv: vec2f) -> vec2f
+{
+    return uv;
+}
+
+fn fresnelAtlasCurves(uv: vec2f) -> vec2f
+{
+    return uv;
 }
 
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
@@ -186,7 +212,7 @@ fn fresnelCoefficientsTableRead(coefficientLut: texture_2d<f32>, linearClamp: sa
 {
     let x: f32 = sqrt(q) - 0.5 * sqrt(1.0 - r);
     let y: f32 = 1.0 - sqrt(sqrt(1.0 - g));
-    let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, fresnelAtlasCoefficients(vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
     let f90: f32 = select(0.0, 1.0, r > 0.0);
     return vec4f(r, f90 - r, f90 * t.x, f90 * t.y);
 }
@@ -330,7 +356,7 @@ fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 fn fresnelBasisDirectTable(curveLut: texture_2d<f32>, linearClamp: sampler, VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let mu: f32 = fresnelUnitClamp(VdotH, 1.0);
-    let t: vec4f = textureSampleLevel(curveLut, linearClamp, vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5), 0.0);
+    let t: vec4f = textureSampleLevel(curveLut, linearClamp, fresnelAtlasCurves(vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
     let b: vec4f = vec4f(1.0, t.x, t.y, t.z);
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
@@ -361,7 +387,7 @@ fn fresnelBasisLutUV(NdotV: f32, perceptualRoughness: f32) -> vec2f
 // screen-space derivatives pick).
 fn fresnelBasisTerms(lut: texture_2d<f32>, linearClamp: sampler, uv: vec2f) -> vec4f
 {
-    return textureSampleLevel(lut, linearClamp, uv, 0.0);
+    return textureSampleLevel(lut, linearClamp, fresnelAtlasBasis(uv), 0.0);
 }
 
 // The split sum of the basis (Belcour, Bati, Barla 2020, eq. 5): Fbar = sum_k c_k bbar_k(mu_o, r) per colour channel.
@@ -374,7 +400,7 @@ fn fresnelBasisSplitSum(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, 
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, f0: vec3f) -> vec3f
 {
-    let scaleBias: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0);
+    let scaleBias: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return f0 * scaleBias.x + vec3f(scaleBias.y);
 }
 
@@ -413,7 +439,7 @@ fn fresnelLinearWeigh(t: vec4f, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 
 fn fresnelLinearSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
-    return fresnelLinearWeigh(textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0), wR, wG, wB);
+    return fresnelLinearWeigh(textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -427,7 +453,7 @@ fn fresnelLinearAverage(wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 // A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
 fn fresnelLinearMultipleScattering(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
-    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelBasisLutUV(NdotV, r), 0.0);
+    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
 
@@ -517,7 +543,7 @@ fn fresnelLtcQuad(p: array<vec3f, 4>) -> f32
 fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> f32
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    let t: vec4f = textureSampleLevel(ltcLut, linearClamp, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    let t: vec4f = textureSampleLevel(ltcLut, linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
     var T1: vec3f = V - N * dot(V, N);
     T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
     let tangential: f32 = length(T1);

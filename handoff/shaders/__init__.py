@@ -2,7 +2,8 @@
 direct-light curves, rectangular lights, the tables' coordinates), its constants and the Python mirrors of its
 arithmetic.
 
-Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_includes``,
+Public objects: ``ShaderConstants``, ``shader_constants``, ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``ATLAS_INCLUDE_STEM``,
+``shader_includes``,
 ``shader_source``, ``translate``, ``LANGUAGES``, ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``bits_clamp``,
 ``coefficients_per_pixel_nk``, ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``,
 ``coefficients_per_pixel_nk_table``, ``coefficients_per_pixel_model``,
@@ -40,7 +41,7 @@ from .constants import (
     unwarped_cosine,
     warped_cosine,
 )
-from .include import INCLUDE_STEM, SHADER_INCLUDES, shader_includes, shader_source
+from .include import ATLAS_INCLUDE_STEM, INCLUDE_STEM, SHADER_INCLUDES, shader_includes, shader_source
 from .mirrors import (
     bits_clamp,
     coefficients_per_pixel_gulbrandsen,
@@ -64,6 +65,7 @@ from .mirrors import (
 from .translate import LANGUAGES, translate
 
 __all__ = [
+    "ATLAS_INCLUDE_STEM",
     "CURVE_SEGMENTS",
     "CURVE_TOLERANCE",
     "CURVE_WARPS",

@@ -102,6 +102,8 @@ class ShaderConstants:
     amplification: float = 1.0  # Lebesgue constant of the solve: max over μ of Σ_i |(B(μ) S⁻¹)_i|
     ltc_size: int = 64  # the LTC table's size (``fresnel-lut build --ltc-size``) that fresnelLtcUV addresses
     grid: LutGrid = LutGrid(128, 128)  # the tables' grid: the include's coordinate function reads them on it
+    # role → (scale u, scale v, offset u, offset v) of each table in one atlas (handoff.atlas), None: a texture each
+    atlas: dict | None = None
 
     @property
     def n_terms(self) -> int:
@@ -154,9 +156,12 @@ def linear_functions(mu: np.ndarray) -> np.ndarray:
     return np.stack([1.0 - fifth, fifth, lazanyi_dip(mu)], axis=-1)
 
 
-def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, ltc_size: int = 64) -> ShaderConstants:
-    """The constants of :func:`shader_includes` for a basis of 2 … 8 terms (default: the shipped one) and the grid of
-    its tables (default: the default build's 128 × 128)."""
+def shader_constants(
+    basis: Basis | None = None, grid: LutGrid | None = None, ltc_size: int = 64, atlas: dict | None = None
+) -> ShaderConstants:
+    """The constants of :func:`shader_includes` for a basis of 2 … 8 terms (default: the shipped one), the grid of
+    its tables (default: the default build's 128 × 128) and, for an include that reads one atlas, each table's map into
+    it (role → (scale u, scale v, offset u, offset v); :class:`handoff.atlas.AtlasLayout`)."""
     basis = resolve_basis(basis)
     system = basis.evaluate(basis.fit_angles)  # B[i, k] = b_k(θ_i)
     inverse = np.linalg.inv(system[2:, 2:])
@@ -179,6 +184,7 @@ def shader_constants(basis: Basis | None = None, grid: LutGrid | None = None, lt
         amplification,
         check_positive_int("ltc_size", ltc_size, low=2, high=1024),
         LutGrid(128, 128) if grid is None else grid,
+        None if atlas is None else dict(atlas),
     )
 
 

@@ -1,6 +1,6 @@
 """The shader include of a build: one self-contained file per language, every function written once.
 
-Public objects: ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``shader_source``, ``shader_includes``.
+Public objects: ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``ATLAS_INCLUDE_STEM``, ``shader_source``, ``shader_includes``.
 
 The include is assembled in the project's GLSL subset (:mod:`handoff.shaders.translate`) and printed in each
 language: the header, the constants of :class:`~handoff.shaders.constants.ShaderConstants`, the few functions whose
@@ -35,7 +35,7 @@ from ..shipped import CURVE_LUT_SIZE
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
 
-__all__ = ["INCLUDE_STEM", "SHADER_INCLUDES", "shader_includes", "shader_source"]
+__all__ = ["ATLAS_INCLUDE_STEM", "INCLUDE_STEM", "SHADER_INCLUDES", "shader_includes", "shader_source"]
 
 #: The bodies, in the order the include holds them (each may call only what stands before it).
 SOURCES = ("fresnel.glsl", "coefficients.glsl", "direct.glsl", "tables.glsl", "area.glsl")
@@ -309,6 +309,41 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
     )
 
 
+#: The tables' address functions: role → the function's name suffix (handoff.atlas.ATLAS_ROLES).
+_ATLAS_FUNCTIONS = {
+    "basis": "Basis",
+    "basis2": "Basis2",
+    "schlick": "Schlick",
+    "ltc": "Ltc",
+    "coefficients": "Coefficients",
+    "curves": "Curves",
+}
+
+
+def _atlas_parts(c: ShaderConstants) -> tuple[list[str], str]:
+    """(constants, functions) of the tables' address functions ``fresnelAtlas<Role>(uv)``: the identity where every
+    table is its own texture, the map into its rectangle of one atlas (FRESNEL_ATLAS_<ROLE>: scale, offset)."""
+    constants, functions = [], []
+    for role, suffix in _ATLAS_FUNCTIONS.items():
+        if role == "basis2" and c.n_terms <= 4:
+            continue
+        if c.atlas is None:
+            body = "    return uv;"
+        else:
+            if role not in c.atlas:
+                raise ParameterError(f"the atlas holds no {role} table, which this include reads")
+            name = f"FRESNEL_ATLAS_{role.upper()}"
+            constants.append(_constant(name, c.atlas[role], "scale u, scale v, offset u, offset v in the atlas"))
+            body = f"    return uv * {name}.xy + {name}.zw;"
+        functions.append("\n".join([f"vec2 fresnelAtlas{suffix}(vec2 uv)", "{", body, "}", ""]))
+    what = (
+        "each table's own coordinates into its rectangle of the atlas"
+        if c.atlas is not None
+        else "the identity: every table is its own texture (an atlas build maps them into one)"
+    )
+    return constants, "\n".join([f"// The tables' addresses: {what}.", *functions])
+
+
 def _record(wide: bool) -> str:
     """The terms record and its dot product (one vec4 for K ≤ 4; FresnelTerms8 of two for K > 4)."""
     if not wide:
@@ -371,9 +406,10 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         if grid.columns == "root-endpoints"
         else ("fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")
     )
-    fetch = "textureLod(lut, uv, 0.0)"
+    fetch = "textureLod(lut, fresnelAtlasBasis(uv), 0.0)"
     axes_constant, table_terms = _coefficient_table_parts(c.n_terms)
     curve_table_constant, curve_terms = _curve_table_parts(c.n_terms)
+    atlas_constants, atlas_functions = _atlas_parts(c)
     placeholders = {
         "terms": "FresnelTerms8" if wide else "vec4",
         "table_terms": table_terms,
@@ -382,7 +418,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         "linear": f"    return {f'fresnelTerms8({linear[0]}, {linear[1]})' if wide else linear[0]};",
         "curves": curves,
         "column": column,
-        "fetch": f"fresnelTerms8({fetch}, textureLod(lut2, uv, 0.0))" if wide else fetch,
+        "fetch": f"fresnelTerms8({fetch}, textureLod(lut2, fresnelAtlasBasis2(uv), 0.0))" if wide else fetch,
         "averages": "fresnelTerms8(FRESNEL_BASIS_AVERAGES, FRESNEL_BASIS_AVERAGES_HI)"
         if wide
         else "FRESNEL_BASIS_AVERAGES",
@@ -408,11 +444,12 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
         axes_constant,
         curve_table_constant,
+        *atlas_constants,
         "",
     ]
     bodies = [(SOURCE_FOLDER / name).read_text(encoding="utf-8") for name in SOURCES]
     bodies.insert(1, fit_functions)  # after the exact Fresnel helpers, before the solve that calls them
-    text = "\n".join([_header(c, "glsl", command), *preamble, _record(wide), *bodies])
+    text = "\n".join([_header(c, "glsl", command), *preamble, _record(wide), atlas_functions, *bodies])
     text = re.sub(r"\{\{(\w+)\}\}", lambda match: placeholders[match.group(1)], text)
     if not wide:  # the second table exists only for five to eight terms
         text = re.sub(r",\s*(?:sampler2D\s+)?lut2\b", "", text)
@@ -434,10 +471,23 @@ SHADER_INCLUDES: dict[str, tuple[str, Callable[[ShaderConstants, str], str]]] = 
 }
 
 
+#: The stem of an include that reads every table from one atlas (``fresnel-lut build --atlas``).
+ATLAS_INCLUDE_STEM = f"{INCLUDE_STEM}_atlas"
+
+
 def shader_includes(
-    basis: Basis | None = None, command: str = "fresnel-lut build", grid: LutGrid | None = None, ltc_size: int = 64
+    basis: Basis | None = None,
+    command: str = "fresnel-lut build",
+    grid: LutGrid | None = None,
+    ltc_size: int = 64,
+    atlas: dict | None = None,
 ) -> list[tuple[str, str]]:
     """(file name, text) of the include in every language for ``basis`` (default: the shipped one), its tables' grid
-    and the LTC table's size."""
-    constants = shader_constants(basis, grid, ltc_size)
-    return [(name, generate(constants, command)) for name, generate in SHADER_INCLUDES.values()]
+    and the LTC table's size; with ``atlas`` (role → map, :meth:`handoff.atlas.AtlasLayout.uv_map`), the include that
+    reads every table from that atlas, ``fresnel_basis_atlas.*`` (the same functions: pass the atlas for every
+    table)."""
+    constants = shader_constants(basis, grid, ltc_size, atlas)
+    includes = [(name, generate(constants, command)) for name, generate in SHADER_INCLUDES.values()]
+    if atlas is not None:
+        includes = [(name.replace(INCLUDE_STEM, ATLAS_INCLUDE_STEM, 1), text) for name, text in includes]
+    return includes

@@ -84,7 +84,7 @@ float fresnelLtcQuad(vec3 p[4])
 float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 t = textureLod(ltcLut, fresnelLtcUVSine(NdotV, length(cross(N, V)), r), 0.0);
+    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
     vec3 T1 = V - N * dot(V, N);
     T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
     float tangential = length(T1);

@@ -50,7 +50,7 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
     float y = 1.0 - sqrt(sqrt(1.0 - g));
-    vec4 t = textureLod(coefficientLut, vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    vec4 t = textureLod(coefficientLut, fresnelAtlasCoefficients(vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
     float f90 = r > 0.0 ? 1.0 : 0.0;
     return {{table_terms}};
 }

@@ -25,7 +25,7 @@ vec3 fresnelBasisSplitSum(sampler2D lut, sampler2D lut2, float NdotV, float r, {
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 f0)
 {
-    vec4 scaleBias = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    vec4 scaleBias = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return f0 * scaleBias.x + vec3(scaleBias.y);
 }
 
@@ -64,7 +64,7 @@ vec3 fresnelLinearWeigh(vec4 t, vec3 wR, vec3 wG, vec3 wB)
 
 vec3 fresnelLinearSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
-    return fresnelLinearWeigh(textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0), wR, wG, wB);
+    return fresnelLinearWeigh(textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -78,6 +78,6 @@ vec3 fresnelLinearAverage(vec3 wR, vec3 wG, vec3 wB)
 // A linear model's split sum compensated for multiple scattering: E is the Schlick table's B.
 vec3 fresnelLinearMultipleScattering(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
-    vec4 t = textureLod(schlickLut, fresnelBasisLutUV(NdotV, r), 0.0);
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     return fresnelCompensate(fresnelLinearWeigh(t, wR, wG, wB), t.z, fresnelLinearAverage(wR, wG, wB));
 }
