@@ -103,6 +103,14 @@ float fresnelSanitize(float x, float fallback, float lo, float hi)
     return ((floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
 }
 
+// The switch between the per-pixel paths (the fresnel...Selected functions): false (the default) reads the per-pixel
+// tables of `fresnel-lut build --pixel-tables`, true solves per pixel (a software rasteriser, which filters textures
+// in software; a build without those tables). GLSL and HLSL: #define FRESNEL_BASIS_SOLVE true before the include;
+// WGSL: the pipeline-overridable constant FRESNEL_BASIS_SOLVE. Either way the compiler keeps one path.
+#ifndef FRESNEL_BASIS_SOLVE
+#define FRESNEL_BASIS_SOLVE false
+#endif
+
 // x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
 // integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
 // where the fallback may be an end of the range.
@@ -238,6 +246,25 @@ vec4 fresnelCoefficientsNKTable(sampler2D coefficientLut, float eta, float kappa
     return fresnelCoefficientsTableRead(coefficientLut, r, q, clamp(g, 0.0, 1.0));
 }
 
+// Gulbrandsen's (r, g) and (eta, kappa) by the path FRESNEL_BASIS_SOLVE selects.
+vec4 fresnelCoefficientsGulbrandsenSelected(sampler2D coefficientLut, float r, float g)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsGulbrandsen(r, g);
+    }
+    return fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g);
+}
+
+vec4 fresnelCoefficientsNKSelected(sampler2D coefficientLut, float eta, float kappa)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsNK(eta, kappa);
+    }
+    return fresnelCoefficientsNKTable(coefficientLut, eta, kappa);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -361,6 +388,16 @@ vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, vec4 cR, vec4 cG, 
     vec4 t = textureLod(curveLut, fresnelAtlasCurves(vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
     vec4 b = vec4(1.0, t.x, t.y, t.z);
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// F(V.H) by the path FRESNEL_BASIS_SOLVE selects: the polynomial (true) or the curve table.
+vec3 fresnelBasisDirectSelected(sampler2D curveLut, float VdotH, vec4 cR, vec4 cG, vec4 cB)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelBasisDirect(VdotH, cR, cG, cB);
+    }
+    return fresnelBasisDirectTable(curveLut, VdotH, cR, cG, cB);
 }
 
 // A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))

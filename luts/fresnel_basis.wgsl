@@ -103,6 +103,12 @@ fn fresnelSanitize(x: f32, fallback: f32, lo: f32, hi: f32) -> f32
     return select(clamp(x, lo, hi), fallback, ((bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u));
 }
 
+// The switch between the per-pixel paths (the fresnel...Selected functions): false (the default) reads the per-pixel
+// tables of `fresnel-lut build --pixel-tables`, true solves per pixel (a software rasteriser, which filters textures
+// in software; a build without those tables). GLSL and HLSL: #define FRESNEL_BASIS_SOLVE true before the include;
+// WGSL: the pipeline-overridable constant FRESNEL_BASIS_SOLVE. Either way the compiler keeps one path.
+override FRESNEL_BASIS_SOLVE: bool = false;
+
 // x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
 // integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
 // where the fallback may be an end of the range.
@@ -243,6 +249,25 @@ fn fresnelCoefficientsNKTable(coefficientLut: texture_2d<f32>, linearClamp: samp
     return fresnelCoefficientsTableRead(coefficientLut, linearClamp, r, q, clamp(g, 0.0, 1.0));
 }
 
+// Gulbrandsen's (r, g) and (eta, kappa) by the path FRESNEL_BASIS_SOLVE selects.
+fn fresnelCoefficientsGulbrandsenSelected(coefficientLut: texture_2d<f32>, linearClamp: sampler, r: f32, g: f32) -> vec4f
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsGulbrandsen(r, g);
+    }
+    return fresnelCoefficientsGulbrandsenTable(coefficientLut, linearClamp, r, g);
+}
+
+fn fresnelCoefficientsNKSelected(coefficientLut: texture_2d<f32>, linearClamp: sampler, eta: f32, kappa: f32) -> vec4f
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsNK(eta, kappa);
+    }
+    return fresnelCoefficientsNKTable(coefficientLut, linearClamp, eta, kappa);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and
@@ -359,6 +384,16 @@ fn fresnelBasisDirectTable(curveLut: texture_2d<f32>, linearClamp: sampler, Vdot
     let t: vec4f = textureSampleLevel(curveLut, linearClamp, fresnelAtlasCurves(vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
     let b: vec4f = vec4f(1.0, t.x, t.y, t.z);
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+}
+
+// F(V.H) by the path FRESNEL_BASIS_SOLVE selects: the polynomial (true) or the curve table.
+fn fresnelBasisDirectSelected(curveLut: texture_2d<f32>, linearClamp: sampler, VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelBasisDirect(VdotH, cR, cG, cB);
+    }
+    return fresnelBasisDirectTable(curveLut, linearClamp, VdotH, cR, cG, cB);
 }
 
 // A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))

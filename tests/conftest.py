@@ -308,11 +308,15 @@ def wgpu_device(monkeypatch, features=()):
     return adapter.request_device_sync(required_features=list(features))
 
 
-def wgpu_compute(device, code: str, resources: list, output_buffer, count: int) -> bytes:
+def wgpu_compute(device, code: str, resources: list, output_buffer, count: int, constants: dict | None = None) -> bytes:
     """Run the compute shader ``code`` (entry ``main``, workgroups of 64) over ``count`` invocations with
-    ``resources`` bound to bindings 0, 1, … of group 0; the bytes of ``output_buffer`` afterwards."""
+    ``resources`` bound to bindings 0, 1, … of group 0 and ``constants`` for its ``override`` declarations; the bytes
+    of ``output_buffer`` afterwards."""
     module = device.create_shader_module(code=code)
-    pipeline = device.create_compute_pipeline(layout="auto", compute={"module": module, "entry_point": "main"})
+    stage = {"module": module, "entry_point": "main"}
+    if constants:
+        stage["constants"] = constants
+    pipeline = device.create_compute_pipeline(layout="auto", compute=stage)
     group = device.create_bind_group(
         layout=pipeline.get_bind_group_layout(0),
         entries=[{"binding": k, "resource": resource} for k, resource in enumerate(resources)],

@@ -317,6 +317,18 @@ def translate(source: str, language: str) -> str:
             output.append(_constant(stripped, target) + comment)
             index = end + 1
             continue
+        switch = re.fullmatch(rf"#ifndef ({_IDENTIFIER})", stripped)
+        if switch:  # a switch: #ifndef NAME / #define NAME true|false / #endif
+            name = switch.group(1)
+            default = re.fullmatch(rf"#define {name} (true|false)", lines[index + 1].strip())
+            if default is None or lines[index + 2].strip() != "#endif":
+                raise ShaderSourceError(f"line {index + 1}: a switch is #ifndef NAME, #define NAME true|false, #endif")
+            if target.wgsl:  # a pipeline-overridable constant, which the pipeline specialises as a define would
+                output.append(f"override {name}: bool = {default.group(1)};")
+            else:
+                output += [line.rstrip() for line in lines[index : index + 3]]
+            index += 3
+            continue
         if stripped.startswith("struct "):
             end = lines.index("};", index)
             output += _struct(lines[index : end + 1], target)

@@ -169,3 +169,113 @@ def test_the_table_is_the_shipped_basis_and_its_axes():
     """The header names the include's basis and the axes the include addresses."""
     assert HEADER["basis_hash"] in INCLUDES["fresnel_basis.glsl"].splitlines()[0]
     assert TABLE.shape == (128, 512, 2) and "x = r^(1/4) - sqrt(1 - r)/2" in HEADER["convention"]
+
+
+SWITCH_MAIN = """
+uniform sampler2D inputs;
+uniform sampler2D coefficientLut;
+uniform sampler2D curveLut;
+layout(location = 0) out vec4 gulbrandsen;
+layout(location = 1) out vec4 nk;
+layout(location = 2) out vec4 direct;
+void main() {
+    vec4 a = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+    gulbrandsen = fresnelCoefficientsGulbrandsenSelected(coefficientLut, a.x, a.y);
+    nk = fresnelCoefficientsNKSelected(coefficientLut, a.x * 4.0, a.y * 8.0);
+    direct = vec4(fresnelBasisDirectSelected(curveLut, a.z, gulbrandsen, gulbrandsen, gulbrandsen), 0.0);
+}
+"""
+
+
+def test_the_switch_selects_either_path_on_llvmpipe():
+    """``FRESNEL_BASIS_SOLVE`` (default false: the tables; ``#define FRESNEL_BASIS_SOLVE true``: the solve): the
+    ``…Selected`` functions give exactly what the chosen path's own functions give."""
+    inputs = _inputs()
+    include = INCLUDES["fresnel_basis.glsl"]
+    outputs = {}
+    for solve in (False, True):
+        define = "#define FRESNEL_BASIS_SOLVE true\n" if solve else ""
+        outputs[solve] = gl_draw(
+            "#version 330\n" + define + include + SWITCH_MAIN,
+            [inputs.reshape(32, 32, 4), TABLE, CURVES],
+            {"inputs": 0} if solve else {"inputs": 0, "coefficientLut": 1, "curveLut": 2},  # the compiler keeps one
+            3,
+        )
+    paths = {
+        False: (
+            "fresnelCoefficientsGulbrandsenTable(coefficientLut, a.x, a.y)",
+            "fresnelCoefficientsNKTable(coefficientLut, a.x * 4.0, a.y * 8.0)",
+            "fresnelBasisDirectTable(curveLut, ",
+        ),
+        True: (
+            "fresnelCoefficientsGulbrandsen(a.x, a.y)",
+            "fresnelCoefficientsNK(a.x * 4.0, a.y * 8.0)",
+            "fresnelBasisDirect(",
+        ),
+    }
+    for solve, (gulbrandsen, nk, direct) in paths.items():
+        own = (
+            SWITCH_MAIN.replace("fresnelCoefficientsGulbrandsenSelected(coefficientLut, a.x, a.y)", gulbrandsen)
+            .replace("fresnelCoefficientsNKSelected(coefficientLut, a.x * 4.0, a.y * 8.0)", nk)
+            .replace("fresnelBasisDirectSelected(curveLut, ", direct)
+        )
+        expected = gl_draw(
+            "#version 330\n" + include + own,
+            [inputs.reshape(32, 32, 4), TABLE, CURVES],
+            {"inputs": 0} if solve else {"inputs": 0, "coefficientLut": 1, "curveLut": 2},  # the solve reads no table
+            3,
+        )
+        for got, want in zip(outputs[solve], expected):
+            np.testing.assert_array_equal(got, want)
+    assert np.max(np.abs(outputs[True][0] - outputs[False][0])) > 1e-4  # two paths, not one
+
+
+def test_the_switch_is_a_pipeline_constant_in_wgsl(monkeypatch):
+    """WGSL has no preprocessor: ``override FRESNEL_BASIS_SOLVE`` set at pipeline creation selects the solve."""
+    import wgpu
+
+    inputs = _inputs()
+    device = wgpu_device(monkeypatch, features=("float32-filterable",))
+    usage = wgpu.BufferUsage
+    main = """
+@group(0) @binding(0) var<storage, read> inputs: array<vec4f>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4f>;
+@group(0) @binding(2) var coefficientLut: texture_2d<f32>;
+@group(0) @binding(3) var linearClamp: sampler;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if (i >= arrayLength(&inputs)) { return; }
+    outputs[2u * i] = fresnelCoefficientsGulbrandsenSelected(coefficientLut, linearClamp, inputs[i].x, inputs[i].y);
+    outputs[2u * i + 1u] = fresnelCoefficientsGulbrandsen(inputs[i].x, inputs[i].y);
+}
+"""
+    rgba = np.zeros(TABLE.shape[:2] + (4,), np.float32)
+    rgba[..., :2] = TABLE
+    texture = device.create_texture(
+        size=(TABLE.shape[1], TABLE.shape[0], 1),
+        format=wgpu.TextureFormat.rgba32float,
+        usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+    )
+    device.queue.write_texture(
+        {"texture": texture},
+        rgba.tobytes(),
+        {"bytes_per_row": TABLE.shape[1] * 16, "rows_per_image": TABLE.shape[0]},
+        (TABLE.shape[1], TABLE.shape[0], 1),
+    )
+    sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
+    results = {}
+    for solve in (False, True):
+        input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
+        output_buffer = device.create_buffer(size=len(inputs) * 32, usage=usage.STORAGE | usage.COPY_SRC)
+        data = wgpu_compute(
+            device,
+            INCLUDES["fresnel_basis.wgsl"] + main,
+            [{"buffer": input_buffer}, {"buffer": output_buffer}, texture.create_view(), sampler],
+            output_buffer,
+            len(inputs),
+            constants={"FRESNEL_BASIS_SOLVE": 1} if solve else None,
+        )
+        results[solve] = np.frombuffer(data, np.float32).reshape(len(inputs), 2, 4)
+    np.testing.assert_array_equal(results[True][:, 0], results[True][:, 1])  # the solve, when set
+    assert np.max(np.abs(results[False][:, 0] - results[False][:, 1])) > 1e-4  # the tables, by default

@@ -78,6 +78,25 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
     return fresnelCoefficientsTableRead(coefficientLut, r, q, clamp(g, 0.0, 1.0));
 }
 
+// Gulbrandsen's (r, g) and (eta, kappa) by the path FRESNEL_BASIS_SOLVE selects.
+{{terms}} fresnelCoefficientsGulbrandsenSelected(sampler2D coefficientLut, float r, float g)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsGulbrandsen(r, g);
+    }
+    return fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g);
+}
+
+{{terms}} fresnelCoefficientsNKSelected(sampler2D coefficientLut, float eta, float kappa)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelCoefficientsNK(eta, kappa);
+    }
+    return fresnelCoefficientsNKTable(coefficientLut, eta, kappa);
+}
+
 // Linear artist models: F = w0 (1 - (1 - mu)^5) + w1 (1 - mu)^5 + w2 mu (1 - mu)^6 (Hoffman 2023, eq. 5-6 with p = 5).
 // fresnelLinear<Model> gives one channel's weights w = (w0, w1, w2), its inputs sanitised to [0, 1] (NaN to 0): the
 // Schlick table's R, G and A preintegrate the three functions exactly (fresnelLinearSplitSum), and

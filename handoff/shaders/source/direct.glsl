@@ -23,6 +23,16 @@ vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, {{terms}} cR, {{te
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// F(V.H) by the path FRESNEL_BASIS_SOLVE selects: the polynomial (true) or the curve table.
+vec3 fresnelBasisDirectSelected(sampler2D curveLut, float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    if (FRESNEL_BASIS_SOLVE)
+    {
+        return fresnelBasisDirect(VdotH, cR, cG, cB);
+    }
+    return fresnelBasisDirectTable(curveLut, VdotH, cR, cG, cB);
+}
+
 // A linear model's F(V.H) for a punctual light, per colour channel, in closed form: dot(w, (1 - s, s, mu (1 - mu)^6))
 // with s = (1 - mu)^5, clamped to [0, 1] as the models are.
 vec3 fresnelLinearDirect(float VdotH, vec3 wR, vec3 wG, vec3 wB)

@@ -5,6 +5,14 @@ float fresnelSanitize(float x, float fallback, float lo, float hi)
     return ((floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u) ? fallback : clamp(x, lo, hi);
 }
 
+// The switch between the per-pixel paths (the fresnel...Selected functions): false (the default) reads the per-pixel
+// tables of `fresnel-lut build --pixel-tables`, true solves per pixel (a software rasteriser, which filters textures
+// in software; a build without those tables). GLSL and HLSL: #define FRESNEL_BASIS_SOLVE true before the include;
+// WGSL: the pipeline-overridable constant FRESNEL_BASIS_SOLVE. Either way the compiler keeps one path.
+#ifndef FRESNEL_BASIS_SOLVE
+#define FRESNEL_BASIS_SOLVE false
+#endif
+
 // x clamped to [lo, hi] (0 <= lo < hi) in one integer clamp of its bits, which orders non-negative floats as
 // integers: NaN goes to hi or lo by its sign bit, -0 and negatives to lo, +inf to hi. Cheaper than fresnelSanitize
 // where the fallback may be an end of the range.
