@@ -13,7 +13,9 @@ subset is small enough to translate line by line, and the WGSL stays readable.
 The subset (what :func:`translate` accepts; anything else is a :class:`ShaderSourceError` naming the line):
 
 * top level: ``//`` comments, ``const TYPE NAME = EXPR;``, ``const TYPE NAME[N] = TYPE[N](…);``, a ``struct`` of
-  fields, and functions ``TYPE name(params)`` with ``{`` on the next line and ``}`` closing alone;
+  fields, and functions ``TYPE name(params)`` with ``{`` on the next line and ``}`` closing alone; a switch, the
+  three lines ``#ifndef NAME`` / ``#define NAME true|false`` / ``#endif``, which HLSL keeps and WGSL (no
+  preprocessor) declares ``override NAME: bool = …;``, a constant its pipeline may set;
 * parameters ``TYPE name``, ``out TYPE name`` (GLSL and HLSL only: a function with one is left out of WGSL, which
   has no out parameters), ``TYPE name[N]``, and textures ``sampler2D name``: in HLSL and WGSL a function whose
   parameters hold textures takes one sampler, ``linearClamp``, after the last of them, and calls pass it there;

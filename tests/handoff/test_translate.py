@@ -98,6 +98,7 @@ void both(float x, out float a, out float b)
         ("float f(inout float x)\n{\n    return x;\n}\n", "a parameter the subset does not know"),
         ("float f(float x)\n{\n    return x > 0.0 ? x;\n}\n", "a conditional without its ':'"),
         ("uniform float x;\n", "not a declaration the subset knows"),
+        ("#ifndef SWITCH\n#define SWITCH 2\n#endif\n", "a switch is #ifndef NAME"),
     ],
 )
 def test_what_the_subset_does_not_hold_is_one_line_naming_it(source, fragment):
@@ -109,3 +110,10 @@ def test_what_the_subset_does_not_hold_is_one_line_naming_it(source, fragment):
 def test_an_unknown_language_is_refused():
     with pytest.raises(ShaderSourceError, match=r"language must be one of \['glsl', 'hlsl', 'wgsl'\]"):
         translate("", "msl")
+
+
+def test_a_switch_is_a_define_in_hlsl_and_a_pipeline_constant_in_wgsl():
+    source = "#ifndef SOLVE\n#define SOLVE false\n#endif\nfloat f(float x)\n{\n    if (SOLVE)\n    {\n        return x;\n    }\n    return -x;\n}\n"
+    assert translate(source, "hlsl").startswith("#ifndef SOLVE\n#define SOLVE false\n#endif\n")
+    wgsl = translate(source, "wgsl")
+    assert wgsl.startswith("override SOLVE: bool = false;\nfn f(x: f32) -> f32") and "    if (SOLVE)" in wgsl
