@@ -20,7 +20,7 @@
 //   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,
 //   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).
 // Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to
-// [0, 0.9999], the rest to [0, 1]).
+// [0, 0.9999], the rest to [0, 1]); the table functions send a NaN to an end of its range by its sign bit.
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the
 // direct-light curves within 2.2e-5 of the basis' spline (float64; tests/luts/ measures all three
 // on the GPU).

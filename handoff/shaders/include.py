@@ -298,7 +298,7 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
             "//   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,",
             "//   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).",
             "// Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to",
-            "// [0, 0.9999], the rest to [0, 1]).",
+            "// [0, 0.9999], the rest to [0, 1]); the table functions send a NaN to an end of its range by its sign bit.",
             f"// Float32: coefficients within {_exponent(c.float32_tolerance)} of float64, the Fresnel curve they give "
             f"within {_exponent(c.float32_curve_tolerance)}; the",
             f"// direct-light curves within {_exponent(c.curve_error, 1)} of the basis' spline (float64; tests/luts/ "

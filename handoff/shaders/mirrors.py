@@ -169,13 +169,15 @@ def coefficients_per_pixel_gulbrandsen_table(
     """(…, K) coefficients of (r, g) texels read from the coefficient table (H, W, K − 2) as
     ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights, or rounded to ``weight_bits`` as GPUs
     that filter with 8-bit weights round them); a basis of more than six terms, which has no table, solves as the
-    include does."""
+    include does (and a two-term basis reads nothing: ``table`` may be None for both)."""
     constants = shader_constants() if constants is None else constants
     reflectivity, edge_tint = np.broadcast_arrays(
         bits_clamp(reflectivity, *REFLECTIVITY_LIMITS), bits_clamp(edge_tint, 0.0, 1.0)
     )
     if constants.n_terms > 6:
         return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
+    if constants.n_terms == 2:  # c0 and c1 alone: nothing to read
+        table = np.zeros((2, 2, 0))
     table = as_float_array("table", table)
     if table.ndim != 3 or table.shape[-1] != constants.n_terms - 2:
         raise ParameterError(f"table must be (H, W, {constants.n_terms - 2}) for this basis, got {table.shape}")

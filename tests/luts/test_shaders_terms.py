@@ -183,3 +183,41 @@ void main()
     (tmp_path / "material.frag").write_text(head + includes["fresnel_basis.glsl"] + glsl, encoding="utf-8")
     checked = subprocess.run([_validator(), str(tmp_path / "material.frag")], capture_output=True, text=True)
     assert checked.returncode == 0, checked.stdout + checked.stderr
+
+
+def test_the_coefficient_table_path_of_other_sizes_on_llvmpipe(basis):
+    """``fresnelCoefficientsGulbrandsenTable`` of a K-term include with a table of its basis (K − 2 channels; here the
+    four-point table, seconds to build) against the mirror: c0 = r, c1 = 1 − r and the fetch, within 1e-5; K = 2 reads
+    nothing and K = 8 (no table: more than six terms) solves, as their mirrors do."""
+    from basis.coefficient_table import coefficient_table
+    from handoff.shaders import coefficients_per_pixel_gulbrandsen_table
+
+    k = basis.n_terms
+    table = coefficient_table(basis, fit="four-point") if 3 <= k <= 6 else np.zeros((128, 512, max(k - 2, 1)))
+    rgba = np.zeros(table.shape[:2] + (4,))
+    rgba[..., : min(table.shape[2], 4)] = table[..., :4]
+    inputs = per_pixel_inputs()
+    wide = _wide(basis)
+    main = """
+uniform sampler2D inputs;
+uniform sampler2D coefficientLut;
+layout(location = 0) out vec4 lo;
+layout(location = 1) out vec4 hi;
+void main() {
+    vec4 a = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+    TERMS c = fresnelCoefficientsGulbrandsenTable(coefficientLut, a.z, a.w);
+    OUTPUTS
+}
+""".replace("TERMS", "FresnelTerms8" if wide else "vec4").replace(
+        "OUTPUTS", "lo = c.lo;\n    hi = c.hi;" if wide else "lo = c;\n    hi = vec4(0.0);"
+    )
+    include = dict(includes_of(basis))["fresnel_basis.glsl"]
+    uniforms = {"inputs": 0} if k in (2, 8) else {"inputs": 0, "coefficientLut": 1}
+    lo, hi = gl_draw("#version 330\n" + include + main, [inputs.reshape(32, 32, 4), rgba], uniforms, 2)
+    got = np.concatenate([lo, hi], axis=-1)[:, :k]
+    expected = coefficients_per_pixel_gulbrandsen_table(
+        table if 3 <= k <= 6 else None, inputs[:, 2], inputs[:, 3], shader_constants(basis)
+    )
+    assert np.all(np.isfinite(got))
+    tolerance = 1e-5 if k <= 6 else shader_constants(basis).float32_tolerance
+    assert np.max(np.abs(got - expected)) <= tolerance, float(np.max(np.abs(got - expected)))
