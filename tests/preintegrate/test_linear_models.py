@@ -52,7 +52,7 @@ def _texel(i, j):
 
 def test_the_table_holds_the_linear_models_split_sums_to_an_independent_cubature():
     """Max |F̄_table − F̄_cubature| over 22 texels × 24 materials ≤ 1e-6 (float32 storage times weights up to 17.6,
-    and the quadrature's 2e-8 per channel; measured 5.4e-8); α < 0.05 through the half-vector cubature, μo = 0 as
+    and the quadrature's 5e-8 per channel; measured 5.4e-8); α < 0.05 through the half-vector cubature, μo = 0 as
     μo = 1e-9 (tolerances of tests/fresnel_lut/test_cli.py there). Every texel, through the channels:
     tests/preintegrate/test_every_texel.py."""
     materials = _materials(np.random.default_rng(39))
