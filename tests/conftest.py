@@ -329,3 +329,51 @@ def wgpu_compute(device, code: str, resources: list, output_buffer, count: int, 
     compute.end()
     device.queue.submit([encoder.finish()])
     return device.queue.read_buffer(output_buffer)
+
+
+def wgpu_texture_views(device, tables) -> list:
+    """Views of ``tables`` ((H, W, C ≤ 4) arrays) uploaded to ``device`` as rgba32float textures (channels beyond C
+    zero), as the include's tables are bound: bilinear filtering needs the float32-filterable feature."""
+    import numpy as np
+    import wgpu
+
+    views = []
+    for table in tables:
+        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
+        rgba[..., : table.shape[2]] = table
+        texture = device.create_texture(
+            size=(table.shape[1], table.shape[0], 1),
+            format=wgpu.TextureFormat.rgba32float,
+            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+        )
+        device.queue.write_texture(
+            {"texture": texture},
+            rgba.tobytes(),
+            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
+            (table.shape[1], table.shape[0], 1),
+        )
+        views.append(texture.create_view())
+    return views
+
+
+def linear_model_materials(rng, count: int, oversample: int = 4) -> list:
+    """(model, parameters (count,) each) of random materials of the four models the Schlick table holds exactly
+    (Schlick F0/F90, F82, Adobe F82 tint, generalised Adobe with p = 5) whose curves stay in [0, 1] (the models' clamp
+    inactive, where the linear form is the model); ``oversample`` × ``count`` draws per model to choose from."""
+    import numpy as np
+
+    from basis.models import fresnel_model
+
+    unit = lambda: rng.uniform(0.0, 1.0, oversample * count)  # noqa: E731
+    drawn = {
+        "generalized-schlick": {"r0": unit(), "r90": unit(), "exponent": 5.0},
+        "f82": {"f0": unit(), "f82": unit()},
+        "adobe": {"f0": unit(), "tint": unit()},
+        "generalized-adobe": {"r0": unit(), "r90": unit(), "tint": unit(), "exponent": 5.0},
+    }
+    chosen = []
+    for model, parameters in drawn.items():
+        inside = np.flatnonzero(fresnel_model(model).clamp_is_inactive(**parameters))[:count]
+        assert inside.size == count, model
+        chosen.append((model, {k: (v[inside] if np.ndim(v) else v) for k, v in parameters.items()}))
+    return chosen

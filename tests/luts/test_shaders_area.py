@@ -19,7 +19,7 @@ from handoff.shaders import linear_split_sum, linear_weights, ltc_coordinates, r
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ltc import ltc_grid, rect_light_integral
 from preintegrate.lut import LutGrid
-from tests.conftest import gl_draw, wgpu_compute, wgpu_device
+from tests.conftest import gl_draw, wgpu_compute, wgpu_device, wgpu_texture_views
 
 INCLUDES = dict(shader_includes())
 COEFFICIENTS = np.array([[0.9, 0.1, -0.02, 0.01], [0.75, 0.25, 0.01, 0.01], [0.42, 0.58, 0.03, 0.0]])
@@ -177,22 +177,7 @@ def test_wgsl_rect_light_on_webgpu_lavapipe_matches_the_mirrors(monkeypatch):
     inputs = np.stack([a, b], axis=1).astype(np.float32)
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
     output_buffer = device.create_buffer(size=len(a) * OUTPUTS * 16, usage=usage.STORAGE | usage.COPY_SRC)
-    views = []
-    for table in (ltc, basis, schlick):
-        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
-        rgba[..., : table.shape[2]] = table
-        texture = device.create_texture(
-            size=(table.shape[1], table.shape[0], 1),
-            format=wgpu.TextureFormat.rgba32float,
-            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-        )
-        device.queue.write_texture(
-            {"texture": texture},
-            rgba.tobytes(),
-            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
-            (table.shape[1], table.shape[0], 1),
-        )
-        views.append(texture.create_view())
+    views = wgpu_texture_views(device, (ltc, basis, schlick))
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     code = INCLUDES["fresnel_basis.wgsl"] + WGSL_MAIN
     for colour, row, weights in zip("RGB", COEFFICIENTS, WEIGHTS):

@@ -13,7 +13,7 @@ from basis.storage import shipped_path
 from handoff.atlas import ATLAS_WIDTH, pack_atlas
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, COEFFICIENT_LUT, CURVE_LUT, LTC_LUT, SCHLICK_LUT
-from tests.conftest import gl_draw, wgpu_compute, wgpu_device
+from tests.conftest import gl_draw, wgpu_compute, wgpu_device, wgpu_texture_views
 
 ROLES = {
     "basis": BASIS_LUT,
@@ -124,22 +124,7 @@ def _wgsl(device, include: str, textures: list[np.ndarray]) -> np.ndarray:
     usage = wgpu.BufferUsage
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
     output_buffer = device.create_buffer(size=len(inputs) * 32, usage=usage.STORAGE | usage.COPY_SRC)
-    views = []
-    for table in textures:
-        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
-        rgba[..., : table.shape[2]] = table
-        texture = device.create_texture(
-            size=(table.shape[1], table.shape[0], 1),
-            format=wgpu.TextureFormat.rgba32float,
-            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-        )
-        device.queue.write_texture(
-            {"texture": texture},
-            rgba.tobytes(),
-            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
-            (table.shape[1], table.shape[0], 1),
-        )
-        views.append(texture.create_view())
+    views = wgpu_texture_views(device, textures)
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     data = wgpu_compute(
         device,

@@ -23,7 +23,7 @@ from handoff.shaders import (
     shader_includes,
 )
 from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT
-from tests.conftest import gl_draw, wgpu_compute, wgpu_device
+from tests.conftest import gl_draw, wgpu_compute, wgpu_device, wgpu_texture_views
 
 INCLUDES = dict(shader_includes())
 TABLE, HEADER = read_lut(shipped_path(COEFFICIENT_LUT))
@@ -137,22 +137,7 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_mirror(monkeypatch):
     usage = wgpu.BufferUsage
     input_buffer = device.create_buffer_with_data(data=inputs.tobytes(), usage=usage.STORAGE)
     output_buffer = device.create_buffer(size=len(inputs) * 48, usage=usage.STORAGE | usage.COPY_SRC)
-    views = []
-    for table in (TABLE, CURVES):
-        rgba = np.zeros(table.shape[:2] + (4,), np.float32)
-        rgba[..., : table.shape[2]] = table
-        texture = device.create_texture(
-            size=(table.shape[1], table.shape[0], 1),
-            format=wgpu.TextureFormat.rgba32float,
-            usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-        )
-        device.queue.write_texture(
-            {"texture": texture},
-            rgba.tobytes(),
-            {"bytes_per_row": table.shape[1] * 16, "rows_per_image": table.shape[0]},
-            (table.shape[1], table.shape[0], 1),
-        )
-        views.append(texture.create_view())
+    views = wgpu_texture_views(device, (TABLE, CURVES))
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     data = wgpu_compute(
         device,
@@ -250,19 +235,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[2u * i + 1u] = fresnelCoefficientsGulbrandsen(inputs[i].x, inputs[i].y);
 }
 """
-    rgba = np.zeros(TABLE.shape[:2] + (4,), np.float32)
-    rgba[..., :2] = TABLE
-    texture = device.create_texture(
-        size=(TABLE.shape[1], TABLE.shape[0], 1),
-        format=wgpu.TextureFormat.rgba32float,
-        usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-    )
-    device.queue.write_texture(
-        {"texture": texture},
-        rgba.tobytes(),
-        {"bytes_per_row": TABLE.shape[1] * 16, "rows_per_image": TABLE.shape[0]},
-        (TABLE.shape[1], TABLE.shape[0], 1),
-    )
+    (view,) = wgpu_texture_views(device, [TABLE])
     sampler = device.create_sampler(mag_filter="linear", min_filter="linear")
     results = {}
     for solve in (False, True):
@@ -271,7 +244,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         data = wgpu_compute(
             device,
             INCLUDES["fresnel_basis.wgsl"] + main,
-            [{"buffer": input_buffer}, {"buffer": output_buffer}, texture.create_view(), sampler],
+            [{"buffer": input_buffer}, {"buffer": output_buffer}, view, sampler],
             output_buffer,
             len(inputs),
             constants={"FRESNEL_BASIS_SOLVE": 1} if solve else None,

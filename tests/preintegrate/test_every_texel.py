@@ -17,10 +17,10 @@ materials of the four linear models within 8.3e-8. The library's earlier quadrat
 import numpy as np
 import pytest
 
-from basis.models import fresnel_model
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, SCHLICK_LUT, shipped_lut
 from preintegrate.channels import basis_channels, schlick_table_weights
+from tests.conftest import linear_model_materials
 from tests.references.integration import reference_albedo, reference_albedo_grid, reference_albedo_half_vector
 
 SCHLICK = read_lut(shipped_lut(SCHLICK_LUT))[0]  # (128, 128, 4)
@@ -71,30 +71,16 @@ def test_every_texel_of_both_tables_is_the_independent_quadrature(reference):
     assert np.all(worst <= 1e-7), worst.tolist()
 
 
-def _materials(rng, count=8):
-    """(model, parameters) of random materials of the four models the table holds, curves inside [0, 1]."""
-    unit = lambda: rng.uniform(0.0, 1.0, 8 * count)  # noqa: E731
-    drawn = {
-        "generalized-schlick": {"r0": unit(), "r90": unit(), "exponent": 5.0},
-        "f82": {"f0": unit(), "f82": unit()},
-        "adobe": {"f0": unit(), "tint": unit()},
-        "generalized-adobe": {"r0": unit(), "r90": unit(), "tint": unit(), "exponent": 5.0},
-    }
-    chosen = []
-    for model, parameters in drawn.items():
-        inside = np.flatnonzero(fresnel_model(model).clamp_is_inactive(**parameters))[:count]
-        assert inside.size == count, model
-        chosen.append((model, {k: (v[inside] if np.ndim(v) else v) for k, v in parameters.items()}))
-    return chosen
-
-
 def test_every_texel_holds_the_linear_models_to_1e6(reference):
     """F̄ of 32 random materials (Schlick F0/F90, F82, Adobe F82 tint, generalised Adobe p = 5; weights up to 17.6
     on the dip) from the shipped table, at every texel, within 1e-6 of the reference of the model's own split sum
     (its weights on the reference channels: the model is linear in them, and tests/preintegrate/test_linear_models.py
     checks that against the models' own curves); measured 8.3e-8."""
     weights = np.concatenate(
-        [schlick_table_weights(model, **parameters) for model, parameters in _materials(np.random.default_rng(39))]
+        [
+            schlick_table_weights(model, **parameters)
+            for model, parameters in linear_model_materials(np.random.default_rng(39), 8, oversample=8)
+        ]
     )  # (32, 4)
     error = np.abs((SCHLICK - reference[..., :4]) @ weights.T)
     assert float(np.max(error)) <= 1e-6, float(np.max(error))

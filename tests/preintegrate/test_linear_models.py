@@ -15,6 +15,7 @@ from handoff.exr import read_lut
 from handoff.shipped import SCHLICK_LUT, shipped_lut
 from preintegrate.channels import schlick_table_weights
 from preintegrate.multiple_scattering import linear_model_albedo, schlick_table_averages
+from tests.conftest import linear_model_materials
 from tests.references.integration import reference_albedo, reference_albedo_half_vector
 
 TABLE = read_lut(shipped_lut(SCHLICK_LUT))[0]  # (128, 128, 4)
@@ -27,25 +28,6 @@ TEXELS = [(i, j) for i in (57, 88, 127) for j in (1, 6, 40, 90, 127)] + [(0, 40)
 TEXELS += [(30, 1), (30, 40), (30, 90), (30, 127)]
 
 
-def _materials(rng, count=6):
-    """(model, parameters (count,) each) of random materials whose curves stay in [0, 1] (the models' clamp
-    inactive, where the linear form is the model)."""
-    unit = lambda: rng.uniform(0.0, 1.0, 4 * count)  # noqa: E731
-    drawn = {
-        "generalized-schlick": {"r0": unit(), "r90": unit(), "exponent": 5.0},
-        "f82": {"f0": unit(), "f82": unit()},
-        "adobe": {"f0": unit(), "tint": unit()},
-        "generalized-adobe": {"r0": unit(), "r90": unit(), "tint": unit(), "exponent": 5.0},
-    }
-    chosen = []
-    for model, parameters in drawn.items():
-        found = fresnel_model(model)
-        inside = np.flatnonzero(found.clamp_is_inactive(**parameters))[:count]
-        assert inside.size == count, model
-        chosen.append((model, {k: (v[inside] if np.ndim(v) else v) for k, v in parameters.items()}))
-    return chosen
-
-
 def _texel(i, j):
     return (i / (SIZE - 1)) ** 2, (j / (SIZE - 1)) ** 2  # (μo, α): √μo = i/(W − 1), α = r², r = j/(H − 1)
 
@@ -55,7 +37,7 @@ def test_the_table_holds_the_linear_models_split_sums_to_an_independent_cubature
     and the quadrature's 5e-8 per channel; measured 5.4e-8); α < 0.05 through the half-vector cubature, μo = 0 as
     μo = 1e-9 (tolerances of tests/fresnel_lut/test_cli.py there). Every texel, through the channels:
     tests/preintegrate/test_every_texel.py."""
-    materials = _materials(np.random.default_rng(39))
+    materials = linear_model_materials(np.random.default_rng(39), 6)
     weights = np.concatenate([schlick_table_weights(model, **parameters) for model, parameters in materials])
 
     def curves(x):  # (N,) → (N, materials): the models' own curves, not their channels
@@ -82,7 +64,7 @@ def test_weights_are_the_models_channels_and_other_shapes_are_refused():
 
     mu = np.linspace(0.0, 1.0, 101)
     functions = schlick_table_channels().functions(mu)  # (101, 4)
-    for model, parameters in _materials(np.random.default_rng(7), count=3):
+    for model, parameters in linear_model_materials(np.random.default_rng(7), 3):
         weights = schlick_table_weights(model, **parameters)  # (3, 4)
         expected = fresnel_model(model).evaluate(mu[:, None], **parameters)
         np.testing.assert_allclose(functions @ weights.T, expected, rtol=0, atol=1e-14)
