@@ -5,20 +5,21 @@
 // Per pixel, per colour channel, one vec4 per channel (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):
 //   fresnelCoefficientsNK(eta, kappa)               exact Fresnel at the 2 fit angles + a constant 2x2 inverse
 //   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same
-//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta
 //   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)
 //   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82
 //   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)
 //   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5
 // then, with the same coefficients: image-based light fresnelBasisSplitSum (or
-// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...) (or fresnelBasisDirectTable
-// with the curve table), rectangular lights
+// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights
 // fresnelBasisRectLight. Tables: lut, read at level 0 through
 // fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).
 // Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:
 //   fresnelLinearSchlick(f0, f90), fresnelLinearF82(f0, f82), fresnelLinearF82Tint(f0, tint),
 //   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,
 //   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).
+// Per-pixel tables (fresnel-lut build --pixel-tables): fresnelCoefficientsGulbrandsenTable(coefficientLut,
+//   r, g), fresnelCoefficientsNKTable, fresnelBasisDirectTable(curveLut, ...), or the ...Selected functions,
+//   which FRESNEL_BASIS_SOLVE switches to the solve.
 // Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to
 // [0, 0.9999], the rest to [0, 1]); the table functions send a NaN to an end of its range by its sign bit.
 // Float32: coefficients within 1e-5 of float64, the Fresnel curve they give within 5e-7; the

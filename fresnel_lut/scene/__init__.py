@@ -32,7 +32,8 @@ clamp is inactive). The scene basis is written beside its tables as ``scene_basi
 angles, content hash; every table and material entry names that hash), so the coefficients and the table
 always travel together. Every scene comes with the shader include generated for its grid (:mod:`handoff.shaders`:
 ``fresnelBasisLutUV`` on the cropped rows, the split sums, and the per-pixel coefficients and direct light of the
-scene's own basis where a table holds it, else of the generic one), ``fresnel_basis_scene.{glsl,hlsl,wgsl}``, named
+scene's own basis where a table holds it, else of the generic one; not the per-pixel tables' functions, since no such
+tables exist for a scene's basis), ``fresnel_basis_scene.{glsl,hlsl,wgsl}``, named
 apart from the default build's ``fresnel_basis.*`` so that a scene written beside a build never replaces that
 build's include, and listed in ``scene_coefficients.json`` as ``shader_includes``.
 **Path**: each material's entry in ``scene_coefficients.json`` and the report say which path it takes and why

@@ -134,7 +134,7 @@ def write_scene(
     include_basis = _include_basis(plan, basis)
     includes = [
         (name.replace(INCLUDE_STEM, SCENE_INCLUDE_STEM), text)
-        for name, text in shader_includes(include_basis, command, grid)
+        for name, text in shader_includes(include_basis, command, grid, pixel_tables=False)  # none for its basis
     ]
     texts += includes
     materials = {

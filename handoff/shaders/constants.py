@@ -104,6 +104,9 @@ class ShaderConstants:
     grid: LutGrid = LutGrid(128, 128)  # the tables' grid: the include's coordinate function reads them on it
     # role → (scale u, scale v, offset u, offset v) of each table in one atlas (handoff.atlas), None: a texture each
     atlas: dict | None = None
+    # whether the include offers the per-pixel tables' functions (a build with --pixel-tables writes their tables for
+    # this basis; a scene, which writes none for its own basis, leaves them out)
+    pixel_tables: bool = True
 
     @property
     def n_terms(self) -> int:
@@ -157,11 +160,16 @@ def linear_functions(mu: np.ndarray) -> np.ndarray:
 
 
 def shader_constants(
-    basis: Basis | None = None, grid: LutGrid | None = None, ltc_size: int = 64, atlas: dict | None = None
+    basis: Basis | None = None,
+    grid: LutGrid | None = None,
+    ltc_size: int = 64,
+    atlas: dict | None = None,
+    pixel_tables: bool = True,
 ) -> ShaderConstants:
     """The constants of :func:`shader_includes` for a basis of 2 … 8 terms (default: the shipped one), the grid of
     its tables (default: the default build's 128 × 128) and, for an include that reads one atlas, each table's map into
-    it (role → (scale u, scale v, offset u, offset v); :class:`handoff.atlas.AtlasLayout`)."""
+    it (role → (scale u, scale v, offset u, offset v); :class:`handoff.atlas.AtlasLayout`); ``pixel_tables`` False
+    leaves the functions of the per-pixel tables out of the include (a scene's basis has none)."""
     basis = resolve_basis(basis)
     system = basis.evaluate(basis.fit_angles)  # B[i, k] = b_k(θ_i)
     inverse = np.linalg.inv(system[2:, 2:])
@@ -185,6 +193,7 @@ def shader_constants(
         check_positive_int("ltc_size", ltc_size, low=2, high=1024),
         LutGrid(128, 128) if grid is None else grid,
         None if atlas is None else dict(atlas),
+        bool(pixel_tables),
     )
 
 

@@ -1,6 +1,7 @@
 """The shader include of a build: one self-contained file per language, every function written once.
 
-Public objects: ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``ATLAS_INCLUDE_STEM``, ``shader_source``, ``shader_includes``.
+Public objects: ``SHADER_INCLUDES``, ``INCLUDE_STEM``, ``ATLAS_INCLUDE_STEM``, ``PIXEL_TABLE_FUNCTIONS``, ``shader_source``,
+``shader_includes``.
 
 The include is assembled in the project's GLSL subset (:mod:`handoff.shaders.translate`) and printed in each
 language: the header, the constants of :class:`~handoff.shaders.constants.ShaderConstants`, the few functions whose
@@ -35,7 +36,14 @@ from ..shipped import CURVE_LUT_SIZE
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
 
-__all__ = ["ATLAS_INCLUDE_STEM", "INCLUDE_STEM", "SHADER_INCLUDES", "shader_includes", "shader_source"]
+__all__ = [
+    "ATLAS_INCLUDE_STEM",
+    "INCLUDE_STEM",
+    "PIXEL_TABLE_FUNCTIONS",
+    "SHADER_INCLUDES",
+    "shader_includes",
+    "shader_source",
+]
 
 #: The bodies, in the order the include holds them (each may call only what stands before it).
 SOURCES = ("fresnel.glsl", "coefficients.glsl", "direct.glsl", "tables.glsl", "area.glsl")
@@ -263,6 +271,37 @@ def _curve_table_parts(k: int) -> tuple[str, str]:
     return constant, _terms_value(["1.0", *(f"t.{axis}" for axis in "xyzw"[: k - 1])], k > 4)
 
 
+#: The functions that read the per-pixel tables (or choose them), left out of an include whose basis has none.
+PIXEL_TABLE_FUNCTIONS = (
+    "fresnelCoefficientsTableRead",
+    "fresnelCoefficientsGulbrandsenTable",
+    "fresnelCoefficientsNKTable",
+    "fresnelCoefficientsGulbrandsenSelected",
+    "fresnelCoefficientsNKSelected",
+    "fresnelCoefficientsGulbrandsenTable3",
+    "fresnelBasisDirectTable",
+    "fresnelBasisDirectSelected",
+)
+
+
+def _without_functions(text: str, names) -> str:
+    """``text`` (the assembled GLSL) without the top-level functions ``names`` and the comment lines right above
+    each."""
+    lines, kept, index = text.split("\n"), [], 0
+    pattern = re.compile(r"^\w+ (" + "|".join(map(re.escape, names)) + r")\(")
+    while index < len(lines):
+        if pattern.match(lines[index]):
+            while kept and kept[-1].startswith("//"):
+                kept.pop()
+            index = lines.index("}", index) + 1
+            if index < len(lines) and not lines[index].strip():
+                index += 1
+            continue
+        kept.append(lines[index])
+        index += 1
+    return "\n".join(kept)
+
+
 def _header(c: ShaderConstants, language: str, command: str) -> str:
     k, m = c.n_terms, c.n_terms - 2
     solve = (
@@ -283,20 +322,27 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
             "// Per pixel, per colour channel, " + kind + ' (Belcour, Bati, Barla 2020, eq. 4-5 and "Coefficients"):',
             f"//   fresnelCoefficientsNK(eta, kappa)               {solve}",
             "//   fresnelCoefficientsGulbrandsen(r, g)            Gulbrandsen 2014 eq. 7-9, then the same",
-            "//   fresnelCoefficientsGulbrandsenTable(coefficientLut, r, g)  the same from one fetch, minimax over theta",
             "//   fresnelCoefficientsSchlick(f0, f90)             Schlick 1994 (F90 = 1: the usual Schlick)",
             "//   fresnelCoefficientsF82(f0, f82)                 Hoffman 2019's absolute F82",
             "//   fresnelCoefficientsF82Tint(f0, tint)            Adobe / OpenPBR specular_color / MaterialX color82 (a tint)",
             "//   fresnelCoefficientsGeneralizedAdobe(r0, r90, t) Hoffman 2023 eq. 6, p = 5",
             "// then, with the same coefficients: image-based light fresnelBasisSplitSum (or",
-            "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...) (or fresnelBasisDirectTable",
-            "// with the curve table), rectangular lights",
+            "// fresnelBasisMultipleScattering), punctual lights fresnelBasisDirect(VdotH, ...), rectangular lights",
             f"// fresnelBasisRectLight. Tables: {textures}{sampler[language]}, read at level 0 through",
             "// fresnelBasisLutUV (bilinear, clamp to edge, no mipmaps).",
             "// Linear models exactly, from the Schlick table (R, G, A: scale, bias, dip), one vec3 of weights per channel:",
             "//   fresnelLinearSchlick(f0, f90), fresnelLinearF82(f0, f82), fresnelLinearF82Tint(f0, tint),",
             "//   fresnelLinearGeneralizedAdobe(r0, r90, tint) (Hoffman 2023 eq. 5-6, p = 5), then fresnelLinearSplitSum,",
             "//   fresnelLinearMultipleScattering, fresnelLinearDirect, fresnelLinearRectLight (schlickLut for lut).",
+            *(
+                [
+                    "// Per-pixel tables (fresnel-lut build --pixel-tables): fresnelCoefficientsGulbrandsenTable(coefficientLut,",
+                    "//   r, g), fresnelCoefficientsNKTable, fresnelBasisDirectTable(curveLut, ...), or the ...Selected functions,",
+                    "//   which FRESNEL_BASIS_SOLVE switches to the solve.",
+                ]
+                if c.pixel_tables
+                else ["// No per-pixel tables: they exist for a build's basis, not for this one."]
+            ),
             "// Inputs: NaN becomes a fallback, every other value is clamped (eta to [1e-4, 1e4], kappa to [0, 1e4], r to",
             "// [0, 0.9999], the rest to [0, 1]); the table functions send a NaN to an end of its range by its sign bit.",
             f"// Float32: coefficients within {_exponent(c.float32_tolerance)} of float64, the Fresnel curve they give "
@@ -451,6 +497,8 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
     bodies.insert(1, fit_functions)  # after the exact Fresnel helpers, before the solve that calls them
     text = "\n".join([_header(c, "glsl", command), *preamble, _record(wide), atlas_functions, *bodies])
     text = re.sub(r"\{\{(\w+)\}\}", lambda match: placeholders[match.group(1)], text)
+    if not c.pixel_tables:
+        text = _without_functions(text, PIXEL_TABLE_FUNCTIONS)
     if not wide:  # the second table exists only for five to eight terms
         text = re.sub(r",\s*(?:sampler2D\s+)?lut2\b", "", text)
     return text
@@ -481,12 +529,13 @@ def shader_includes(
     grid: LutGrid | None = None,
     ltc_size: int = 64,
     atlas: dict | None = None,
+    pixel_tables: bool = True,
 ) -> list[tuple[str, str]]:
     """(file name, text) of the include in every language for ``basis`` (default: the shipped one), its tables' grid
     and the LTC table's size; with ``atlas`` (role → map, :meth:`handoff.atlas.AtlasLayout.uv_map`), the include that
     reads every table from that atlas, ``fresnel_basis_atlas.*`` (the same functions: pass the atlas for every
-    table)."""
-    constants = shader_constants(basis, grid, ltc_size, atlas)
+    table); ``pixel_tables`` False leaves the per-pixel tables' functions out (:data:`PIXEL_TABLE_FUNCTIONS`)."""
+    constants = shader_constants(basis, grid, ltc_size, atlas, pixel_tables)
     includes = [(name, generate(constants, command)) for name, generate in SHADER_INCLUDES.values()]
     if atlas is not None:
         includes = [(name.replace(INCLUDE_STEM, ATLAS_INCLUDE_STEM, 1), text) for name, text in includes]

@@ -20,6 +20,7 @@ from basis.eigenbasis import Basis, default_basis
 from fresnel_lut.scene import plan_scene, read_scene, write_scene
 from handoff.exr import read_lut
 from handoff.shaders import shader_constants
+from handoff.shaders.include import PIXEL_TABLE_FUNCTIONS
 from preintegrate.quadrature import directional_albedo
 from tests.conftest import PER_PIXEL_CALLS, PER_PIXEL_GLSL_MAIN, assert_per_pixel_outputs, gl_draw, per_pixel_inputs
 
@@ -46,6 +47,9 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
     for name in document["shader_includes"]:
         text = (out / name).read_text(encoding="utf-8")
         assert f"fresnel:basis_hash = {trained.content_hash}" in text and "fresnel-lut scene scene.toml" in text
+        # no per-pixel tables exist for the scene's own basis, so its include offers none of their functions
+        assert not [function for function in PIXEL_TABLE_FUNCTIONS if function + "(" in text], name
+        assert "fresnelCoefficientsGulbrandsen(" in text
     report = (out / "scene_report.md").read_text(encoding="utf-8")
     assert (
         f"Shader include: fresnel_basis_scene.glsl, fresnel_basis_scene.hlsl, fresnel_basis_scene.wgsl, generated from basis {trained.content_hash}"
