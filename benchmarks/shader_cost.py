@@ -371,6 +371,7 @@ def errors() -> dict[str, tuple[float, float]]:
         np.max(np.abs(f0_metals[:, None] * schlick_fbar[:, 0] + schlick_fbar[:, 1] - metal_curves @ weights.T))
     )
     e_table = lut_lookup(schlick_table, nv.ravel(), rr.ravel())[:, 2]
+    coefficient_lut = read_lut(shipped_path(COEFFICIENT_LUT))[0]
     exact_e = float(np.max(np.abs(metal_curves_at(nv.ravel(), eta, kappa) * e_table - metal_curves @ weights.T)))
     return {
         "schlick": (schlick_f, schlick_fbar),
@@ -378,10 +379,10 @@ def errors() -> dict[str, tuple[float, float]]:
         "basis per pixel (eta, kappa)": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (r, g)": measure(artist_curves, coefficients_per_pixel_gulbrandsen(r, g)),
         "basis per pixel (r, g), tables": measure(
-            artist_curves, coefficients_per_pixel_gulbrandsen_table(read_lut(shipped_path(COEFFICIENT_LUT))[0], r, g)
+            artist_curves, coefficients_per_pixel_gulbrandsen_table(coefficient_lut, r, g)
         ),
         "basis per pixel (eta, kappa), tables": measure(
-            metal_curves, coefficients_per_pixel_nk_table(read_lut(shipped_path(COEFFICIENT_LUT))[0], eta, kappa)
+            metal_curves, coefficients_per_pixel_nk_table(coefficient_lut, eta, kappa)
         ),
         "basis uniform, curve table": measure(metal_curves, coefficients_per_pixel_nk(eta, kappa)),
         "basis per pixel (F0, F82 tint)": measure(

@@ -101,9 +101,16 @@ def _stem(file_name: str) -> str:
 DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), "ggx_schlick_rgb", _stem(AVERAGE_LUT))
 
 
-def _coefficient_stem(terms: int) -> str:
-    """The coefficient table's stem for a basis of K terms: K − 2 channels."""
-    return _stem(COEFFICIENT_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: terms - 2]
+def _channels_stem(shipped: str, channels: int) -> str:
+    """The stem of a shipped per-pixel table (``COEFFICIENT_LUT``, ``CURVE_LUT``) for ``channels`` channels: its
+    channel suffix replaced (``fresnel_coefficients_rgba`` for a six-term basis)."""
+    return _stem(shipped).rsplit("_", 1)[0] + "_" + "rgba"[:channels]
+
+
+#: The per-pixel tables' stems of every basis size that has them, owned by a build with ``--pixel-tables``.
+_PIXEL_TABLE_STEMS = tuple(_channels_stem(COEFFICIENT_LUT, k) for k in range(1, 5)) + tuple(
+    _channels_stem(CURVE_LUT, k) for k in range(1, 5)
+)
 
 
 #: Every file of a default build of a four-term basis: the tables and the generated shader include.
@@ -267,20 +274,20 @@ def write_default_build(
     progress: Callable[[int, int], None] | None = None,
     ltc: LutGrid | None = None,
     ltc_progress: Callable[[int, int], None] | None = None,
-    coefficients: bool = False,
+    pixel_tables: bool = False,
     atlas: bool = False,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
     transaction, so that tables and per-pixel coefficients always share one basis; with ``ltc`` (``--ltc``), the
-    area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too; with ``coefficients``
+    area lights' LTC table fitted on that grid (:func:`ltc_build_table`) too; with ``pixel_tables``
     (``--pixel-tables``), the per-pixel tables: Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)
     and the direct-light curves over V·H (:func:`curve_table`); with ``atlas`` (``--atlas``, which needs both), every
     table the include reads packed into one texture (:func:`handoff.atlas.pack_atlas`) and the include that reads it,
     ``fresnel_basis_atlas.*``."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
-    if atlas and (ltc is None or not coefficients):
+    if atlas and (ltc is None or not pixel_tables):
         raise ParameterError("--atlas packs every table the include reads: build it with --ltc and --pixel-tables")
     if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
         raise ParameterError(f"ltc must be an LTC table's grid (preintegrate.ltc.ltc_grid) or None, got {ltc!r}")
@@ -292,7 +299,7 @@ def write_default_build(
     tables = default_tables(basis, grid, order, progress)
     if ltc is not None:
         tables.append(ltc_build_table(ltc, ltc_progress))
-    if coefficients:
+    if pixel_tables:
         tables += [coefficient_build_table(basis), curve_table(basis)]
     if atlas:
         packed, atlas_includes = _atlas(tables, basis, grid, ltc.width, command="fresnel-lut build --atlas")
@@ -307,12 +314,7 @@ def write_default_build(
         owned=DEFAULT_SET
         + ((_stem(LTC_LUT),) if ltc is not None else ())
         + ((ATLAS_STEM,) if atlas else ())
-        + (
-            tuple(_coefficient_stem(k) for k in range(3, 7))
-            + ("fresnel_curves_r", "fresnel_curves_rg", "fresnel_curves_rgb", "fresnel_curves_rgba")
-            if coefficients
-            else ()
-        ),
+        + (_PIXEL_TABLE_STEMS if pixel_tables else ()),
         owned_files=[
             *(name for name, _ in SHADER_INCLUDES.values()),
             *(name.replace(INCLUDE_STEM, ATLAS_INCLUDE_STEM, 1) for name, _ in SHADER_INCLUDES.values()),
@@ -333,8 +335,8 @@ def _atlas(tables: list[Table], basis: Basis, grid, ltc_size: int, command: str)
         "basis2": f"{_stem(BASIS_LUT)}_2",
         "schlick": _stem(SCHLICK_LUT),
         "ltc": _stem(LTC_LUT),
-        "coefficients": _coefficient_stem(basis.n_terms),
-        "curves": _stem(CURVE_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: basis.n_terms - 1],
+        "coefficients": _channels_stem(COEFFICIENT_LUT, basis.n_terms - 2),
+        "curves": _channels_stem(CURVE_LUT, basis.n_terms - 1),
     }
     values, layout = pack_atlas({role: by_stem[stem] for role, stem in stems.items() if stem in by_stem})
     header = table_header(
@@ -426,7 +428,7 @@ def coefficient_build_table(
             else "the four-point solve at the basis' fit angles"
         ),
     )
-    return Table(_coefficient_stem(basis.n_terms), coefficient_table(basis, fit), names, header)
+    return Table(_channels_stem(COEFFICIENT_LUT, basis.n_terms - 2), coefficient_table(basis, fit), names, header)
 
 
 def curve_table(basis: Basis | None = None, command: str = "fresnel-lut build --pixel-tables") -> Table:
@@ -450,7 +452,7 @@ def curve_table(basis: Basis | None = None, command: str = "fresnel-lut build --
         basis_hash=basis.content_hash,
     )
     values = basis.evaluate_mu(np.linspace(0.0, 1.0, CURVE_LUT_SIZE))[None, :, 1:]
-    return Table(_stem(CURVE_LUT).rsplit("_", 1)[0] + "_" + "rgba"[: basis.n_terms - 1], values, names, header)
+    return Table(_channels_stem(CURVE_LUT, basis.n_terms - 1), values, names, header)
 
 
 def write_model_build(

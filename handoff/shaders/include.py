@@ -32,6 +32,7 @@ from basis.validation import ParameterError, safe_line
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
+from ..atlas import ATLAS_ROLES
 from ..shipped import CURVE_LUT_SIZE
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
@@ -355,22 +356,11 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
     )
 
 
-#: The tables' address functions: role → the function's name suffix (handoff.atlas.ATLAS_ROLES).
-_ATLAS_FUNCTIONS = {
-    "basis": "Basis",
-    "basis2": "Basis2",
-    "schlick": "Schlick",
-    "ltc": "Ltc",
-    "coefficients": "Coefficients",
-    "curves": "Curves",
-}
-
-
 def _atlas_parts(c: ShaderConstants) -> tuple[list[str], str]:
     """(constants, functions) of the tables' address functions ``fresnelAtlas<Role>(uv)``: the identity where every
     table is its own texture, the map into its rectangle of one atlas (FRESNEL_ATLAS_<ROLE>: scale, offset)."""
     constants, functions = [], []
-    for role, suffix in _ATLAS_FUNCTIONS.items():
+    for role in ATLAS_ROLES:  # fresnelAtlasBasis, fresnelAtlasBasis2, fresnelAtlasSchlick, …
         if role == "basis2" and c.n_terms <= 4:
             continue
         if c.atlas is None:
@@ -381,7 +371,7 @@ def _atlas_parts(c: ShaderConstants) -> tuple[list[str], str]:
             name = f"FRESNEL_ATLAS_{role.upper()}"
             constants.append(_constant(name, c.atlas[role], "scale u, scale v, offset u, offset v in the atlas"))
             body = f"    return uv * {name}.xy + {name}.zw;"
-        functions.append("\n".join([f"vec2 fresnelAtlas{suffix}(vec2 uv)", "{", body, "}", ""]))
+        functions.append("\n".join([f"vec2 fresnelAtlas{role.capitalize()}(vec2 uv)", "{", body, "}", ""]))
     what = (
         "each table's own coordinates into its rectangle of the atlas"
         if c.atlas is not None
