@@ -41,7 +41,7 @@ $(TEST_STAMP): $(STAMP)
 	touch $(TEST_STAMP)
 
 luts: $(STAMP)
-	$(VENV)/bin/fresnel-lut build --ltc --pixel-tables --atlas --out luts
+	$(VENV)/bin/fresnel-lut build --ltc --pixel-tables --atlas --three --out luts
 
 basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json

@@ -19,16 +19,15 @@ from __future__ import annotations
 import base64
 import io
 import re
-import shutil
-import subprocess
 import tarfile
 from pathlib import Path
 
 import numpy as np
 
+from .npm import NpmError, npm_tarball
+
 PACKAGE = "@babylonjs/core"
 VERSION = "9.35.0"
-CACHE = Path(__file__).resolve().parents[1] / "build" / "npm"
 
 #: Shader text the decoding below transcribes, per file of the package: if Babylon.js changes one, this fails.
 ANCHORS = {
@@ -62,23 +61,11 @@ class BabylonError(RuntimeError):
 
 
 def package_tarball() -> Path:
-    """The pinned package's tarball, fetched once with ``npm pack`` into :data:`CACHE`."""
-    tarball = CACHE / f"babylonjs-core-{VERSION}.tgz"
-    if tarball.is_file():
-        return tarball
-    npm = shutil.which("npm")
-    if npm is None:
-        raise BabylonError("npm is not installed: the Babylon.js comparison fetches @babylonjs/core with npm pack")
-    CACHE.mkdir(parents=True, exist_ok=True)
-    completed = subprocess.run(
-        [npm, "pack", f"{PACKAGE}@{VERSION}", "--pack-destination", str(CACHE), "--silent"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    if completed.returncode != 0 or not tarball.is_file():
-        raise BabylonError(f"npm pack {PACKAGE}@{VERSION} failed: {completed.stderr.strip()[-500:]}")
-    return tarball
+    """The pinned package's tarball (:func:`benchmarks.npm.npm_tarball`)."""
+    try:
+        return npm_tarball(PACKAGE, VERSION)
+    except NpmError as error:
+        raise BabylonError(str(error)) from None
 
 
 def _members(tarball: Path) -> dict[str, str]:

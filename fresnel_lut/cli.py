@@ -128,6 +128,8 @@ def command_build(arguments) -> int:
         raise ParameterError("--ltc goes with the default build, not with --model")
     if arguments.model is not None and arguments.atlas:
         raise ParameterError("--atlas goes with the default build, not with --model")
+    if arguments.model is not None and arguments.three:
+        raise ParameterError("--three goes with the default build, not with --model")
     if arguments.model is not None and arguments.pixel_tables:
         raise ParameterError("--pixel-tables goes with the default build, not with --model")
     if arguments.ltc_size is not None and not arguments.ltc:
@@ -167,6 +169,7 @@ def command_build(arguments) -> int:
             _after(progress, ltc_progress),
             arguments.pixel_tables,
             arguments.atlas,
+            arguments.three,
         )
         if ltc_progress is not None:
             ltc_progress.close()

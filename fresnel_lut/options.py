@@ -126,6 +126,12 @@ def make_parser() -> argparse.ArgumentParser:
         "it, fresnel_basis_atlas.{glsl,hlsl,wgsl} (one sampler; needs --ltc and --pixel-tables; make luts does)",
     )
     build.add_argument(
+        "--three",
+        action="store_true",
+        help="also write the three.js package into OUT/three (npm install it from there: applyFresnelBasis for "
+        "MeshStandardMaterial and MeshPhysicalMaterial, the tables as half floats; needs --ltc; make luts does)",
+    )
+    build.add_argument(
         "--model",
         default=None,
         help="instead: the exact split-sum table of one linear model "

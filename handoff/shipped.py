@@ -1,7 +1,7 @@
 """The files a build ships and what names them: the default build's table names, a linear model's table name, the
 header every table carries, and the shipped tables read back.
 
-Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``CURVE_LUT``,
+Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``CURVE_LUT``, ``PACKAGE_VERSION``,
 ``CURVE_LUT_SIZE``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
 ``model_lut_name``, ``shipped_lut``, ``shipped_tables``, ``table_header``, ``lut_attributes``.
 """
@@ -27,6 +27,7 @@ __all__ = [
     "CURVE_LUT_SIZE",
     "GENERATOR",
     "LTC_LUT",
+    "PACKAGE_VERSION",
     "RGBA",
     "SCHLICK_LUT",
     "SHIPPED_LUTS",
@@ -56,8 +57,10 @@ CURVE_LUT_SIZE = 2046
 SHIPPED_LUTS = (BASIS_LUT, SCHLICK_LUT, AVERAGE_LUT)
 #: Channels of one texture an engine samples.
 RGBA = ("R", "G", "B", "A")
+#: The project's version (pyproject.toml's), which the packages it writes carry.
+PACKAGE_VERSION = "0.1.0"
 #: Written into every header: what produced the file.
-GENERATOR = "fresnel-basis 0.1.0"
+GENERATOR = f"fresnel-basis {PACKAGE_VERSION}"
 
 
 def model_lut_name(model: str, shape=()) -> str:

@@ -1,6 +1,6 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
-Public objects: ``Table``, ``ATLAS_STEM``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
+Public objects: ``Table``, ``ATLAS_STEM``, ``THREE_FOLDER``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
 ``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``curve_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
@@ -52,15 +52,18 @@ from .shipped import (
     CURVE_LUT,
     CURVE_LUT_SIZE,
     LTC_LUT,
+    PACKAGE_VERSION,
     RGBA,
     SCHLICK_LUT,
     lut_attributes,
     model_lut_name,
     table_header,
 )
+from .three import write_three_package
 
 __all__ = [
     "ATLAS_STEM",
+    "THREE_FOLDER",
     "DEFAULT_BUILD_FILES",
     "DEFAULT_SET",
     "Table",
@@ -276,6 +279,7 @@ def write_default_build(
     ltc_progress: Callable[[int, int], None] | None = None,
     pixel_tables: bool = False,
     atlas: bool = False,
+    three: bool = False,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
@@ -284,11 +288,16 @@ def write_default_build(
     (``--pixel-tables``), the per-pixel tables: Gulbrandsen's (r, g) → coefficients (:func:`coefficient_build_table`)
     and the direct-light curves over V·H (:func:`curve_table`); with ``atlas`` (``--atlas``, which needs both), every
     table the include reads packed into one texture (:func:`handoff.atlas.pack_atlas`) and the include that reads it,
-    ``fresnel_basis_atlas.*``."""
+    ``fresnel_basis_atlas.*``; with ``three`` (``--three``, which needs ``ltc``), the three.js package in
+    ``out/three/`` (:func:`handoff.three.write_three_package`, its own transaction after the tables')."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
     if atlas and (ltc is None or not pixel_tables):
         raise ParameterError("--atlas packs every table the include reads: build it with --ltc and --pixel-tables")
+    if three and (ltc is None or basis.n_terms != 4):
+        raise ParameterError(
+            "--three packs the basis, Schlick and LTC tables of a four-term basis: build it with --ltc"
+        )
     if ltc is not None and (not isinstance(ltc, LutGrid) or not ltc.transposed):
         raise ParameterError(f"ltc must be an LTC table's grid (preintegrate.ltc.ltc_grid) or None, got {ltc!r}")
     visibility = (LutGrid(128, 128) if grid is None else grid).visibility
@@ -305,7 +314,7 @@ def write_default_build(
         packed, atlas_includes = _atlas(tables, basis, grid, ltc.width, command="fresnel-lut build --atlas")
         tables.append(packed)
         includes += atlas_includes
-    return write_tables(
+    written = write_tables(
         tables,
         out,
         formats,
@@ -321,6 +330,16 @@ def write_default_build(
             *LEGACY_INCLUDES,
         ],
     )
+    if three:
+        by_stem = {table.name: table.values for table in tables}
+        roles = {"basis": _stem(BASIS_LUT), "schlick": _stem(SCHLICK_LUT), "ltc": _stem(LTC_LUT)}
+        package = {role: by_stem[stem] for role, stem in roles.items()}
+        written += write_three_package(Path(out) / THREE_FOLDER, basis, package, grid, ltc.width, PACKAGE_VERSION)
+    return written
+
+
+#: The three.js package's folder in a build (``fresnel-lut build --three``).
+THREE_FOLDER = "three"
 
 
 #: The atlas' stem (``fresnel-lut build --atlas``).

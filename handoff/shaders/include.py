@@ -285,6 +285,10 @@ PIXEL_TABLE_FUNCTIONS = (
 )
 
 
+#: The atlas roles only the per-pixel tables' functions read (an include without them needs no such rectangle).
+PIXEL_TABLE_ROLES = ("coefficients", "curves")
+
+
 def _without_functions(text: str, names) -> str:
     """``text`` (the assembled GLSL) without the top-level functions ``names`` and the comment lines right above
     each."""
@@ -361,7 +365,7 @@ def _atlas_parts(c: ShaderConstants) -> tuple[list[str], str]:
     table is its own texture, the map into its rectangle of one atlas (FRESNEL_ATLAS_<ROLE>: scale, offset)."""
     constants, functions = [], []
     for role in ATLAS_ROLES:  # fresnelAtlasBasis, fresnelAtlasBasis2, fresnelAtlasSchlick, …
-        if role == "basis2" and c.n_terms <= 4:
+        if (role == "basis2" and c.n_terms <= 4) or (role in PIXEL_TABLE_ROLES and not c.pixel_tables):
             continue
         if c.atlas is None:
             body = "    return uv;"

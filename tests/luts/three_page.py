@@ -1,0 +1,147 @@
+"""three.js from npm, with the project's three.js package, in headless Chromium: a page served to the browser from
+disk (Playwright's routing, nothing from the network) that renders furnace planes and spheres through real
+``MeshStandardMaterial`` / ``MeshPhysicalMaterial`` programs and reads the floats back.
+
+The furnace: a uniform white environment (PMREM of a white background: radiance 1, irradiance π), an orthographic
+camera (view direction (0, 0, 1) everywhere), and one plane per case tilted so that N·V = μ, stretched by 1/μ so that
+it covers its cell, black (no diffuse) unless the case says otherwise, rendered into an RGBA32F target: the centre
+pixel of a cell is the material's directional albedo as three.js's image-based light computes it.
+"""
+
+from __future__ import annotations
+
+import json
+import mimetypes
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.browser import browser_page
+from benchmarks.npm import npm_unpacked
+from handoff.three import THREE_VERSION
+
+ROOT = Path(__file__).resolve().parents[2]
+PACKAGE = ROOT / "luts" / "three"
+ORIGIN = "http://fresnel.test"
+CELL = 4
+COLUMNS = 32
+
+PAGE = """<!doctype html><html><body><canvas id="c"></canvas>
+<script type="importmap">{"imports": {"three": "/three/build/three.module.js",
+  "fresnel-basis-three": "/fresnel-basis-three/index.js"}}</script>
+<script type="module">
+import * as THREE from 'three';
+import { applyFresnelBasis } from 'fresnel-basis-three';
+
+function material(c) {
+  const m = c.physical ? new THREE.MeshPhysicalMaterial() : new THREE.MeshStandardMaterial();
+  m.color.setRGB(...c.color, THREE.LinearSRGBColorSpace);
+  m.metalness = c.metalness;
+  m.roughness = c.roughness;
+  if (c.ior !== undefined) m.ior = c.ior;
+  if (c.basis) applyFresnelBasis(m, c.basis);
+  return m;
+}
+
+function renderer(width, height) {
+  const r = new THREE.WebGLRenderer({ canvas: document.getElementById('c'), antialias: false });
+  r.setPixelRatio(1);
+  r.setSize(width, height, false);
+  r.toneMapping = THREE.NoToneMapping;
+  return r;
+}
+
+function whiteEnvironment(r) {
+  const pmrem = new THREE.PMREMGenerator(r);
+  const room = new THREE.Scene();
+  room.background = new THREE.Color(1, 1, 1);
+  return pmrem.fromScene(room).texture;
+}
+
+function readBack(r, scene, camera, width, height) {
+  const target = new THREE.WebGLRenderTarget(width, height, { type: THREE.FloatType });
+  r.setRenderTarget(target);
+  r.render(scene, camera);
+  const pixels = new Float32Array(width * height * 4);
+  r.readRenderTargetPixels(target, 0, 0, width, height, pixels);
+  r.setRenderTarget(null);
+  return pixels;
+}
+
+window.furnace = (cases, cell, columns) => {
+  const rows = Math.ceil(cases.length / columns);
+  const width = cell * columns, height = cell * rows;
+  const r = renderer(width, height);
+  const scene = new THREE.Scene();
+  scene.environment = whiteEnvironment(r);
+  const camera = new THREE.OrthographicCamera(0, width, height, 0, 0.1, 4000);
+  camera.position.z = 2000;
+  const plane = new THREE.PlaneGeometry(cell, cell);
+  cases.forEach((c, i) => {
+    const mesh = new THREE.Mesh(plane, material(c));
+    mesh.position.set((i % columns + 0.5) * cell, (Math.floor(i / columns) + 0.5) * cell, 0);
+    mesh.rotation.x = -Math.acos(c.mu);
+    mesh.scale.y = 1 / c.mu;
+    scene.add(mesh);
+  });
+  const pixels = readBack(r, scene, camera, width, height);
+  return cases.map((c, i) => {
+    const x = (i % columns) * cell + cell / 2, y = Math.floor(i / columns) * cell + cell / 2;
+    const at = 4 * (y * width + x);
+    return [pixels[at], pixels[at + 1], pixels[at + 2]];
+  });
+};
+
+window.spheres = (cases, size, environment) => {
+  const width = size * cases.length, height = size;
+  const r = renderer(width, height);
+  const scene = new THREE.Scene();
+  if (environment === 'white') scene.environment = whiteEnvironment(r);
+  const camera = new THREE.OrthographicCamera(0, width, height, 0, 0.1, 4000);
+  camera.position.z = 2000;
+  const sphere = new THREE.SphereGeometry(size / 2 - 1, 128, 64);
+  cases.forEach((c, i) => {
+    const mesh = new THREE.Mesh(sphere, material(c));
+    mesh.position.set((i + 0.5) * size, size / 2, 0);
+    scene.add(mesh);
+  });
+  return Array.from(readBack(r, scene, camera, width, height));
+};
+window.ready = true;
+</script></body></html>
+"""
+
+
+def _route(route):
+    path = route.request.url[len(ORIGIN) :].split("?")[0]
+    if path == "/index.html":
+        return route.fulfill(status=200, content_type="text/html", body=PAGE)
+    for prefix, folder in (("/three/", npm_unpacked("three", THREE_VERSION)), ("/fresnel-basis-three/", PACKAGE)):
+        if path.startswith(prefix):
+            file = (folder / path[len(prefix) :]).resolve()
+            if file.is_relative_to(folder.resolve()) and file.is_file():
+                kind = "text/javascript" if file.suffix == ".js" else mimetypes.guess_type(file.name)[0] or "text/plain"
+                return route.fulfill(status=200, content_type=kind, body=file.read_bytes())
+    return route.fulfill(status=404, body=f"not served: {path}")
+
+
+def open_page(browser):
+    """(page with three.js and the package loaded, its console messages)."""
+    page, messages = browser_page(browser)
+    page.route(f"{ORIGIN}/**", _route)
+    page.goto(f"{ORIGIN}/index.html")
+    page.wait_for_function("window.ready === true", timeout=60_000)
+    return page, messages
+
+
+def furnace(page, cases: list[dict]) -> np.ndarray:
+    """(len(cases), 3) of the furnace's read-back, one case a dict: ``mu``, ``roughness``, ``metalness``, ``color``
+    (linear RGB), ``physical`` (MeshPhysicalMaterial), ``ior``, ``basis`` (applyFresnelBasis's options; absent: stock
+    three.js)."""
+    return np.array(page.evaluate(f"window.furnace({json.dumps(cases)}, {CELL}, {COLUMNS})"))
+
+
+def spheres(page, cases: list[dict], size: int, environment: str = "white") -> np.ndarray:
+    """(size, size × len(cases), 4) of spheres side by side, row 0 at the bottom."""
+    values = np.array(page.evaluate(f"window.spheres({json.dumps(cases)}, {size}, {json.dumps(environment)})"))
+    return values.reshape(size, size * len(cases), 4)
