@@ -41,12 +41,14 @@ uniform vec3 fresnelBasisEta;
 uniform vec3 fresnelBasisKappa;
 
 // The pixel's Fresnel: the dielectric's Schlick weights (D), the metal's linear weights (M, F82 tint) or basis
-// coefficients (C), the metalness that mixes them, and what the lights read.
+// coefficients (C), the metalness that mixes them, and what the lights read (three.js's DFG pair, the F0 of its
+// direct-light compensation (Turquin 2019 eq. 16) from the model itself, the split sums).
 vec3 fresnelThreeDR, fresnelThreeDG, fresnelThreeDB;
 vec3 fresnelThreeMR, fresnelThreeMG, fresnelThreeMB;
 vec4 fresnelThreeCR, fresnelThreeCG, fresnelThreeCB;
 float fresnelThreeMetalness;
 vec2 fresnelThreeDfg;
+vec3 fresnelThreeF0;
 vec3 fresnelThreeSingleDielectric, fresnelThreeMultiDielectric, fresnelThreeSingleMetal, fresnelThreeMultiMetal;
 
 void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, float metalness, vec3 tint, float NdotV, float roughness ) {
@@ -92,6 +94,12 @@ void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, f
 	#if ! FRESNEL_THREE_MULTIPLE_SCATTERING
 		fresnelThreeMultiMetal = vec3( 0.0 );
 	#endif
+	#if FRESNEL_THREE_MODEL == 2
+		vec3 metalF0 = vec3( fresnelThreeMR.x, fresnelThreeMG.x, fresnelThreeMB.x );
+	#else
+		vec3 metalF0 = vec3( fresnelThreeCR.x, fresnelThreeCG.x, fresnelThreeCB.x );
+	#endif
+	fresnelThreeF0 = mix( vec3( fresnelThreeDR.x, fresnelThreeDG.x, fresnelThreeDB.x ), metalF0, metalness );
 
 }
 
@@ -109,7 +117,7 @@ vec3 fresnelThreeDirect( float dotVH ) {
 }
 `;
 
-// Each patch: the chunk, the text that must stand in it exactly once in three.js r187's build (build/three.core.js,
+// Each patch: the chunk, the text that must stand in it exactly once in three.js r187's build (build/three.module.js,
 // whose chunks have their blank lines and comments stripped), and what replaces it.
 export const PATCHES = Object.freeze( [
 	[ 'lights_physical_pars_fragment', 'uniform sampler2D dfgLUT;\n', 'uniform sampler2D dfgLUT;\n' + INCLUDE + GLUE ],
@@ -142,6 +150,11 @@ export const PATCHES = Object.freeze( [
 			'\t\tvec3 fresnelThreeTint = fresnelBasisTint;\n\t#endif\n' +
 			'\tfresnelThreeSetUp( material.diffuseColor, material.specularColor, material.specularF90, material.metalness, fresnelThreeTint, dotNVms, material.roughness );\n' +
 			'\tmaterial.dfg = fresnelThreeDfg;',
+	],
+	[
+		'lights_fragment_begin',
+		'material.multiScatteringCompensation = 1.0 + material.specularColorBlended * ( 1.0 / EssMs - 1.0 );',
+		'material.multiScatteringCompensation = 1.0 + fresnelThreeF0 * ( 1.0 / EssMs - 1.0 );',
 	],
 ] );
 

@@ -14,6 +14,8 @@ programs (tests/luts/three_page.py).
 """
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -21,8 +23,13 @@ import pytest
 from basis.eigenbasis import resolve_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.training.holdout import FIGURE_2
-from handoff.shaders import shader_includes
-from handoff.shaders.mirrors import coefficients_per_pixel_gulbrandsen, coefficients_per_pixel_nk, linear_weights
+from handoff.shaders.mirrors import (
+    coefficients_per_pixel_gulbrandsen,
+    coefficients_per_pixel_nk,
+    direct_fresnel,
+    linear_direct,
+    linear_weights,
+)
 from handoff.shipped import shipped_tables
 from handoff.three import THREE_ROLES, THREE_VERSION, read_three_atlas
 from preintegrate.lut import LutGrid
@@ -62,8 +69,16 @@ def test_package_is_the_build(atlas_tables):
     data = (PACKAGE / "data.js").read_text(encoding="utf-8")
     include = json.loads(data.split("export const INCLUDE = ", 1)[1].rstrip().rstrip(";"))
     maps = {role: layout.uv_map(role) for role in layout.rects}
-    expected = dict(shader_includes(basis, "fresnel-lut build --three", ltc_size=64, atlas=maps, pixel_tables=False))
-    assert include == expected["fresnel_basis_atlas.glsl"]
+    # generated as the command does, with its pinned numeric kernels (the constants' last digits depend on them)
+    generate = (
+        "from fresnel_lut.kernels import pin_numeric_kernels; pin_numeric_kernels(); import sys, json; "
+        "from handoff.shaders import shader_includes; "
+        f"sys.stdout.write(dict(shader_includes(None, 'fresnel-lut build --three', ltc_size=64, atlas={maps!r}, "
+        "pixel_tables=False))['fresnel_basis_atlas.glsl'])"
+    )
+    completed = subprocess.run([sys.executable, "-c", generate], capture_output=True, text=True, timeout=120)
+    assert completed.returncode == 0, completed.stderr
+    assert include == completed.stdout
     source = (PACKAGE.parents[1] / "handoff" / "three" / "index.js").read_text(encoding="utf-8")
     assert (PACKAGE / "index.js").read_text(encoding="utf-8") == source
     manifest = json.loads((PACKAGE / "package.json").read_text(encoding="utf-8"))
@@ -189,3 +204,69 @@ def test_figure_2_green_rim(page):
     assert np.ptp(stock_rim) < 1e-3 and np.ptp(stock_centre) < 1e-3  # grey: F0 = 0.44 in every channel
     assert np.ptp(basis_centre) < 0.02  # head-on the material is grey too
     assert basis_rim[1] > 1.3 * max(basis_rim[0], basis_rim[2])  # the rim is green
+
+
+def _metal_fresnel(case):
+    """(F(μ) per channel as a function, F0 per channel) of a case's metal (metalness 1) or black dielectric."""
+    options, color = case["basis"], np.array(case["color"])
+    if case["metalness"] == 0.0:
+        weights = linear_weights("schlick", f0=np.full(3, 0.04), f90=1.0)
+    elif options["model"] == "f82-tint":
+        weights = linear_weights("f82-tint", f0=color, tint=np.array(options["tint"]))
+    else:
+        coefficients = (
+            coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
+            if options["model"] == "nk"
+            else coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
+        )
+        return (lambda mu: direct_fresnel(coefficients, mu)), coefficients[:, 0]
+    return (lambda mu: linear_direct(weights, mu)), weights[:, 0]
+
+
+def _punctual_mirror(case, light, tables):
+    """three.js's RE_Direct_Physical for a black material (BRDF_GGX, Frostbite's V and D) with the package's F(V·H)
+    and its compensation 1 + F0 (1/E − 1) (Turquin 2019 eq. 16; E = the Schlick table's scale + bias)."""
+    mu, roughness = case["mu"], max(case["roughness"], THREE_MIN_ROUGHNESS)
+    normal, view = np.array([0.0, np.sqrt(1.0 - mu * mu), mu]), np.array([0.0, 0.0, 1.0])
+    half = (light + view) / np.linalg.norm(light + view)
+    n_l, n_h, v_h = max(normal @ light, 0.0), max(normal @ half, 0.0), max(view @ half, 0.0)
+    a2 = roughness**4
+    visibility = 0.5 / (n_l * np.sqrt(a2 + (1 - a2) * mu * mu) + mu * np.sqrt(a2 + (1 - a2) * n_l * n_l))
+    distribution = a2 / (np.pi * (n_h * n_h * (a2 - 1.0) + 1.0) ** 2)
+    fresnel, f0 = _metal_fresnel(case)
+    scale, bias = LutGrid(128, 128).lookup(tables["schlick"], mu, roughness)[:2]
+    return n_l * fresnel(v_h) * visibility * distribution * (1.0 + f0 * (1.0 / (scale + bias) - 1.0))
+
+
+def _lit_cases():
+    return [case for case in _cases() if case["roughness"] >= 0.3 and case["basis"]["multipleScattering"]]
+
+
+def test_punctual_light_matches_the_mirror(page, atlas_tables):
+    direction = np.array([0.2, 0.45, 0.87])
+    cases = _lit_cases()
+    rendered = furnace(page, cases, {"kind": "directional", "direction": direction.tolist()})
+    light = direction / np.linalg.norm(direction)
+    expected = np.array([_punctual_mirror(case, light, atlas_tables) for case in cases])
+    assert np.all(np.isfinite(rendered)) and np.max(expected) > 0.1
+    np.testing.assert_allclose(rendered, expected, rtol=2e-4, atol=1e-6)
+
+
+def test_rect_light_fresnel_is_the_split_sum(page, atlas_tables):
+    """A RectAreaLight keeps three.js's LTC lobe and takes the package's split sum as its Fresnel: against a material
+    whose F is 1 at every angle (F82 tint with F0 = tint = 1: the split sum is E), each pixel's ratio is F̄ / E."""
+    lighting = {"kind": "rect", "position": [64.0, 30.0, 30.0], "size": [200.0, 60.0], "lookAt": [64.0, 0.0, 0.0]}
+    cases = _lit_cases()
+    white = [dict(case, color=[1.0, 1.0, 1.0], metalness=1.0, basis={"model": "f82-tint", "tint": [1.0, 1.0, 1.0]})
+             for case in cases]  # fmt: skip
+    rendered, reference = furnace(page, cases, lighting), furnace(page, white, lighting)
+    lit = reference[:, 0] > 1e-4
+    assert np.all(np.isfinite(rendered)) and lit.sum() > len(cases) // 2
+    grid = LutGrid(128, 128)
+    expected = []
+    for case in cases:
+        roughness = max(case["roughness"], THREE_MIN_ROUGHNESS)
+        single = _mirror(dict(case, basis=dict(case["basis"], multipleScattering=False)), atlas_tables)
+        scale, bias = grid.lookup(atlas_tables["schlick"], case["mu"], roughness)[:2]
+        expected.append(single / (scale + bias))
+    np.testing.assert_allclose(rendered[lit] / reference[lit, :1], np.array(expected)[lit], rtol=1e-4)

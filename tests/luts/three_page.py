@@ -28,10 +28,13 @@ COLUMNS = 32
 
 PAGE = """<!doctype html><html><body><canvas id="c"></canvas>
 <script type="importmap">{"imports": {"three": "/three/build/three.module.js",
-  "fresnel-basis-three": "/fresnel-basis-three/index.js"}}</script>
+  "three/addons/": "/three/examples/jsm/", "fresnel-basis-three": "/fresnel-basis-three/index.js"}}</script>
 <script type="module">
 import * as THREE from 'three';
+import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
 import { applyFresnelBasis } from 'fresnel-basis-three';
+
+RectAreaLightUniformsLib.init();
 
 function material(c) {
   const m = c.physical ? new THREE.MeshPhysicalMaterial() : new THREE.MeshStandardMaterial();
@@ -68,12 +71,24 @@ function readBack(r, scene, camera, width, height) {
   return pixels;
 }
 
-window.furnace = (cases, cell, columns) => {
+function light(description) {
+  if (description.kind === 'directional') {
+    const l = new THREE.DirectionalLight(0xffffff, 1);
+    l.position.set(...description.direction);
+    return l;
+  }
+  const l = new THREE.RectAreaLight(0xffffff, 1, ...description.size);
+  l.position.set(...description.position);
+  l.lookAt(...description.lookAt);
+  return l;
+}
+
+window.furnace = (cases, cell, columns, lighting) => {
   const rows = Math.ceil(cases.length / columns);
   const width = cell * columns, height = cell * rows;
   const r = renderer(width, height);
   const scene = new THREE.Scene();
-  scene.environment = whiteEnvironment(r);
+  if (lighting) scene.add(light(lighting)); else scene.environment = whiteEnvironment(r);
   const camera = new THREE.OrthographicCamera(0, width, height, 0, 0.1, 4000);
   camera.position.z = 2000;
   const plane = new THREE.PlaneGeometry(cell, cell);
@@ -134,11 +149,13 @@ def open_page(browser):
     return page, messages
 
 
-def furnace(page, cases: list[dict]) -> np.ndarray:
+def furnace(page, cases: list[dict], lighting: dict | None = None) -> np.ndarray:
     """(len(cases), 3) of the furnace's read-back, one case a dict: ``mu``, ``roughness``, ``metalness``, ``color``
     (linear RGB), ``physical`` (MeshPhysicalMaterial), ``ior``, ``basis`` (applyFresnelBasis's options; absent: stock
-    three.js)."""
-    return np.array(page.evaluate(f"window.furnace({json.dumps(cases)}, {CELL}, {COLUMNS})"))
+    three.js). ``lighting``: in place of the white environment, one light, ``{"kind": "directional", "direction":
+    [x, y, z]}`` (intensity 1) or ``{"kind": "rect", "position", "size": [w, h], "lookAt"}``; the plane of case i
+    is centred at ((i mod COLUMNS + ½) CELL, (⌊i / COLUMNS⌋ + ½) CELL, 0) with normal (0, √(1 − μ²), μ)."""
+    return np.array(page.evaluate(f"window.furnace({json.dumps(cases)}, {CELL}, {COLUMNS}, {json.dumps(lighting)})"))
 
 
 def spheres(page, cases: list[dict], size: int, environment: str = "white") -> np.ndarray:
