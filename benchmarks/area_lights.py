@@ -23,10 +23,6 @@ from __future__ import annotations
 
 import argparse
 import re
-import shutil
-import subprocess
-import tarfile
-import tempfile
 import time
 from pathlib import Path
 
@@ -34,6 +30,7 @@ import numpy as np
 
 from basis.colorimetry import delta_E_2000
 from basis.storage import shipped_path, write_together
+from benchmarks.npm import NpmError, npm_unpacked
 from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sphere_geometry, to_srgb8, tone_map
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
@@ -47,23 +44,17 @@ SPACE = "ACEScg"
 EXPOSURE = 1.0
 RADIANCE = 4.0
 ROUGHNESS = {"figure2": 0.2828, "gold": 0.3, "chromium": 0.3, "beryllium": 0.6}
-THREE_FILE = "package/examples/jsm/lights/RectAreaLightTexturesLib.js"
+THREE_FILE = "examples/jsm/lights/RectAreaLightTexturesLib.js"
 
 
 def three_table(version: str) -> np.ndarray | str:
     """three.js's ``LTC_MAT_1`` (64, 64, 4), rows √(1 − μo), columns r, entries (m00, m20, m02, m22) as its shader's
     ``mat3(vec3(t.x, 0, t.y), …)`` reads them; or why it could not be had."""
-    npm = shutil.which("npm")
-    if npm is None:
-        return "npm is not installed here"
-    with tempfile.TemporaryDirectory() as folder:
-        packed = subprocess.run(
-            [npm, "pack", f"three@{version}", "--silent"], cwd=folder, capture_output=True, text=True, timeout=300
-        )
-        if packed.returncode != 0:
-            return f"npm pack three@{version} failed: {packed.stderr.strip()[:200]}"
-        with tarfile.open(Path(folder) / packed.stdout.strip().splitlines()[-1]) as archive:
-            text = archive.extractfile(THREE_FILE).read().decode("utf-8")
+    try:
+        folder = npm_unpacked("three", version)
+    except NpmError as error:
+        return str(error)
+    text = (folder / THREE_FILE).read_text(encoding="utf-8")
     found = re.search(r"const LTC_MAT_1 = \[([^\]]*)\]", text)
     if found is None:
         return f"no LTC_MAT_1 in three@{version}'s {THREE_FILE}"

@@ -36,6 +36,7 @@ def test_every_benchmark_is_listed_here():
         "quadrature_vs_montecarlo",
         "shader_cost",
         "stability_table",
+        "three_package",
         "view_page",
     ]
 
@@ -178,3 +179,17 @@ def test_the_look_development_page_benchmark_writes_its_screenshot(tmp_path):
     assert completed.returncode == 0, completed.stderr[-2000:]
     assert (tmp_path / "view.png").read_bytes().startswith(b"\x89PNG") and "Console errors: 0" in completed.stdout
     assert "| basis split sum |" in (tmp_path / "view.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.slow
+def test_three_package_runs_small():
+    """The three.js comparison with one measured metal, gold and Figure 2 (three.js from npm in headless Chromium):
+    the package's error below stock three.js's for each."""
+    completed = _run("benchmarks.three_package", "--materials", "1", timeout=600)
+    if completed.returncode != 0 and "is missing" in completed.stderr:
+        gpu_missing(completed.stderr.strip().splitlines()[-1])
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    rows = [line for line in completed.stdout.splitlines() if line.startswith("| ") and "---" not in line][1:]
+    assert len(rows) == 4, completed.stdout
+    for row in rows:
+        assert float(row.split("|")[6]) > 5, row  # stock max over the package's max

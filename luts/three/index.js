@@ -12,13 +12,13 @@
 //   - both are mixed by metalness, which is exact: F is linear in each.
 // Iridescence's image-based light stays three.js's own.
 
-import { ClampToEdgeWrapping, DataTexture, HalfFloatType, LinearFilter, REVISION, RGBAFormat, ShaderChunk, Vector3 } from 'three';
+import { ClampToEdgeWrapping, DataTexture, HalfFloatType, LinearFilter, REVISION, RGBAFormat, ShaderChunk, Vector3, Vector4 } from 'three';
 import { ATLAS, BASIS_HASH, INCLUDE, THREE_REVISION } from './data.js';
 
 export { BASIS_HASH, THREE_REVISION };
 
 // The metal's Fresnel model (FRESNEL_THREE_MODEL in the shader).
-export const MODELS = Object.freeze( { gulbrandsen: 0, nk: 1, 'f82-tint': 2 } );
+export const MODELS = Object.freeze( { gulbrandsen: 0, nk: 1, 'f82-tint': 2, coefficients: 3 } );
 
 export class FresnelBasisError extends Error {
 
@@ -39,6 +39,7 @@ uniform vec3 fresnelBasisEdge;
 uniform vec3 fresnelBasisTint;
 uniform vec3 fresnelBasisEta;
 uniform vec3 fresnelBasisKappa;
+uniform vec4 fresnelBasisCoefficients[ 3 ];
 
 // The pixel's Fresnel: the dielectric's Schlick weights (D), the metal's linear weights (M, F82 tint) or basis
 // coefficients (C), the metalness that mixes them, and what the lights read (three.js's DFG pair, the F0 of its
@@ -77,7 +78,11 @@ void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, f
 			fresnelThreeMultiMetal = fresnelLinearMultipleScattering( fresnelBasisAtlas, NdotV, roughness, fresnelThreeMR, fresnelThreeMG, fresnelThreeMB ) - fresnelThreeSingleMetal;
 		#endif
 	#else
-		#if FRESNEL_THREE_MODEL == 1
+		#if FRESNEL_THREE_MODEL == 3
+			fresnelThreeCR = fresnelBasisCoefficients[ 0 ];
+			fresnelThreeCG = fresnelBasisCoefficients[ 1 ];
+			fresnelThreeCB = fresnelBasisCoefficients[ 2 ];
+		#elif FRESNEL_THREE_MODEL == 1
 			fresnelThreeCR = fresnelCoefficientsNK( fresnelBasisEta.r, fresnelBasisKappa.r );
 			fresnelThreeCG = fresnelCoefficientsNK( fresnelBasisEta.g, fresnelBasisKappa.g );
 			fresnelThreeCB = fresnelCoefficientsNK( fresnelBasisEta.b, fresnelBasisKappa.b );
@@ -238,10 +243,26 @@ function toVector( name, value, fallback ) {
 
 }
 
+function toCoefficients( value ) {
+
+	if ( value === undefined ) return [ 0, 1, 2 ].map( () => new Vector4( 0, 0, 0, 0 ) );
+	const rows = Array.isArray( value ) && value.length === 3 ? value.map( ( row ) => Array.from( row ) ) : null;
+	if ( rows === null || ! rows.every( ( row ) => row.length === 4 && row.every( Number.isFinite ) ) ) {
+
+		throw new FresnelBasisError( 'coefficients must be three rows (R, G, B) of four finite numbers (c0 .. c3)' );
+
+	}
+
+	return rows.map( ( row ) => new Vector4( ...row ) );
+
+}
+
 // Give `material` (a MeshStandardMaterial or MeshPhysicalMaterial) the basis Fresnel. Options:
 //   model: 'gulbrandsen' (default; reflectivity = the material's color and map, edge = options.edge),
 //          'nk' (options.eta, options.kappa per colour channel), or 'f82-tint' (F0 = the material's color, tint =
-//          options.tint times a physical material's specularColor and specularColorMap: OpenPBR's specular_color);
+//          options.tint times a physical material's specularColor and specularColorMap: OpenPBR's specular_color),
+//          or 'coefficients' (options.coefficients: the basis coefficients, rows R, G, B of c0 .. c3, from the Python
+//          API, `fresnel-lut coeffs --json` or luts/materials.json; they must be of this package's basis);
 //   edge, tint, eta, kappa: Color, Vector3 or [r, g, b] (linear);
 //   multipleScattering: true (default; Fdez-Aguera 2019 with the basis' own E and F_avg) or false.
 // Returns the uniforms, whose .value may be changed afterwards (edge, tint, eta, kappa).
@@ -253,7 +274,7 @@ export function applyFresnelBasis( material, options = {} ) {
 
 	}
 
-	const known = [ 'model', 'edge', 'tint', 'eta', 'kappa', 'multipleScattering' ];
+	const known = [ 'model', 'edge', 'tint', 'eta', 'kappa', 'coefficients', 'multipleScattering' ];
 	const unknown = Object.keys( options ).filter( ( key ) => ! known.includes( key ) );
 	if ( unknown.length > 0 ) throw new FresnelBasisError( `unknown options ${ unknown.join( ', ' ) } (known: ${ known.join( ', ' ) })` );
 	const model = options.model === undefined ? 'gulbrandsen' : options.model;
@@ -271,6 +292,7 @@ export function applyFresnelBasis( material, options = {} ) {
 		fresnelBasisTint: { value: toVector( 'tint', options.tint, new Vector3( 1, 1, 1 ) ) },
 		fresnelBasisEta: { value: toVector( 'eta', options.eta, new Vector3( 1.5, 1.5, 1.5 ) ) },
 		fresnelBasisKappa: { value: toVector( 'kappa', options.kappa, new Vector3( 0, 0, 0 ) ) },
+		fresnelBasisCoefficients: { value: toCoefficients( options.coefficients ) },
 	};
 	const multipleScattering = options.multipleScattering === undefined ? true : Boolean( options.multipleScattering );
 	material.defines = Object.assign( {}, material.defines, {
@@ -294,5 +316,49 @@ export function applyFresnelBasis( material, options = {} ) {
 	material.customProgramCacheKey = () => `${ key() }|fresnel-basis:${ BASIS_HASH }:${ model }:${ multipleScattering }`;
 	material.needsUpdate = true;
 	return uniforms;
+
+}
+
+// A GLTFLoader plugin (loader.register( ( parser ) => new FresnelBasisGLTFPlugin( parser ) )): every material with
+// metal in it (metallicFactor > 0, glTF's default 1) gets the basis Fresnel as OpenPBR's F82 tint, with
+// KHR_materials_specular's specularColorFactor and specularColorTexture as the tint, per pixel, for metals as
+// EXT_materials_specular_openpbr proposes (three.js already reads them into specularColor / specularColorMap, which
+// its dielectric part keeps using as KHR_materials_specular says). A material without the extension has tint 1:
+// Schlick's curve, integrated exactly.
+export class FresnelBasisGLTFPlugin {
+
+	constructor( parser, options = {} ) {
+
+		this.parser = parser;
+		this.name = 'fresnel_basis';
+		this.options = Object.assign( { model: 'f82-tint', tint: [ 1, 1, 1 ] }, options );
+
+	}
+
+	afterRoot( result ) {
+
+		const materials = new Set();
+		for ( const scene of result.scenes ) {
+
+			scene.traverse( ( object ) => {
+
+				if ( object.material ) [].concat( object.material ).forEach( ( m ) => materials.add( m ) );
+
+			} );
+
+		}
+
+		for ( const material of materials ) {
+
+			const association = this.parser.associations.get( material );
+			if ( ! material.isMeshStandardMaterial || ! association || association.materials === undefined ) continue;
+			const definition = this.parser.json.materials[ association.materials ];
+			const metallic = ( definition.pbrMetallicRoughness || {} ).metallicFactor;
+			if ( metallic === 0 ) continue;
+			applyFresnelBasis( material, this.options );
+
+		}
+
+	}
 
 }

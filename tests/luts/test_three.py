@@ -13,7 +13,9 @@ programs (tests/luts/three_page.py).
   F0-only Schlick cannot.
 """
 
+import base64
 import json
+import struct
 import subprocess
 import sys
 
@@ -22,7 +24,9 @@ import pytest
 
 from basis.eigenbasis import resolve_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.presets import material_coefficients
 from basis.training.holdout import FIGURE_2
+from benchmarks.three_page import PACKAGE, furnace, load_gltf, open_page, run_module, spheres
 from handoff.shaders.mirrors import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_nk,
@@ -35,7 +39,6 @@ from handoff.three import THREE_ROLES, THREE_VERSION, read_three_atlas
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import compensated_albedo, weigh_schlick_texels
 from tests.conftest import chromium
-from tests.luts.three_page import PACKAGE, furnace, open_page, spheres
 from tests.references.fresnel import fresnel_complex
 from tests.references.integration import reference_albedo_grid
 
@@ -107,6 +110,7 @@ def _cases():
         ({"model": "gulbrandsen", "edge": rng.uniform(0, 1, 3).tolist()}, rng.uniform(0.02, 0.98, 3).tolist(), 1.0),
         ({"model": "nk", "eta": figure_eta.tolist(), "kappa": figure_kappa.tolist()}, [0.0, 0.0, 0.0], 1.0),
         ({"model": "f82-tint", "tint": [0.9, 0.6, 0.3]}, [0.95, 0.64, 0.54], 1.0),
+        ({"model": "coefficients", "coefficients": material_coefficients("Copper", "sRGB").tolist()}, [0.0] * 3, 1.0),
         ({"model": "gulbrandsen"}, [0.0, 0.0, 0.0], 0.0),  # the dielectric lobe: Schlick F0 0.04, exactly integrated
     ]
     cases = []
@@ -140,6 +144,8 @@ def _mirror(case, tables):
         return weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), schlick, multiple)
     if options["model"] == "nk":
         coefficients = coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
+    elif options["model"] == "coefficients":
+        coefficients = np.array(options["coefficients"])
     else:
         coefficients = coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
     terms = grid.lookup(tables["basis"], mu, roughness)
@@ -214,11 +220,12 @@ def _metal_fresnel(case):
     elif options["model"] == "f82-tint":
         weights = linear_weights("f82-tint", f0=color, tint=np.array(options["tint"]))
     else:
-        coefficients = (
-            coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
-            if options["model"] == "nk"
-            else coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
-        )
+        if options["model"] == "coefficients":
+            coefficients = np.array(options["coefficients"])
+        elif options["model"] == "nk":
+            coefficients = coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
+        else:
+            coefficients = coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
         return (lambda mu: direct_fresnel(coefficients, mu)), coefficients[:, 0]
     return (lambda mu: linear_direct(weights, mu)), weights[:, 0]
 
@@ -270,3 +277,58 @@ def test_rect_light_fresnel_is_the_split_sum(page, atlas_tables):
         scale, bias = grid.lookup(atlas_tables["schlick"], case["mu"], roughness)[:2]
         expected.append(single / (scale + bias))
     np.testing.assert_allclose(rendered[lit] / reference[lit, :1], np.array(expected)[lit], rtol=1e-4)
+
+
+def _gltf(materials: list[dict]) -> dict:
+    """A glTF document of one triangle per material (the furnace draws its own planes with the loaded materials)."""
+    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    uri = "data:application/octet-stream;base64," + base64.b64encode(positions).decode("ascii")
+    return {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_materials_specular"],
+        "buffers": [{"uri": uri, "byteLength": len(positions)}],
+        "bufferViews": [{"buffer": 0, "byteLength": len(positions)}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "materials": materials,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": i}]} for i in range(len(materials))],
+        "nodes": [{"mesh": i} for i in range(len(materials))],
+        "scenes": [{"nodes": list(range(len(materials)))}],
+        "scene": 0,
+    }  # fmt: skip
+
+
+def test_gltf_plugin_maps_specular_colour_to_f82_tint(page, atlas_tables):
+    """KHR_materials_specular's specularColorFactor of a metal becomes its F82 tint (EXT_materials_specular_openpbr);
+    a dielectric (metallicFactor 0) keeps three.js's material."""
+    tint, base = [0.9, 0.6, 0.3], [0.95, 0.64, 0.54]
+    loaded = load_gltf(
+        page,
+        _gltf(
+            [
+                {"pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.5},
+                 "extensions": {"KHR_materials_specular": {"specularColorFactor": tint}}},
+                {"pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "roughnessFactor": 0.5}},
+                {"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5}},
+            ]
+        ),
+    )  # fmt: skip
+    assert [m["type"] for m in loaded] == ["MeshPhysicalMaterial", "MeshStandardMaterial", "MeshStandardMaterial"]
+    assert [m["defines"].get("FRESNEL_THREE_MODEL") for m in loaded] == [2, 2, None]
+    mus = [0.05, 0.3, 1.0]
+    rendered = furnace(page, [{"gltf": i, "mu": mu} for i in (0, 1) for mu in mus])
+    for i, material_tint in ((0, tint), (1, [1.0, 1.0, 1.0])):
+        for mu, value in zip(mus, rendered[3 * i : 3 * i + 3]):
+            case = {"mu": mu, "roughness": 0.5, "metalness": 1.0, "color": base,
+                    "basis": {"model": "f82-tint", "tint": material_tint, "multipleScattering": True}}  # fmt: skip
+            np.testing.assert_allclose(value, _mirror(case, atlas_tables), rtol=0, atol=5e-6)
+
+
+def test_readme_snippet_runs(page):
+    """README's three.js example, as written, in the page (three.js and the package resolve as in an app)."""
+    readme = (PACKAGE.parents[1] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("### three.js", 1)[1]
+    snippet = section.split("```js\n", 1)[1].split("```", 1)[0]
+    result = "export const result = { defines: gold.defines, edge: uniforms.fresnelBasisEdge.value.toArray() };"
+    outcome = run_module(page, "readme", snippet + result)
+    assert outcome["defines"]["FRESNEL_THREE_MODEL"] == 0 and outcome["edge"] == [1.0, 0.9, 0.6]

@@ -1,6 +1,10 @@
 """three.js from npm, with the project's three.js package, in headless Chromium: a page served to the browser from
 disk (Playwright's routing, nothing from the network) that renders furnace planes and spheres through real
-``MeshStandardMaterial`` / ``MeshPhysicalMaterial`` programs and reads the floats back.
+``MeshStandardMaterial`` / ``MeshPhysicalMaterial`` programs and reads the floats back (the tests' and
+``benchmarks.three_package``'s).
+
+Public objects: ``PACKAGE``, ``MODULES``, ``open_page``, ``furnace``, ``spheres``, ``load_gltf``, ``screenshot``,
+``run_module``.
 
 The furnace: a uniform white environment (PMREM of a white background: radiance 1, irradiance π), an orthographic
 camera (view direction (0, 0, 1) everywhere), and one plane per case tilted so that N·V = μ, stretched by 1/μ so that
@@ -20,7 +24,7 @@ from benchmarks.browser import browser_page
 from benchmarks.npm import npm_unpacked
 from handoff.three import THREE_VERSION
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "luts" / "three"
 ORIGIN = "http://fresnel.test"
 CELL = 4
@@ -32,11 +36,25 @@ PAGE = """<!doctype html><html><body><canvas id="c"></canvas>
 <script type="module">
 import * as THREE from 'three';
 import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
-import { applyFresnelBasis } from 'fresnel-basis-three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
+import { applyFresnelBasis, FresnelBasisGLTFPlugin } from 'fresnel-basis-three';
 
 RectAreaLightUniformsLib.init();
 
+const loaded = [];
+
+window.loadGltf = async (json) => {
+  const loader = new GLTFLoader();
+  loader.register((parser) => new FresnelBasisGLTFPlugin(parser));
+  const gltf = await loader.parseAsync(JSON.stringify(json), '');
+  loaded.length = 0;
+  gltf.scene.traverse((o) => { if (o.isMesh) loaded.push(o.material); });
+  return loaded.map((m) => ({ type: m.type, defines: m.defines, specularColor: m.specularColor && m.specularColor.toArray() }));
+};
+
 function material(c) {
+  if (c.gltf !== undefined) return loaded[c.gltf];
   const m = c.physical ? new THREE.MeshPhysicalMaterial() : new THREE.MeshStandardMaterial();
   m.color.setRGB(...c.color, THREE.LinearSRGBColorSpace);
   m.metalness = c.metalness;
@@ -122,15 +140,39 @@ window.spheres = (cases, size, environment) => {
   });
   return Array.from(readBack(r, scene, camera, width, height));
 };
+window.show = async (cases, size) => {
+  const width = size * cases.length, height = size;
+  const r = renderer(width, height);
+  r.outputColorSpace = THREE.SRGBColorSpace;
+  r.toneMapping = THREE.NeutralToneMapping;
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0.18, 0.18, 0.18);
+  scene.environment = new THREE.PMREMGenerator(r).fromScene(new RoomEnvironment(), 0.02).texture;
+  const camera = new THREE.PerspectiveCamera(14, width / height, 1, 100);
+  camera.position.set(0, 0, 12);
+  const sphere = new THREE.SphereGeometry(1, 128, 64);
+  cases.forEach((c, i) => {
+    const mesh = new THREE.Mesh(sphere, material(c));
+    mesh.position.set((i - (cases.length - 1) / 2) * 2.2, 0, 0);
+    scene.add(mesh);
+  });
+  r.render(scene, camera);
+};
 window.ready = true;
 </script></body></html>
 """
+
+
+#: Modules served at /modules/NAME.js (the tests run README's snippet through it).
+MODULES: dict[str, str] = {}
 
 
 def _route(route):
     path = route.request.url[len(ORIGIN) :].split("?")[0]
     if path == "/index.html":
         return route.fulfill(status=200, content_type="text/html", body=PAGE)
+    if path.startswith("/modules/") and path[len("/modules/") : -len(".js")] in MODULES:
+        return route.fulfill(status=200, content_type="text/javascript", body=MODULES[path[9:-3]])
     for prefix, folder in (("/three/", npm_unpacked("three", THREE_VERSION)), ("/fresnel-basis-three/", PACKAGE)):
         if path.startswith(prefix):
             file = (folder / path[len(prefix) :]).resolve()
@@ -152,7 +194,7 @@ def open_page(browser):
 def furnace(page, cases: list[dict], lighting: dict | None = None) -> np.ndarray:
     """(len(cases), 3) of the furnace's read-back, one case a dict: ``mu``, ``roughness``, ``metalness``, ``color``
     (linear RGB), ``physical`` (MeshPhysicalMaterial), ``ior``, ``basis`` (applyFresnelBasis's options; absent: stock
-    three.js). ``lighting``: in place of the white environment, one light, ``{"kind": "directional", "direction":
+    three.js), or ``gltf``: the index of a material :func:`load_gltf` loaded. ``lighting``: in place of the white environment, one light, ``{"kind": "directional", "direction":
     [x, y, z]}`` (intensity 1) or ``{"kind": "rect", "position", "size": [w, h], "lookAt"}``; the plane of case i
     is centred at ((i mod COLUMNS + ½) CELL, (⌊i / COLUMNS⌋ + ½) CELL, 0) with normal (0, √(1 − μ²), μ)."""
     return np.array(page.evaluate(f"window.furnace({json.dumps(cases)}, {CELL}, {COLUMNS}, {json.dumps(lighting)})"))
@@ -162,3 +204,23 @@ def spheres(page, cases: list[dict], size: int, environment: str = "white") -> n
     """(size, size × len(cases), 4) of spheres side by side, row 0 at the bottom."""
     values = np.array(page.evaluate(f"window.spheres({json.dumps(cases)}, {size}, {json.dumps(environment)})"))
     return values.reshape(size, size * len(cases), 4)
+
+
+def load_gltf(page, document: dict) -> list[dict]:
+    """Load a glTF document with GLTFLoader and the package's plugin; its meshes' materials (type, defines,
+    specularColor), which furnace cases name by index (``{"gltf": i, "mu": …}``)."""
+    return page.evaluate(f"window.loadGltf({json.dumps(document)})")
+
+
+def screenshot(page, cases: list[dict], size: int) -> bytes:
+    """PNG of spheres side by side in three.js's RoomEnvironment (sRGB, neutral tone mapping), one per case."""
+    page.set_viewport_size({"width": size * len(cases), "height": size})
+    page.evaluate(f"window.show({json.dumps(cases)}, {size})")
+    return page.locator("#c").screenshot()
+
+
+def run_module(page, name: str, source: str):
+    """Import ``source`` as the ES module /modules/NAME.js in the page (three.js and the package resolve as in an app)
+    and return its exported ``result`` (JSON-ready), if any."""
+    MODULES[name] = source
+    return page.evaluate(f"import('/modules/{name}.js').then((module) => module.result ?? null)")
