@@ -5,7 +5,8 @@
 #               plot extra); the committed report/ is a snapshot with its commit and date: make report REPORT_OUT=report
 #   make materials  measured materials: the presets luts/materials.json, then report/materials.md (about 20 s)
 #   make render     pictures: report/render/ (about 45 s)
-#   make view       the look-development page in your browser (fresnel-lut view --open; Ctrl-C stops it)
+#   make view       the look-development page in your browser (fresnel-lut view --open, with the 'your asset' page:
+#                   three.js from npm; Ctrl-C stops it)
 #   make fidelity   basis fidelity: report/fidelity.md and its plot (validation groups, frontier, bounds, error vs K; about 2 minutes)
 PYTHON ?= python3
 VENV := .venv
@@ -62,8 +63,12 @@ fidelity: $(STAMP)
 render: $(STAMP)
 	$(VENV)/bin/fresnel-lut render --out report/render
 
+# the "your asset" page runs three.js as an application does: npm's three at the package's version, fetched once
+THREE_VERSION = $$($(VENV)/bin/python -c "from handoff.three import THREE_VERSION; print(THREE_VERSION)")
 view: $(STAMP)
-	$(VENV)/bin/fresnel-lut view --open
+	@mkdir -p build/npm && version=$(THREE_VERSION) && cd build/npm && if [ ! -f three-$$version/package/package.json ]; then \
+		npm pack --silent three@$$version >/dev/null && mkdir -p three-$$version && tar xzf three-$$version.tgz -C three-$$version; fi
+	$(VENV)/bin/fresnel-lut view --open --three-js build/npm/three-$(THREE_VERSION)/package
 
 # the suite in three processes, the shader tests (Mesa in the process), the application's and the rest, so that none
 # holds every part's memory at once: the largest process 0.81 GB instead of 1.29 GB in one (issue 26 item 17;

@@ -4,7 +4,7 @@ disk (Playwright's routing, nothing from the network) that renders furnace plane
 ``benchmarks.three_package``'s).
 
 Public objects: ``PACKAGE``, ``MODULES``, ``open_page``, ``furnace``, ``spheres``, ``load_gltf``, ``screenshot``,
-``run_module``.
+``run_module``, ``gltf_document``, ``uv_sphere``.
 
 The furnace: a uniform white environment (PMREM of a white background: radiance 1, irradiance π), an orthographic
 camera (view direction (0, 0, 1) everywhere), and one plane per case tilted so that N·V = μ, stretched by 1/μ so that
@@ -14,6 +14,7 @@ pixel of a cell is the material's directional albedo as three.js's image-based l
 
 from __future__ import annotations
 
+import base64
 import json
 import mimetypes
 from pathlib import Path
@@ -224,3 +225,58 @@ def run_module(page, name: str, source: str):
     and return its exported ``result`` (JSON-ready), if any."""
     MODULES[name] = source
     return page.evaluate(f"import('/modules/{name}.js').then((module) => module.result ?? null)")
+
+
+def gltf_document(meshes: list[tuple[np.ndarray, np.ndarray | None, np.ndarray | None]], materials: list[dict]) -> dict:
+    """A glTF 2.0 document with one buffer embedded: mesh i = (positions (N, 3), normals (N, 3) or None, triangle
+    indices (M, 3) or None) with material i, one node each."""
+    chunks, views, accessors, primitives = [], [], [], []
+    offset = 0
+    for positions, normals, indices in meshes:
+        attributes = {}
+        for name, values, kind in (("POSITION", positions, 5126), ("NORMAL", normals, 5126), (None, indices, 5125)):
+            if values is None:
+                continue
+            data = np.ascontiguousarray(values, dtype="<f4" if kind == 5126 else "<u4").tobytes()
+            views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(data)})
+            accessor = {
+                "bufferView": len(views) - 1,
+                "componentType": kind,
+                "count": int(values.size // (3 if name else 1)),
+            }
+            accessor["type"] = "VEC3" if name else "SCALAR"
+            if name == "POSITION":
+                accessor.update(min=np.min(values, axis=0).tolist(), max=np.max(values, axis=0).tolist())
+            accessors.append(accessor)
+            chunks.append(data)
+            offset += len(data)
+            if name:
+                attributes[name] = len(accessors) - 1
+        primitive = {"attributes": attributes, "material": len(primitives)}
+        if indices is not None:
+            primitive["indices"] = len(accessors) - 1
+        primitives.append(primitive)
+    buffer = b"".join(chunks)
+    return {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_materials_specular"],
+        "buffers": [{"uri": "data:application/octet-stream;base64," + base64.b64encode(buffer).decode("ascii"),
+                     "byteLength": len(buffer)}],
+        "bufferViews": views,
+        "accessors": accessors,
+        "materials": materials,
+        "meshes": [{"primitives": [primitive]} for primitive in primitives],
+        "nodes": [{"mesh": i} for i in range(len(primitives))],
+        "scenes": [{"nodes": list(range(len(primitives)))}],
+        "scene": 0,
+    }  # fmt: skip
+
+
+def uv_sphere(rows: int = 32, columns: int = 64) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(positions, normals, indices) of a unit sphere."""
+    theta, phi = np.meshgrid(np.linspace(0, np.pi, rows + 1), np.linspace(0, 2 * np.pi, columns + 1), indexing="ij")
+    points = np.stack([np.sin(theta) * np.cos(phi), np.cos(theta), np.sin(theta) * np.sin(phi)], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(rows), np.arange(columns), indexing="ij")
+    a, b = i * (columns + 1) + j, (i + 1) * (columns + 1) + j
+    indices = np.stack([np.stack([a, b, a + 1], -1), np.stack([a + 1, b, b + 1], -1)], axis=2).reshape(-1, 3)
+    return points, points, indices

@@ -347,7 +347,12 @@ def command_view(arguments) -> int:
 
     try:
         serve(
-            arguments.port, arguments.host, arguments.environment, ready=ready, progress=lambda text: print(f"  {text}")
+            arguments.port,
+            arguments.host,
+            arguments.environment,
+            ready=ready,
+            progress=lambda text: print(f"  {text}"),
+            three_js=arguments.three_js,
         )
     except KeyboardInterrupt:
         print("\nfresnel-lut view: stopped", file=sys.stderr)

@@ -285,5 +285,12 @@ def make_parser() -> argparse.ArgumentParser:
     view.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
     view.add_argument("--environment", default=None, help="an equirectangular EXR (2:1) instead of the studio")
     view.add_argument("--open", action="store_true", help="open the page in the default browser")
+    view.add_argument(
+        "--three-js",
+        default=None,
+        metavar="DIR",
+        help="npm's three package (0.187.0) for the 'your asset' page: a dropped glTF in three.js, stock or with the "
+        "basis (make view fetches it)",
+    )
     view.set_defaults(command="view")
     return parser

@@ -1,7 +1,7 @@
 """The look-development page: a local server for a WebGL 2 page that runs the shipped includes on the shipped tables.
 
 Public objects: ``page_files``, ``make_server``, ``serving``, ``serve``, ``read_environment``, ``is_loopback``,
-``ServerWarning``, ``PAGE_SIZE``, ``IDLE_TIMEOUT``, ``MAX_CONNECTIONS``.
+``ServerWarning``, ``PAGE_SIZE``, ``THREE_FILES``, ``IDLE_TIMEOUT``, ``MAX_CONNECTIONS``.
 
 The server (Python's standard library, bound to 127.0.0.1 unless told otherwise) answers GET and HEAD for a fixed set
 of names built once at start, in memory, and nothing else: no path of a request is ever joined to a folder, so no file
@@ -16,7 +16,12 @@ outside that set can be read (``..``, encoded or not, is simply not one of the n
   at 1024 values of μ, since a preset's curve is spectral), the studio's spherical Gaussians, the lights of
   :mod:`fresnel_lut.render`, the colorimetry of ΔE2000 and the basis hash;
 * ``/environment.f32`` — with ``environment``: the user's equirectangular EXR as float32 RGBA, rows top first,
-  which the page prefilters on the GPU.
+  which the page prefilters on the GPU;
+* ``/asset.html`` — with ``three_js`` (npm's ``three`` at :data:`handoff.three.THREE_VERSION`): "your asset", a
+  dropped glTF in three.js, stock or through the three.js package, whose files (``/fresnel-basis-three/``, from
+  ``luts/three``) and three.js's (``/three/``, :data:`THREE_FILES`) it serves; the Content-Security-Policy admits its
+  inline import map by hash, and ``data:`` and ``blob:`` reads (a glTF's embedded buffers and images: nothing leaves
+  the machine).
 
 The Content-Security-Policy header allows nothing but these names: the page loads nothing from the internet. A
 request whose ``Host`` is not this server's (a name other than ``localhost``, an address, or this machine's own name)
@@ -28,10 +33,13 @@ prints a traceback. Bound beyond the loopback addresses, the server warns (:clas
 
 from __future__ import annotations
 
+import base64
 import contextlib
+import hashlib
 import http.server
 import ipaddress
 import json
+import re
 import socket
 import threading
 import warnings
@@ -51,6 +59,8 @@ from basis.validation import ParameterError, check_positive_int
 from handoff.exr import LutFileError, read_lut
 from handoff.formats import ktx2_bytes
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
+from handoff.tables import THREE_FOLDER
+from handoff.three import THREE_VERSION
 
 from .render import (
     FIGURE2,
@@ -66,6 +76,7 @@ __all__ = [
     "IDLE_TIMEOUT",
     "MAX_CONNECTIONS",
     "PAGE_SIZE",
+    "THREE_FILES",
     "ServerWarning",
     "is_loopback",
     "make_server",
@@ -83,6 +94,21 @@ _PAGE_FILES = {
     "view.css": "text/css; charset=utf-8",
     "view.glsl": "text/plain; charset=utf-8",
 }
+#: The "your asset" page (with ``three_js``): three.js as an application runs it, with the three.js package.
+_ASSET_FILES = {"asset.html": "text/html; charset=utf-8", "asset.js": "text/javascript; charset=utf-8"}
+#: The files of npm's ``three`` the asset page imports (three.js's build and the add-ons it uses).
+THREE_FILES = (
+    "build/three.module.js",
+    "build/three.core.js",
+    "examples/jsm/loaders/GLTFLoader.js",
+    "examples/jsm/utils/BufferGeometryUtils.js",
+    "examples/jsm/utils/SkeletonUtils.js",
+    "examples/jsm/environments/RoomEnvironment.js",
+    "examples/jsm/controls/OrbitControls.js",
+)
+_THREE_PACKAGE_FILES = ("index.js", "data.js")
+#: The largest module the asset page serves (three.core.js is 1.5 MB).
+MAX_MODULE_BYTES = 1 << 24
 #: The shipped include the page compiles, verbatim.
 _INCLUDES = ("fresnel_basis.glsl",)
 #: Samples of each preset's exact curve over μ = cos θ in [0, 1] (linear interpolation: < 2e-5 from the curve).
@@ -91,9 +117,17 @@ CURVE_SAMPLES = 1024
 PAGE_SIZE = 384
 #: An environment is stored at most this wide (larger files are halved by 2 × 2 averages until they fit).
 ENVIRONMENT_WIDTH = 2048
+
+
+def _import_map_hash() -> str:
+    """CSP's hash source of the asset page's inline import map (import maps cannot be external files)."""
+    found = re.search(r'<script type="importmap">(.*?)</script>', (PAGE / "asset.html").read_text(encoding="utf-8"))
+    return "'sha256-" + base64.b64encode(hashlib.sha256(found.group(1).encode("utf-8")).digest()).decode("ascii") + "'"
+
+
 _CONTENT_SECURITY_POLICY = (
-    "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'; img-src 'self' data:; "
-    "base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
+    f"default-src 'none'; script-src 'self' {_import_map_hash()}; style-src 'self'; connect-src 'self' data: blob:; "
+    "img-src 'self' data: blob:; base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
 )
 
 
@@ -171,13 +205,44 @@ def read_environment(path) -> np.ndarray:
     return np.ascontiguousarray(rgba, dtype="<f4")
 
 
-def page_files(environment=None, progress: Callable[[str], None] | None = None) -> dict[str, tuple[bytes, str]]:
-    """Every name the server answers (a path such as ``/tables/ggx_basis_rgba.ktx2``) → (bytes, content type)."""
+def _asset_files(three_js) -> dict[str, tuple[bytes, str]]:
+    """The asset page, npm's ``three`` of the package's version from the folder ``three_js``, and the package."""
+    folder = Path(three_js)
+    try:
+        manifest = json.loads(read_regular_file(folder / "package.json", "three.js package.json", MAX_DOCUMENT_BYTES))
+    except (ParameterError, ValueError) as error:
+        raise ParameterError(f"--three-js {three_js}: not npm's three package ({error})") from None
+    if manifest.get("name") != "three" or manifest.get("version") != THREE_VERSION:
+        raise ParameterError(
+            f"--three-js {three_js}: three {manifest.get('version')!r}, but the package is made for three "
+            f"{THREE_VERSION} (npm pack three@{THREE_VERSION}; make view fetches it)"
+        )
+    files = {f"/{name}": ((PAGE / name).read_bytes(), kind) for name, kind in _ASSET_FILES.items()}
+    script = "text/javascript; charset=utf-8"
+    for name in THREE_FILES:
+        files[f"/three/{name}"] = (read_regular_file(folder / name, "three.js module", MAX_MODULE_BYTES), script)
+    package = shipped_path(THREE_FOLDER)
+    for name in _THREE_PACKAGE_FILES:
+        try:
+            data = read_regular_file(Path(package) / name, "three.js package", MAX_MODULE_BYTES)
+        except ParameterError as error:
+            raise ParameterError(f"{error}; `make luts` (fresnel-lut build --three) makes the package") from None
+        files[f"/fresnel-basis-three/{name}"] = (data, script)
+    return files
+
+
+def page_files(
+    environment=None, progress: Callable[[str], None] | None = None, three_js=None
+) -> dict[str, tuple[bytes, str]]:
+    """Every name the server answers (a path such as ``/tables/ggx_basis_rgba.ktx2``) → (bytes, content type); with
+    ``three_js`` (the folder of npm's ``three`` at the package's version), the "your asset" page too."""
     say = progress or (lambda text: None)
     files = {}
     for name, kind in _PAGE_FILES.items():
         files[f"/{name}"] = ((PAGE / name).read_bytes(), kind)
     files["/"] = files["/index.html"]
+    if three_js is not None:
+        files.update(_asset_files(three_js))
     for include in _INCLUDES:
         try:
             data = read_regular_file(shipped_path(include), "shader include", MAX_DOCUMENT_BYTES)
@@ -205,6 +270,7 @@ def page_files(environment=None, progress: Callable[[str], None] | None = None) 
         "rect_light": {"corners": RECT_LIGHT.tolist(), "radiance": RECT_LIGHT_RADIANCE},
         "colorimetry": _colorimetry(),
         "environment": None,
+        "three": three_js is not None,
     }
     if environment is not None:
         say(f"reading {environment}")
@@ -389,6 +455,7 @@ def serve(
     environment=None,
     ready: Callable[[str], None] | None = None,
     progress: Callable[[str], None] | None = None,
+    three_js=None,
 ) -> None:
     """Serve the page until interrupted; ``ready`` gets its URL once it listens."""
     if not is_loopback(host):
@@ -398,7 +465,7 @@ def serve(
             ServerWarning,
             stacklevel=2,
         )
-    server = make_server(page_files(environment, progress), port, host)
+    server = make_server(page_files(environment, progress, three_js), port, host)
     try:
         address, bound = server.server_address[:2]
         shown = f"[{address}]" if ":" in str(address) else address

@@ -213,6 +213,7 @@
     ]);
     const [basisTable, schlickTable, ltcTable] = tables.map((buffer, i) =>
       parseKtx2(buffer, ["ggx_basis_rgba", "ggx_schlick_rgba", "ggx_ltc"][i] + ".ktx2"));
+    $("asset-link").hidden = !config.three;
     const includeHash = (/FRESNEL_BASIS_HASH = 0x([0-9a-f]+)u/.exec(include) || [])[1];
     const tableHash = basisTable.keys["fresnel:basis_hash"] || "";
     if (!includeHash || !tableHash.startsWith(includeHash) || tableHash !== config.basis_hash) {

@@ -25,6 +25,7 @@ targets, a table from another basis: one line in the page), a server that serves
 from __future__ import annotations
 
 import http.client
+import json
 import signal
 import socket
 import struct
@@ -39,11 +40,14 @@ import pytest
 from basis.colorimetry import delta_E_2000
 from basis.materials import material_from_mapping
 from basis.storage import shipped_path
+from basis.validation import ParameterError
 from benchmarks.browser import browser_page
+from benchmarks.three_page import gltf_document, uv_sphere
 from fresnel_lut import render
 from fresnel_lut.view import page_files, read_environment, serving
 from handoff.exr import read_lut, stored_values
 from handoff.formats import ktx2_bytes
+from handoff.three import THREE_VERSION
 from preintegrate.ggx import roughness_to_alpha
 from tests.conftest import chromium
 from tests.references.area_light import rect_light_reference
@@ -641,3 +645,52 @@ def test_the_page_loads_nothing_from_elsewhere():
     page = Path(__file__).resolve().parents[2] / "fresnel_lut" / "page"
     text = "".join((page / name).read_text(encoding="utf-8") for name in ("index.html", "view.js", "view.css"))
     assert "http://" not in text and "https://" not in text and "//cdn" not in text
+
+
+@pytest.fixture(scope="module")
+def three_js():
+    from benchmarks.npm import NpmError, npm_unpacked
+    from tests.conftest import gpu_missing
+
+    try:
+        return npm_unpacked("three", THREE_VERSION)
+    except NpmError as error:
+        gpu_missing(str(error))
+
+
+def test_the_asset_page_shows_a_gltf_stock_and_with_the_basis(three_js, browser):
+    """ "Your asset": a glTF chosen in the page's file field, in three.js 0.187.0 with and without the package (its
+    GLTFLoader plugin), under the page's Content-Security-Policy (the import map admitted by its hash)."""
+    sphere = uv_sphere()
+    figure2 = {"pbrMetallicRoughness": {"baseColorFactor": [0.44, 0.44, 0.44, 1.0], "metallicFactor": 1.0,
+                                        "roughnessFactor": 0.28},
+               "extensions": {"KHR_materials_specular": {"specularColorFactor": [0.2, 1.0, 0.2]}}}  # fmt: skip
+    document = json.dumps(gltf_document([sphere], [figure2])).encode("utf-8")
+    with serving(page_files(three_js=three_js)) as asset_server:
+        page, messages = browser_page(browser)
+        page.goto(f"http://127.0.0.1:{asset_server.server_address[1]}/asset.html")
+        page.wait_for_function("() => window.fresnelAsset !== undefined", timeout=60_000)
+        page.set_input_files(
+            "#file", files=[{"name": "sphere.gltf", "mimeType": "model/gltf+json", "buffer": document}]
+        )
+        page.wait_for_function("() => window.fresnelAsset.state.name === 'sphere.gltf'", timeout=60_000)
+        assert page.evaluate("window.fresnelAsset.state.metals") == 1
+        basis = np.array(page.evaluate("window.fresnelAsset.pixels()"), dtype=float).reshape(512, 768, 4)
+        page.select_option("#mode", "stock")
+        stock = np.array(page.evaluate("window.fresnelAsset.pixels()"), dtype=float).reshape(512, 768, 4)
+        page.close()
+    _no_errors(messages)
+    background = np.array([basis[0, 0, :3], stock[0, 0, :3]])
+    covered = np.any(basis[..., :3] != basis[0, 0, :3], axis=-1)
+    assert np.ptp(background, axis=0).max() == 0 and covered.mean() > 0.1  # the sphere fills a part of the picture
+    # F82 tint (0.2, 1, 0.2): the basis' sphere turns green towards its rim; stock three.js ignores a metal's tint
+    assert basis[covered, 1].mean() - basis[covered, 0].mean() > 5
+    assert abs(stock[covered, 1].mean() - stock[covered, 0].mean()) < 2
+
+
+def test_the_asset_page_needs_three_js_of_the_packages_version(tmp_path):
+    (tmp_path / "package.json").write_text('{"name": "three", "version": "0.180.0"}', encoding="utf-8")
+    with pytest.raises(ParameterError, match=f"made for three {THREE_VERSION}"):
+        page_files(three_js=tmp_path)
+    with pytest.raises(ParameterError, match="not npm's three package"):
+        page_files(three_js=tmp_path / "missing")

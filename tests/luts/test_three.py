@@ -13,9 +13,7 @@ programs (tests/luts/three_page.py).
   F0-only Schlick cannot.
 """
 
-import base64
 import json
-import struct
 import subprocess
 import sys
 
@@ -26,7 +24,7 @@ from basis.eigenbasis import resolve_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
 from basis.presets import material_coefficients
 from basis.training.holdout import FIGURE_2
-from benchmarks.three_page import PACKAGE, furnace, load_gltf, open_page, run_module, spheres
+from benchmarks.three_page import PACKAGE, furnace, gltf_document, load_gltf, open_page, run_module, spheres
 from handoff.shaders.mirrors import (
     coefficients_per_pixel_gulbrandsen,
     coefficients_per_pixel_nk,
@@ -279,32 +277,15 @@ def test_rect_light_fresnel_is_the_split_sum(page, atlas_tables):
     np.testing.assert_allclose(rendered[lit] / reference[lit, :1], np.array(expected)[lit], rtol=1e-4)
 
 
-def _gltf(materials: list[dict]) -> dict:
-    """A glTF document of one triangle per material (the furnace draws its own planes with the loaded materials)."""
-    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
-    uri = "data:application/octet-stream;base64," + base64.b64encode(positions).decode("ascii")
-    return {
-        "asset": {"version": "2.0"},
-        "extensionsUsed": ["KHR_materials_specular"],
-        "buffers": [{"uri": uri, "byteLength": len(positions)}],
-        "bufferViews": [{"buffer": 0, "byteLength": len(positions)}],
-        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                       "min": [0, 0, 0], "max": [1, 1, 0]}],
-        "materials": materials,
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": i}]} for i in range(len(materials))],
-        "nodes": [{"mesh": i} for i in range(len(materials))],
-        "scenes": [{"nodes": list(range(len(materials)))}],
-        "scene": 0,
-    }  # fmt: skip
-
-
 def test_gltf_plugin_maps_specular_colour_to_f82_tint(page, atlas_tables):
     """KHR_materials_specular's specularColorFactor of a metal becomes its F82 tint (EXT_materials_specular_openpbr);
     a dielectric (metallicFactor 0) keeps three.js's material."""
     tint, base = [0.9, 0.6, 0.3], [0.95, 0.64, 0.54]
+    triangle = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), None, None)
     loaded = load_gltf(
         page,
-        _gltf(
+        gltf_document(
+            [triangle] * 3,
             [
                 {"pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.5},
                  "extensions": {"KHR_materials_specular": {"specularColorFactor": tint}}},
