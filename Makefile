@@ -38,11 +38,11 @@ $(TEST_STAMP): $(STAMP)
 	else \
 		echo "note: not root or no apt-get; the GPU and browser tests need $(SYSTEM_PACKAGES) and skip without them"; \
 	fi
-	$(VENV)/bin/python -m pip install --quiet -e '.[test,gpu,browser]'
+	$(VENV)/bin/python -m pip install --quiet -e '.[test,gpu,browser,materialx]'
 	touch $(TEST_STAMP)
 
 luts: $(STAMP)
-	$(VENV)/bin/fresnel-lut build --ltc --pixel-tables --atlas --three --out luts
+	$(VENV)/bin/fresnel-lut build --ltc --pixel-tables --atlas --three --materialx --out luts
 
 basis: $(STAMP)
 	$(VENV)/bin/fresnel-lut basis --out luts/basis.json

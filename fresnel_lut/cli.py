@@ -128,6 +128,8 @@ def command_build(arguments) -> int:
         raise ParameterError("--ltc goes with the default build, not with --model")
     if arguments.model is not None and arguments.atlas:
         raise ParameterError("--atlas goes with the default build, not with --model")
+    if arguments.model is not None and arguments.materialx:
+        raise ParameterError("--materialx goes with the default build, not with --model")
     if arguments.model is not None and arguments.three:
         raise ParameterError("--three goes with the default build, not with --model")
     if arguments.model is not None and arguments.pixel_tables:
@@ -170,6 +172,7 @@ def command_build(arguments) -> int:
             arguments.pixel_tables,
             arguments.atlas,
             arguments.three,
+            arguments.materialx,
         )
         if ltc_progress is not None:
             ltc_progress.close()

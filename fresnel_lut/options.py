@@ -132,6 +132,12 @@ def make_parser() -> argparse.ArgumentParser:
         "MeshStandardMaterial and MeshPhysicalMaterial, the tables as half floats; needs --ltc; make luts does)",
     )
     build.add_argument(
+        "--materialx",
+        action="store_true",
+        help="also write the MaterialX node library into OUT/materialx (fresnel_basis_albedo and the atlas include; "
+        "needs --atlas; make luts does)",
+    )
+    build.add_argument(
         "--model",
         default=None,
         help="instead: the exact split-sum table of one linear model "

@@ -1,6 +1,6 @@
 """Build recipes: the tables a build writes, as data, and the one writer of tables in every format.
 
-Public objects: ``Table``, ``ATLAS_STEM``, ``THREE_FOLDER``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
+Public objects: ``Table``, ``ATLAS_STEM``, ``THREE_FOLDER``, ``MATERIALX_FOLDER``, ``DEFAULT_SET``, ``DEFAULT_BUILD_FILES``, ``rgba_tables``, ``default_tables``, ``model_table``,
 ``ltc_build_table``, ``ltc_table``, ``kept_ltc_grid``, ``coefficient_build_table``, ``curve_table``, ``table_file_name``,
 ``write_tables``, ``write_default_build``, ``write_model_build``.
 
@@ -44,6 +44,7 @@ from preintegrate.quadrature import DEFAULT_ORDER
 from .atlas import pack_atlas
 from .exr import read_lut
 from .formats import FORMATS, check_formats, file_family
+from .materialx import write_materialx_library
 from .shaders import ATLAS_INCLUDE_STEM, INCLUDE_STEM, LANGUAGES, SHADER_INCLUDES, shader_includes
 from .shipped import (
     AVERAGE_LUT,
@@ -63,6 +64,7 @@ from .three import write_three_package
 
 __all__ = [
     "ATLAS_STEM",
+    "MATERIALX_FOLDER",
     "THREE_FOLDER",
     "DEFAULT_BUILD_FILES",
     "DEFAULT_SET",
@@ -280,6 +282,7 @@ def write_default_build(
     pixel_tables: bool = False,
     atlas: bool = False,
     three: bool = False,
+    materialx: bool = False,
 ) -> list[Path]:
     """``fresnel-lut build``: :func:`default_tables` written by :func:`write_tables`, owning :data:`DEFAULT_SET`, with
     the shader includes generated from the same basis (:mod:`handoff.shaders`) in the same
@@ -289,11 +292,15 @@ def write_default_build(
     and the direct-light curves over V·H (:func:`curve_table`); with ``atlas`` (``--atlas``, which needs both), every
     table the include reads packed into one texture (:func:`handoff.atlas.pack_atlas`) and the include that reads it,
     ``fresnel_basis_atlas.*``; with ``three`` (``--three``, which needs ``ltc``), the three.js package in
-    ``out/three/`` (:func:`handoff.three.write_three_package`, its own transaction after the tables')."""
+    ``out/three/`` (:func:`handoff.three.write_three_package`, its own transaction after the tables'); with
+    ``materialx`` (``--materialx``, which needs ``atlas``), the MaterialX node library in ``out/materialx/``
+    (:func:`handoff.materialx.write_materialx_library`, likewise)."""
     formats = check_formats(formats)  # refused before the work
     basis = resolve_basis(basis)
     if atlas and (ltc is None or not pixel_tables):
         raise ParameterError("--atlas packs every table the include reads: build it with --ltc and --pixel-tables")
+    if materialx and not atlas:
+        raise ParameterError("--materialx reads the atlas: build it with --atlas (and so --ltc --pixel-tables)")
     if three and (ltc is None or basis.n_terms != 4):
         raise ParameterError(
             "--three packs the basis, Schlick and LTC tables of a four-term basis: build it with --ltc"
@@ -310,6 +317,7 @@ def write_default_build(
         tables.append(ltc_build_table(ltc, ltc_progress))
     if pixel_tables:
         tables += [coefficient_build_table(basis), curve_table(basis)]
+    atlas_includes = []
     if atlas:
         packed, atlas_includes = _atlas(tables, basis, grid, ltc.width, command="fresnel-lut build --atlas")
         tables.append(packed)
@@ -335,11 +343,16 @@ def write_default_build(
         roles = {"basis": _stem(BASIS_LUT), "schlick": _stem(SCHLICK_LUT), "ltc": _stem(LTC_LUT)}
         package = {role: by_stem[stem] for role, stem in roles.items()}
         written += write_three_package(Path(out) / THREE_FOLDER, basis, package, grid, ltc.width, PACKAGE_VERSION)
+    if materialx:
+        include = dict(atlas_includes)[f"{ATLAS_INCLUDE_STEM}.glsl"]
+        written += write_materialx_library(Path(out) / MATERIALX_FOLDER, include, basis.content_hash)
     return written
 
 
 #: The three.js package's folder in a build (``fresnel-lut build --three``).
 THREE_FOLDER = "three"
+#: The MaterialX node library's folder in a build (``fresnel-lut build --materialx``).
+MATERIALX_FOLDER = "materialx"
 
 
 #: The atlas' stem (``fresnel-lut build --atlas``).

@@ -33,6 +33,7 @@ def test_every_benchmark_is_listed_here():
         "gpu_compiler",
         "linear_models",
         "lut_edges",
+        "materialx_library",
         "quadrature_vs_montecarlo",
         "shader_cost",
         "stability_table",
@@ -193,3 +194,17 @@ def test_three_package_runs_small():
     assert len(rows) == 4, completed.stdout
     for row in rows:
         assert float(row.split("|")[6]) > 5, row  # stock max over the package's max
+
+
+@pytest.mark.slow
+def test_materialx_library_runs_small():
+    """MaterialX's documents with and without the basis branch, one material each, 64 FIS samples."""
+    completed = _run("benchmarks.materialx_library", "--materials", "1", "--samples", "64", timeout=600)
+    if completed.returncode != 0 and "is missing" in completed.stderr:
+        gpu_missing(completed.stderr.strip().splitlines()[-1])
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    rows = {line.split("|")[1].strip(): line.split("|")[2:6] for line in completed.stdout.splitlines() if "| `" in line}
+    assert set(rows) == {"`conductor_bsdf`", "`standard_surface`", "`open_pbr_surface`"}
+    for cells in rows.values():
+        stock, branch = (float(cell.split("/")[0]) for cell in cells[:2])
+        assert branch < stock, cells

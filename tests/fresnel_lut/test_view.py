@@ -643,7 +643,10 @@ def test_a_table_from_another_basis_is_refused_in_the_page(server, browser):
 def test_the_page_loads_nothing_from_elsewhere():
     """Every file the page names is one of the server's (no CDN, no font, no analytics)."""
     page = Path(__file__).resolve().parents[2] / "fresnel_lut" / "page"
-    text = "".join((page / name).read_text(encoding="utf-8") for name in ("index.html", "view.js", "view.css"))
+    text = "".join(
+        (page / name).read_text(encoding="utf-8")
+        for name in ("index.html", "view.js", "view.css", "asset.html", "asset.js")
+    )
     assert "http://" not in text and "https://" not in text and "//cdn" not in text
 
 
