@@ -36,7 +36,7 @@ from handoff.shipped import shipped_tables
 from handoff.three import THREE_ROLES, THREE_VERSION, read_three_atlas
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import compensated_albedo, weigh_schlick_texels
-from tests.conftest import chromium
+from tests.conftest import chromium, gpu_missing
 from tests.references.fresnel import fresnel_complex
 from tests.references.integration import reference_albedo_grid
 
@@ -47,7 +47,7 @@ THREE_MIN_ROUGHNESS = 0.045  # lights_physical_fragment: max( roughnessFactor, 0
 @pytest.fixture(scope="module")
 def page():
     with chromium() as browser:
-        page, messages = open_page(browser)
+        page, messages = open_page(browser, missing=gpu_missing)
         yield page
         errors = [text for kind, text in messages if kind in ("error", "pageerror")]
         assert not errors, errors
