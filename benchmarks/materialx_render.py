@@ -102,32 +102,29 @@ def conductor(eta, kappa, alpha: float):
     return doc, surface
 
 
-def standard_surface(reflectivity, edge, roughness: float):
-    """(document, node): Autodesk Standard Surface, metalness 1: base_color = Gulbrandsen's r, specular_color = his
-    edge colour g (MaterialX's ``artistic_ior``), specular_roughness r (α = r²)."""
+def _metal_surface(category: str, metalness: str, colour, specular_colour, roughness: float):
+    """(document, node): a metal of the surface shader ``category`` (``metalness`` its metalness input's name)."""
     mx, _, _ = _materialx()
     doc = document()
-    node = doc.addNode("standard_surface", "surface", "surfaceshader")
-    node.setInputValue("metalness", 1.0)
-    node.setInputValue("base_color", mx.Color3(*map(float, reflectivity)))
-    node.setInputValue("specular_color", mx.Color3(*map(float, edge)))
+    node = doc.addNode(category, "surface", "surfaceshader")
+    node.setInputValue(metalness, 1.0)
+    node.setInputValue("base_color", mx.Color3(*map(float, colour)))
+    node.setInputValue("specular_color", mx.Color3(*map(float, specular_colour)))
     node.setInputValue("specular_roughness", float(roughness))
     doc.addMaterialNode("fresnel_material", node)
     return doc, node
+
+
+def standard_surface(reflectivity, edge, roughness: float):
+    """(document, node): Autodesk Standard Surface, metalness 1: base_color = Gulbrandsen's r, specular_color = his
+    edge colour g (MaterialX's ``artistic_ior``), specular_roughness r (α = r²)."""
+    return _metal_surface("standard_surface", "metalness", reflectivity, edge, roughness)
 
 
 def open_pbr_surface(f0, tint, roughness: float):
     """(document, node): OpenPBR, base_metalness 1: base_color = F0, specular_color = the F82 tint, specular_roughness
     r (α = r²)."""
-    mx, _, _ = _materialx()
-    doc = document()
-    node = doc.addNode("open_pbr_surface", "surface", "surfaceshader")
-    node.setInputValue("base_metalness", 1.0)
-    node.setInputValue("base_color", mx.Color3(*map(float, f0)))
-    node.setInputValue("specular_color", mx.Color3(*map(float, tint)))
-    node.setInputValue("specular_roughness", float(roughness))
-    doc.addMaterialNode("fresnel_material", node)
-    return doc, node
+    return _metal_surface("open_pbr_surface", "base_metalness", f0, tint, roughness)
 
 
 def generate(doc, node, environment: str = "prefilter", extra_folder: str | None = None) -> str:
