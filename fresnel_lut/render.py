@@ -47,10 +47,10 @@ from basis.eigenbasis import default_basis
 from basis.materials import material_from_mapping
 from basis.parallel import one_blas_thread, worker_count
 from basis.validation import check_choice, check_positive_int, check_range
-from handoff.shaders import direct_fresnel
+from handoff.shaders import direct_fresnel, rect_light_specular
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import ltc_grid, rect_light_integral
+from preintegrate.ltc import ltc_grid, rect_light_direction
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -293,9 +293,10 @@ def render_rect_light(
     visibility: str = "height-correlated",
 ) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of a rectangular light of ``radiance`` on the unit sphere by linearly transformed
-    cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRect``), its Fresnel three ways: the exact curve's
-    split sum F̄ (what the LTC alone costs), the basis' Σ c_k b̄_k from the table (``fresnelBasisRectLight``) and
-    Schlick's F0 s + b (``fresnelSchlickRectLight``); and the LTC integral itself (``ltc``, one channel)."""
+    cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRectVector``), its Fresnel three ways: the exact
+    curve's (the LTC integral × E mix(F(V·H*), F̄ / E, w) with the exact F and F̄: what the LTC and that
+    factorisation alone cost), the basis' (``fresnelBasisRectLight``, :func:`handoff.shaders.rect_light_specular`)
+    and Schlick's F0 s + b (``fresnelSchlickRectLight``); and the LTC integral itself (``ltc``, one channel)."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
     check_choice("visibility", visibility, list(VISIBILITIES))
     normals, mask = sphere_geometry(size)
@@ -303,8 +304,13 @@ def render_rect_light(
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normals, view), axis=-1)
     grid = ltc_grid(ltc_lut.shape[0], visibility)
-    integral = rect_light_integral(grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners)
+    integral, direction = rect_light_direction(
+        grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners
+    )
     integral = np.where(mask, integral, 0.0)
+    local_view = np.stack([sine, np.zeros_like(sine), mu_o], axis=-1)
+    half = local_view + direction
+    v_dot_h = np.clip(np.sum(local_view * half, axis=-1) / np.maximum(np.linalg.norm(half, axis=-1), 1e-30), 0, 1)
     nodes = texel_centres(256)
     exact_table = directional_albedo(
         material.curve, nodes, roughness_to_alpha(roughness), visibility=visibility, workers=1
@@ -312,12 +318,15 @@ def render_rect_light(
     exact = np.stack([np.interp(mu_o, nodes, exact_table[:, c]) for c in range(3)], axis=-1)
     f0 = material.curve(np.array(1.0))
     schlick = lut_lookup(schlick_lut, mu_o, roughness)
-    fresnel = {
-        "exact": exact,
-        "basis": lut_lookup(basis_lut, mu_o, roughness) @ material.coefficients.T,
-        "schlick": schlick[..., :1] * f0 + schlick[..., 1:2],
+    weight = np.clip(integral, 0.0, 1.0)[..., None]
+    exact_blend = weight * exact + (1.0 - weight) * schlick[..., 2:3] * material.curve(v_dot_h)
+    coefficients = np.broadcast_to(material.coefficients, normals.shape[:-1] + material.coefficients.shape)
+    basis = rect_light_specular(ltc_lut, basis_lut, normals, view, normals, corners, roughness, coefficients)
+    images = {
+        "exact": radiance * integral[..., None] * exact_blend,
+        "basis": radiance * basis,
+        "schlick": radiance * integral[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
     }
-    images = {name: radiance * integral[..., None] * value for name, value in fresnel.items()}
     for image in images.values():
         image[~mask] = 0.0
     images["ltc"] = integral

@@ -517,12 +517,12 @@ vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
     return vec2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
-float fresnelLtcEdge(vec3 p, vec3 q)
+// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+vec3 fresnelLtcEdge(vec3 p, vec3 q)
 {
     vec3 c = cross(p, q);
     float s = length(c);
-    return c.z * ((s > 1e-7) ? atan(s, dot(p, q)) / s : 1.0);
+    return c * ((s > 1e-7) ? atan(s, dot(p, q)) / s : 1.0);
 }
 
 vec3 fresnelLtcUnit(vec3 v)
@@ -538,12 +538,13 @@ vec3 fresnelLtcTransform(vec4 t, vec3 w)
     return vec3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The integral of the clamped cosine over the quad p (Heitz 2016 eq. 11), clipped to the upper hemisphere edge by
-// edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its corners turn
-// counter-clockwise seen from the point that it lights, as three.js winds them).
-float fresnelLtcQuad(vec3 p[4])
+// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
+// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
+// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
+// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
+vec3 fresnelLtcQuadVector(vec3 p[4])
 {
-    float sum = 0.0;
+    vec3 sum = vec3(0.0);
     vec3 exitPoint = vec3(1.0, 0.0, 0.0);
     vec3 entryPoint = vec3(0.0, 1.0, 0.0);
     bool exits = false;
@@ -575,12 +576,20 @@ float fresnelLtcQuad(vec3 p[4])
     {
         sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
     }
-    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+    return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V: the
-// frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
-float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
+// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
+float fresnelLtcQuad(vec3 p[4])
+{
+    return max(fresnelLtcQuadVector(p).z, 0.0);
+}
+
+// The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
+// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
+// integral (the share of the lobe the light covers).
+vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
@@ -597,15 +606,38 @@ float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], 
         vec3 w = corners[i] - P;
         p[i] = fresnelLtcTransform(t, vec3(dot(w, T1), dot(w, T2), dot(w, N)));
     }
-    return fresnelLtcQuad(p);
+    vec3 f = fresnelLtcQuadVector(p);
+    // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
+    float det = t.x * t.w - t.z * t.y;
+    vec3 back = vec3(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * ((det < 0.0) ? -1.0 : 1.0);
+    return vec4(fresnelLtcUnit(back), max(f.z, 0.0));
 }
 
-// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
-// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+// The LTC integral of a rectangular light (fresnelLtcRectVector's w).
+float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
+{
+    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r).w;
+}
+
+// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, where V = (sin, 0, cos).
+float fresnelLtcVdotH(vec4 light, float NdotV)
+{
+    vec3 view = vec3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
+    return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
+}
+
+// Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
+// paths: the LTC integral times E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative
+// direction and w the share of the lobe it covers (fresnelLtcRectVector): a small light tends to the punctual limit
+// F(V.H) of its direction, a light that covers the lobe to the split sum (issue 41).
 vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec4 cR, vec4 cG, vec4 cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelBasisSplitSum(lut, NdotV, r, cR, cG, cB);
+    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r);
+    vec4 b = fresnelBasisTerms(lut, fresnelBasisLutUV(NdotV, r));
+    vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+    vec3 punctual = b.x * fresnelBasisDirect(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
 // Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
@@ -615,9 +647,13 @@ vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec
     return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, NdotV, r, f0);
 }
 
-// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+// Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
+// and its exact curve.
 vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 wR, vec3 wG, vec3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, NdotV, r, wR, wG, wB);
+    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r);
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
+    vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, NdotV), wR, wG, wB);
+    return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
 }

@@ -517,12 +517,12 @@ float2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
     return float2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
-float fresnelLtcEdge(float3 p, float3 q)
+// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+float3 fresnelLtcEdge(float3 p, float3 q)
 {
     float3 c = cross(p, q);
     float s = length(c);
-    return c.z * ((s > 1e-7) ? atan2(s, dot(p, q)) / s : 1.0);
+    return c * ((s > 1e-7) ? atan2(s, dot(p, q)) / s : 1.0);
 }
 
 float3 fresnelLtcUnit(float3 v)
@@ -538,12 +538,13 @@ float3 fresnelLtcTransform(float4 t, float3 w)
     return float3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The integral of the clamped cosine over the quad p (Heitz 2016 eq. 11), clipped to the upper hemisphere edge by
-// edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its corners turn
-// counter-clockwise seen from the point that it lights, as three.js winds them).
-float fresnelLtcQuad(float3 p[4])
+// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
+// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
+// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
+// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
+float3 fresnelLtcQuadVector(float3 p[4])
 {
-    float sum = 0.0;
+    float3 sum = float3(0.0);
     float3 exitPoint = float3(1.0, 0.0, 0.0);
     float3 entryPoint = float3(0.0, 1.0, 0.0);
     bool exits = false;
@@ -575,12 +576,20 @@ float fresnelLtcQuad(float3 p[4])
     {
         sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
     }
-    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+    return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V: the
-// frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
-float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r)
+// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
+float fresnelLtcQuad(float3 p[4])
+{
+    return max(fresnelLtcQuadVector(p).z, 0.0);
+}
+
+// The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
+// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
+// integral (the share of the lobe the light covers).
+float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     float4 t = ltcLut.SampleLevel(linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0);
@@ -597,15 +606,38 @@ float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 
         float3 w = corners[i] - P;
         p[i] = fresnelLtcTransform(t, float3(dot(w, T1), dot(w, T2), dot(w, N)));
     }
-    return fresnelLtcQuad(p);
+    float3 f = fresnelLtcQuadVector(p);
+    // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
+    float det = t.x * t.w - t.z * t.y;
+    float3 back = float3(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * ((det < 0.0) ? -1.0 : 1.0);
+    return float4(fresnelLtcUnit(back), max(f.z, 0.0));
 }
 
-// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
-// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+// The LTC integral of a rectangular light (fresnelLtcRectVector's w).
+float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r)
+{
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r).w;
+}
+
+// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, where V = (sin, 0, cos).
+float fresnelLtcVdotH(float4 light, float NdotV)
+{
+    float3 view = float3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
+    return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
+}
+
+// Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
+// paths: the LTC integral times E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative
+// direction and w the share of the lobe it covers (fresnelLtcRectVector): a small light tends to the punctual limit
+// F(V.H) of its direction, a light that covers the lobe to the split sum (issue 41).
 float3 fresnelBasisRectLight(Texture2D<float4> ltcLut, Texture2D<float4> lut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float4 cR, float4 cG, float4 cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelBasisSplitSum(lut, linearClamp, NdotV, r, cR, cG, cB);
+    float4 light = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
+    float4 b = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
+    float3 average = float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+    float3 punctual = b.x * fresnelBasisDirect(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    return light.w * lerp(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
 // Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
@@ -615,9 +647,13 @@ float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schli
     return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
 }
 
-// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+// Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
+// and its exact curve.
 float3 fresnelLinearRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 wR, float3 wG, float3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, linearClamp, NdotV, r, wR, wG, wB);
+    float4 light = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
+    float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
+    float3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, NdotV), wR, wG, wB);
+    return light.w * lerp(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
 }

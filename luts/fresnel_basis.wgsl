@@ -513,12 +513,12 @@ fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f
     return vec2f(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge term (p x q).z theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
-fn fresnelLtcEdge(p: vec3f, q: vec3f) -> f32
+// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+fn fresnelLtcEdge(p: vec3f, q: vec3f) -> vec3f
 {
     let c: vec3f = cross(p, q);
     let s: f32 = length(c);
-    return c.z * (select(1.0, atan2(s, dot(p, q)) / s, (s > 1e-7)));
+    return c * (select(1.0, atan2(s, dot(p, q)) / s, (s > 1e-7)));
 }
 
 fn fresnelLtcUnit(v: vec3f) -> vec3f
@@ -534,12 +534,13 @@ fn fresnelLtcTransform(t: vec4f, w: vec3f) -> vec3f
     return vec3f(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The integral of the clamped cosine over the quad p (Heitz 2016 eq. 11), clipped to the upper hemisphere edge by
-// edge, the horizon edge from the exit to the entry point; one-sided: 0 when the quad faces away (its corners turn
-// counter-clockwise seen from the point that it lights, as three.js winds them).
-fn fresnelLtcQuad(p: array<vec3f, 4>) -> f32
+// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
+// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
+// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
+// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
+fn fresnelLtcQuadVector(p: array<vec3f, 4>) -> vec3f
 {
-    var sum: f32 = 0.0;
+    var sum: vec3f = vec3f(0.0);
     var exitPoint: vec3f = vec3f(1.0, 0.0, 0.0);
     var entryPoint: vec3f = vec3f(0.0, 1.0, 0.0);
     var exits: bool = false;
@@ -571,12 +572,20 @@ fn fresnelLtcQuad(p: array<vec3f, 4>) -> f32
     {
         sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
     }
-    return max(-sum * 0.159154943, 0.0);  // 1 / (2 pi)
+    return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// The LTC integral of a rectangular light with corners (world space) seen from P with normal N and view V: the
-// frame T1 (the view's tangential part), T2 = N x T1, N, then the table's M^-1.
-fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> f32
+// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
+fn fresnelLtcQuad(p: array<vec3f, 4>) -> f32
+{
+    return max(fresnelLtcQuadVector(p).z, 0.0);
+}
+
+// The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
+// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
+// integral (the share of the lobe the light covers).
+fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> vec4f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
     let t: vec4f = textureSampleLevel(ltcLut, linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
@@ -593,15 +602,38 @@ fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: ve
         let w: vec3f = corners[i] - P;
         p[i] = fresnelLtcTransform(t, vec3f(dot(w, T1), dot(w, T2), dot(w, N)));
     }
-    return fresnelLtcQuad(p);
+    let f: vec3f = fresnelLtcQuadVector(p);
+    // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
+    let det: f32 = t.x * t.w - t.z * t.y;
+    let back: vec3f = vec3f(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * (select(1.0, -1.0, (det < 0.0)));
+    return vec4f(fresnelLtcUnit(back), max(f.z, 0.0));
 }
 
-// Specular of a rectangular light per colour channel: the LTC integral times the split sum of the same
-// coefficients as the image-based and punctual paths (the LTC matrices do not depend on Fresnel).
+// The LTC integral of a rectangular light (fresnelLtcRectVector's w).
+fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> f32
+{
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r).w;
+}
+
+// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, where V = (sin, 0, cos).
+fn fresnelLtcVdotH(light: vec4f, NdotV: f32) -> f32
+{
+    let view: vec3f = vec3f(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
+    return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
+}
+
+// Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
+// paths: the LTC integral times E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative
+// direction and w the share of the lobe it covers (fresnelLtcRectVector): a small light tends to the punctual limit
+// F(V.H) of its direction, a light that covers the lobe to the split sum (issue 41).
 fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, lut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelBasisSplitSum(lut, linearClamp, NdotV, r, cR, cG, cB);
+    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
+    let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
+    let average: vec3f = vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+    let punctual: vec3f = b.x * fresnelBasisDirect(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
 // Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
@@ -611,9 +643,13 @@ fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>,
     return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
 }
 
-// Specular of a rectangular light for a linear model's weights: the LTC integral times its exact split sum.
+// Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
+// and its exact curve.
 fn fresnelLinearRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelLinearSplitSum(schlickLut, linearClamp, NdotV, r, wR, wG, wB);
+    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
+    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
+    let punctual: vec3f = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, NdotV), wR, wG, wB);
+    return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
 }

@@ -2,7 +2,7 @@
 
 Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
 ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
-``polygon_integral``, ``rect_light_integral``, ``shading_frame``.
+``polygon_integral``, ``polygon_vector``, ``rect_light_integral``, ``rect_light_direction``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -69,6 +69,8 @@ __all__ = [
     "ltc_density",
     "ltc_inverse",
     "polygon_integral",
+    "polygon_vector",
+    "rect_light_direction",
     "rect_light_integral",
     "shading_frame",
     "stored_lobe_error",
@@ -409,7 +411,7 @@ def ltc_inverse(stored) -> np.ndarray:
 
 
 def _edge(p, q) -> np.ndarray:
-    """Lambert's edge term (p̂ × q̂)_z θ / sin θ, θ the angle between p and q (Heitz 2016 eq. 11 without 1/2π)."""
+    """Lambert's edge vector (p̂ × q̂) θ / sin θ, θ the angle between p and q (Heitz 2016 eq. 11 without 1/2π)."""
     p = p / np.linalg.norm(p, axis=-1, keepdims=True)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
     cross = np.cross(p, q)
@@ -417,7 +419,7 @@ def _edge(p, q) -> np.ndarray:
     cosine = np.sum(p * q, axis=-1)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(sine > 1e-12, np.arctan2(sine, cosine) / sine, 1.0)
-    return cross[..., 2] * ratio
+    return cross * ratio[..., None]
 
 
 def polygon_integral(vertices) -> np.ndarray:
@@ -425,6 +427,13 @@ def polygon_integral(vertices) -> np.ndarray:
     the origin; the polygon clipped to z ≥ 0 edge by edge): Lambert's formula (Heitz 2016 eq. 11). Positive when
     the vertices turn counter-clockwise seen from the origin, i.e. (v1 − v0) × (v3 − v0) points towards it: the
     winding three.js gives a rectangular light that faces the shaded point."""
+    return polygon_vector(vertices)[..., 2]
+
+
+def polygon_vector(vertices) -> np.ndarray:
+    """(…, 3) the vector form factor of the polygon clipped to z ≥ 0, (1/π) ∫ ω dω over it (Arvo 1994's vector
+    irradiance; Heitz 2016 eq. 11 per component): its z is :func:`polygon_integral`, its direction the polygon's
+    mean direction, its length at most 1."""
     vertices = as_float_array("vertices", vertices)
     if vertices.ndim < 2 or vertices.shape[-1] != 3 or vertices.shape[-2] < 3:
         raise ParameterError(f"vertices must be (..., V >= 3, 3), got shape {vertices.shape}")
@@ -437,7 +446,7 @@ def polygon_integral(vertices) -> np.ndarray:
     start = np.where(above_p[..., None], p, crossing)
     end = np.where(above_q[..., None], q, crossing)
     kept = above_p | above_q
-    total = np.sum(np.where(kept, _edge(start, end), 0.0), axis=-1)
+    total = np.sum(np.where(kept[..., None], _edge(start, end), 0.0), axis=-2)
     exits = above_p & ~above_q  # the clipped polygon runs along the horizon from its exit to its entry point
     entries = ~above_p & above_q
     exit_point = np.sum(np.where(exits[..., None], crossing, 0.0), axis=-2)
@@ -445,7 +454,7 @@ def polygon_integral(vertices) -> np.ndarray:
     has_horizon = np.any(exits, axis=-1) & np.any(entries, axis=-1)
     safe_exit = np.where(has_horizon[..., None], exit_point, np.array([1.0, 0.0, 0.0]))
     safe_entry = np.where(has_horizon[..., None], entry_point, np.array([0.0, 1.0, 0.0]))
-    total = total + np.where(has_horizon, _edge(safe_exit, safe_entry), 0.0)
+    total = total + np.where(has_horizon[..., None], _edge(safe_exit, safe_entry), 0.0)
     return -total / (2.0 * np.pi)
 
 
@@ -475,3 +484,19 @@ def rect_light_integral(stored, normal, view, position, corners) -> np.ndarray:
     )
     transformed = np.einsum("...ij,...vj->...vi", ltc_inverse(stored), local)
     return np.maximum(polygon_integral(transformed), 0.0)
+
+
+def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`rect_light_integral`, the light's representative direction (…, 3) in the shading frame): the direction
+    of the transformed quad's vector form factor (:func:`polygon_vector`, its mean direction in the cosine's space)
+    taken back through M (the LTC of ``stored``); where the quad lies below the horizon, the normal."""
+    frame = shading_frame(normal, view)
+    local = np.einsum(
+        "...ij,...vj->...vi", frame, as_float_array("corners", corners) - np.asarray(position)[..., None, :]
+    )
+    inverse = ltc_inverse(stored)
+    vector = polygon_vector(np.einsum("...ij,...vj->...vi", inverse, local))
+    back = np.einsum("...ij,...j->...i", np.linalg.inv(inverse), vector)
+    length = np.linalg.norm(back, axis=-1, keepdims=True)
+    direction = np.where(length > 0.0, back / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
+    return np.maximum(vector[..., 2], 0.0), direction

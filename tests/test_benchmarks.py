@@ -26,6 +26,7 @@ def _run(*argv, timeout=300):
 
 def test_every_benchmark_is_listed_here():
     assert ENTRIES == [
+        "area_light_set",
         "area_lights",
         "coefficient_table",
         "commands",
@@ -208,3 +209,12 @@ def test_materialx_library_runs_small():
     for cells in rows.values():
         stock, branch = (float(cell.split("/")[0]) for cell in cells[:2])
         assert branch < stock, cells
+
+
+@pytest.mark.slow
+def test_area_light_set_runs_small():
+    """The area-light set with a coarse reference, without peers or cost: every approach and the factorisation."""
+    completed = _run("benchmarks.area_light_set", "--nodes", "16", "--three", "none", "--no-cost", timeout=600)
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    for row in ("| split sum, this project |", "| punctual blend, this project |", "| F at the light's mean V·H |"):
+        assert completed.stdout.count(row) == 1, completed.stdout

@@ -5,7 +5,7 @@ Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_nk_table``,
 ``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``,
-``ltc_coordinates``, ``rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
+``ltc_coordinates``, ``rect_light_specular``, ``linear_rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
 ``linear_direct``.
 
 * **(η, κ) per pixel** (Belcour 2020, "Coefficients"): c0 = F(0°) in closed form, c1 = F(90°) − c0 (F(90°) = 1 but
@@ -34,7 +34,7 @@ from basis.coefficient_table import coefficients_from_coefficient_table
 from basis.models.formulas import adobe_dip_weight, f82_dip_weight
 from basis.validation import ParameterError, as_float_array, check_choice
 from preintegrate.ltc import ltc_grid
-from preintegrate.ltc import rect_light_integral as ltc_rect_light_integral
+from preintegrate.ltc import rect_light_direction as ltc_rect_light_direction
 from preintegrate.multiple_scattering import weigh_schlick_texels
 
 from .constants import (
@@ -64,6 +64,7 @@ __all__ = [
     "linear_weights",
     "ltc_coordinates",
     "lut_coordinates",
+    "linear_rect_light_specular",
     "rect_light_specular",
     "sanitize_gulbrandsen",
     "sanitize_nk",
@@ -291,23 +292,60 @@ def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
     return ltc_grid(constants.ltc_size).texture_coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
 
 
-def rect_light_specular(
-    ltc_table, basis_table, normal, view, position, corners, roughness, coefficients, constants=None
-) -> np.ndarray:
-    """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
-    with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times the
-    split sum Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K) — bilinear fetches as a GPU
-    makes them."""
-    constants = shader_constants() if constants is None else constants
+def _rect_light(ltc_table, normal, view, position, corners, roughness, constants):
+    """(LTC integral (…), V·H* (…), N·V (…), roughness (…)) as ``fresnelLtcRectVector`` and ``fresnelLtcVdotH`` compute
+    them: H* the half vector of the light's representative direction (:func:`preintegrate.ltc.rect_light_direction`)."""
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normal, view), axis=-1)
     roughness = sanitize_unit(roughness, 0.5)
-    integral = ltc_rect_light_integral(
-        ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine), normal, view, position, corners
+    stored = ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine)
+    integral, direction = ltc_rect_light_direction(stored, normal, view, position, corners)
+    local_view = np.stack([np.sqrt(np.maximum(1.0 - n_dot_v**2, 0.0)), np.zeros_like(n_dot_v), n_dot_v], axis=-1)
+    half = local_view + direction
+    half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)
+    return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0), n_dot_v, roughness
+
+
+def _punctual_blend(integral, average, punctual) -> np.ndarray:
+    """The LTC integral × mix(E F(V·H*), F̄, w), w the integral (each (…, 3) but the integral (…))."""
+    weight = np.clip(integral, 0.0, 1.0)[..., None]
+    return integral[..., None] * (weight * average + (1.0 - weight) * punctual)
+
+
+def rect_light_specular(
+    ltc_table, basis_table, normal, view, position, corners, roughness, coefficients, constants=None
+) -> np.ndarray:
+    """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
+    with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times
+    E mix(F(V·H*), F̄ / E, w): F̄ = Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K), E = b̄0,
+    F the direct-light curves at the light's representative half vector, w the integral — bilinear fetches as a GPU
+    makes them."""
+    constants = shader_constants() if constants is None else constants
+    integral, v_dot_h, n_dot_v, roughness = _rect_light(
+        ltc_table, normal, view, position, corners, roughness, constants
     )
     terms = _table_texels("basis_table", basis_table, n_dot_v, roughness, constants)
-    return integral[..., None] * np.einsum("...ck,...k->...c", as_float_array("coefficients", coefficients), terms)
+    coefficients = as_float_array("coefficients", coefficients)
+    average = np.einsum("...ck,...k->...c", coefficients, terms)
+    punctual = terms[..., :1] * direct_fresnel(coefficients, v_dot_h[..., None], constants)
+    return _punctual_blend(integral, average, punctual)
+
+
+def linear_rect_light_specular(
+    ltc_table, schlick_table, normal, view, position, corners, roughness, weights, constants=None
+) -> np.ndarray:
+    """(…, 3) ``fresnelLinearRectLight``: as :func:`rect_light_specular` for a linear model's weights (…, 3, 3), with
+    its exact split sum and curve (E the Schlick table's B)."""
+    constants = shader_constants() if constants is None else constants
+    integral, v_dot_h, n_dot_v, roughness = _rect_light(
+        ltc_table, normal, view, position, corners, roughness, constants
+    )
+    texels = _table_texels("schlick_table", schlick_table, n_dot_v, roughness, constants)
+    weights = as_float_array("weights", weights)
+    average = weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), texels, multiple_scattering=False)
+    punctual = texels[..., 2:3] * linear_direct(weights, v_dot_h)
+    return _punctual_blend(integral, average, punctual)
 
 
 def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:

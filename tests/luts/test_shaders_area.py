@@ -15,7 +15,14 @@ import numpy as np
 
 from basis.storage import shipped_path
 from handoff.exr import read_lut
-from handoff.shaders import linear_split_sum, linear_weights, ltc_coordinates, rect_light_specular, shader_includes
+from handoff.shaders import (
+    linear_rect_light_specular,
+    linear_split_sum,
+    linear_weights,
+    ltc_coordinates,
+    rect_light_specular,
+    shader_includes,
+)
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ltc import ltc_grid, rect_light_integral
 from preintegrate.lut import LutGrid
@@ -70,11 +77,12 @@ def _expected(a, b, ltc, basis, schlick):
     weights = np.broadcast_to(WEIGHTS, (len(a), 3, 3))
     linear = linear_split_sum(schlick, n_dot_v, roughness, weights)
     compensated = linear_split_sum(schlick, n_dot_v, roughness, weights, multiple_scattering=True)
+    linear_rect_light = linear_rect_light_specular(ltc, schlick, normal, view, position, corners, roughness, weights)
     return [
         np.concatenate([specular, integral[:, None]], -1),
         np.concatenate([schlick_specular, np.zeros((len(a), 1))], -1),
         np.concatenate([grid.texture_coordinates(n_dot_v, roughness, sine), uv], -1),
-        np.concatenate([integral[:, None] * linear, np.zeros((len(a), 1))], -1),
+        np.concatenate([linear_rect_light, np.zeros((len(a), 1))], -1),
         np.concatenate([linear, compensated[:, :1]], -1),
     ]
 

@@ -1,0 +1,323 @@
+"""Rectangular lights from tiny to huge (issue 41): each approach's total error against an independent reference,
+and its Fresnel part.
+
+The set: a shading point with normal z, views N·V ∈ {0.95, 0.6, 0.25, 0.08}, perceptual roughness ∈ {0.3, 0.5, 0.7},
+and rectangles (2:1) of width 0.02 to 10 at distance 2, facing the point, centred on the mirror direction, beside
+it, on the view's side, near the horizon and across it (part below); materials gold and the Figure 2 material
+(conductors, Gulbrandsen (r, g)) and glass and water (η 1.5, 1.33). The reference is the exact GGX BRDF with the
+exact Fresnel curve over the light's area (tests/references/area_light.py, Gauss–Legendre, ``--nodes``², checked
+here against twice the nodes; values where the two differ by more than 1e-3 relative are left out and counted).
+Errors are relative, |approx − reference| / reference, over every value with reference > 1e-3 (R, G, B of the
+conductors, one channel of the dielectrics).
+
+Approaches (all with bilinear lookups of the shipped tables at the shaders' coordinates):
+
+* **split sum** (the include today): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
+* **punctual blend**: the LTC integral × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative
+  direction (the vector form factor of the transformed polygon taken back through M, preintegrate.ltc.
+  rect_light_direction), F from the same coefficients (the direct-light curves), w the LTC integral itself (the
+  share of the lobe the light covers): a small light tends to the punctual limit F(V·H), a light covering the lobe
+  to the split sum;
+* each with the exact curve in place of the basis (their LTC-and-factorisation part), and the public fit (three.js's
+  ``LTC_MAT_1``) under both;
+* **three.js**: its LTC_MAT_1 integral × (F0 · t2.x + (1 − F0) · t2.y) of its ``LTC_MAT_2``, F0 the exact curve's.
+
+"Fresnel part": |approach − the same with the exact curve| / reference.
+
+A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the cost of the two
+forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
+
+Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--out FILE]`` (the
+report: ``--out report/area_light_set.md``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+
+import numpy as np
+
+from basis.coefficients import coefficients_from_nk
+from basis.gulbrandsen import gulbrandsen_to_nk
+from basis.storage import shipped_path
+from basis.training.holdout import FIGURE_2
+from benchmarks.npm import NpmError, npm_unpacked
+from benchmarks.output import publish
+from handoff.exr import read_lut
+from handoff.shaders.mirrors import direct_fresnel
+from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
+from preintegrate.ltc import ltc_grid, rect_light_direction
+from preintegrate.lut import LutGrid
+from tests.references.area_light import rect_light_reference
+from tests.references.fresnel import fresnel_complex
+from tests.references.integration import reference_albedo_grid
+
+VIEWS = (0.95, 0.6, 0.25, 0.08)
+ROUGHNESS = (0.3, 0.5, 0.7)
+WIDTHS = (0.02, 0.2, 1.0, 3.0, 10.0)
+DISTANCE = 2.0
+THREE_FILE = "examples/jsm/lights/RectAreaLightTexturesLib.js"
+
+
+def _materials() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """name → (η, κ) per channel."""
+    gold = gulbrandsen_to_nk(np.array([0.944, 0.776, 0.373]), np.array([0.998, 0.981, 0.751]))
+    figure = gulbrandsen_to_nk(np.array(FIGURE_2["reflectivity"], float), np.array(FIGURE_2["edge_tint"], float))
+    return {
+        "gold": gold,
+        "Figure 2": figure,
+        "glass": (np.array([1.5]), np.array([0.0])),
+        "water": (np.array([1.33]), np.array([0.0])),
+    }
+
+
+def _placements(mu_o: float) -> dict[str, tuple[float, float]]:
+    """name → (θ, φ) of the light's centre (the view at φ = 0)."""
+    theta_v = float(np.arccos(mu_o))
+    return {
+        "mirror": (theta_v, np.pi),
+        "beside": (min(theta_v + 0.5, 1.45), np.pi + 0.6),
+        "view side": (1.0, 0.0),
+        "near horizon": (1.4, np.pi),
+        "across horizon": (0.5 * np.pi, np.pi + 0.3),
+    }
+
+
+def _corners(theta: float, phi: float, width: float) -> np.ndarray:
+    """(4, 3) a width × width/2 rectangle at DISTANCE in direction (θ, φ), facing the origin, wound so that
+    (c1 − c0) × (c3 − c0) points at it."""
+    centre = DISTANCE * np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+    facing = -centre / DISTANCE
+    u = np.cross(facing, [0.0, 0.0, 1.0] if abs(facing[2]) < 0.99 else [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(facing, u)
+    a, b = 0.5 * width * u, 0.25 * width * v
+    corners = np.array([centre - a - b, centre + a - b, centre + a + b, centre - a + b])
+    if np.dot(np.cross(corners[1] - corners[0], corners[3] - corners[0]), facing) < 0.0:
+        corners = corners[::-1]
+    return corners
+
+
+def three_tables(version: str) -> tuple[np.ndarray, np.ndarray] | str:
+    """three.js's (LTC_MAT_1, LTC_MAT_2), each (64, 64, 4) on the LTC table's axes; or why they could not be had."""
+    try:
+        text = (npm_unpacked("three", version) / THREE_FILE).read_text(encoding="utf-8")
+    except (NpmError, OSError) as error:
+        return str(error)
+    tables = []
+    for name in ("LTC_MAT_1", "LTC_MAT_2"):
+        found = re.search(rf"const {name} = \[([^\]]*)\]", text)
+        if found is None:
+            return f"no {name} in three@{version}'s {THREE_FILE}"
+        values = [float(value.replace(" ", "")) for value in found.group(1).split(",")]
+        tables.append(np.array(values).reshape(64, 64, 4))
+    return tables[0], tables[1]
+
+
+#: The area light's two Fresnel forms in benchmarks.shader_cost's pass (a sphere seen per pixel; mapC stands in for
+#: the LTC table: the cost does not depend on its values).
+COST_VARIANTS = {
+    "split sum (before)": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
+                                                       vec3(-1.0, 2.0, 3.0));
+    Fbar = fresnelLtcRect(mapC, N, V, N, corners, roughness) * fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
+    F = vec3(0.0);""",
+    "punctual blend": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
+                                                   vec3(-1.0, 2.0, 3.0));
+    Fbar = fresnelBasisRectLight(mapC, basisLut, N, V, N, corners, roughness, cR, cG, cB);
+    F = vec3(0.0);""",
+}
+
+
+def cost() -> list[str]:
+    """Markdown lines: each form's area-light pass in ACO's estimate (RDNA 2) and on llvmpipe, × the split sum's."""
+    from benchmarks.gpu_compiler import compiler_estimates
+    from benchmarks.shader_cost import fragment_source, frame_times
+
+    lines = [
+        "| form | ACO instructions | × before, ACO (inverse throughput) | × before, llvmpipe |",
+        "|---|---|---|---|",
+    ]
+    try:
+        estimates, compiler = compiler_estimates({n: fragment_source(v, "450") for n, v in COST_VARIANTS.items()})
+    except RuntimeError as error:
+        estimates, compiler = None, str(error).splitlines()[0]
+    times, renderer = frame_times(256, 256, 16, 12, COST_VARIANTS)
+    before = "split sum (before)"
+    for name in COST_VARIANTS:
+        aco = "– | –"
+        if estimates is not None:
+            ratio = estimates[name]["Inverse Throughput"] / estimates[before]["Inverse Throughput"]
+            aco = f"{estimates[name]['Instructions']} | {ratio:.2f}"
+        lines.append(f"| {name} | {aco} | {times[name] / times[before]:.2f} |")
+    return [
+        *lines,
+        "",
+        f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
+    ]
+
+
+def _statistics(errors: np.ndarray) -> str:
+    p50, p90 = np.percentile(errors, [50, 90])
+    return f"{100 * p50:.2f} % / {100 * p90:.1f} % / {100 * errors.max():.0f} %"
+
+
+def run(nodes: int, three: str, out: str | None, measure_cost: bool = True) -> None:
+    basis_table = read_lut(shipped_lut(BASIS_LUT))[0]
+    ltc_table = read_lut(shipped_path(LTC_LUT))[0]
+    public = three_tables(three) if three != "none" else "not asked for"
+    grid, ltc = LutGrid(128, 128), ltc_grid(64)
+    materials = _materials()
+    results: dict[str, dict[str, list]] = {}
+    factors: dict[str, dict[str, list]] = {}
+    by_size: dict[tuple[str, str], dict[str, list]] = {}
+    left_out = 0
+    normal = np.array([0.0, 0.0, 1.0])
+    for mu_o in VIEWS:
+        view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
+        sine = np.sqrt(1.0 - mu_o * mu_o)
+        for roughness in ROUGHNESS:
+            alpha = roughness**2
+            tables = {"this project": ltc.lookup(ltc_table, mu_o, roughness, sine)}
+            if not isinstance(public, str):
+                tables["public fit"] = ltc.lookup(public[0], mu_o, roughness)
+                magnitude = ltc.lookup(public[1], mu_o, roughness)
+            terms = grid.lookup(basis_table, mu_o, roughness)
+            albedo = terms[0]
+            ones = lambda x: np.ones((x.size, 1))  # noqa: E731
+            exact_albedo = reference_albedo_grid(ones, np.array([mu_o]), np.array([alpha]))[0, 0]
+            for name, (eta, kappa) in materials.items():
+                curve = lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])  # noqa: E731
+                coefficients = coefficients_from_nk(eta, kappa)
+                split_basis = coefficients @ terms
+                split_exact = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
+                kind = "dielectric" if name in ("glass", "water") else "conductor"
+                for placement, (theta, phi) in _placements(mu_o).items():
+                    for width in WIDTHS:
+                        corners = _corners(theta, phi, width)
+                        reference = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, nodes)
+                        check = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, 2 * nodes)
+                        lit = reference > 1e-3
+                        converged = np.abs(check - reference) <= 1e-3 * np.abs(check)
+                        left_out += int(np.sum(lit & ~converged))
+                        keep = lit & converged
+                        if not np.any(keep):
+                            continue
+                        # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
+                        # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers
+                        lobe, v_dot_h_sum = rect_light_reference(
+                            normal,
+                            view,
+                            np.zeros(3),
+                            corners,
+                            alpha,
+                            lambda x: np.stack([np.ones_like(x), x], -1),
+                            nodes,
+                        )
+                        over_light = reference / lobe
+                        at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]
+                        cover = min(lobe / exact_albedo, 1.0)
+                        for form, value in (
+                            ("split sum, F̄ / E", split_exact / exact_albedo),
+                            ("F at the light's mean V·H", at_mean),
+                            (
+                                "their blend by the lobe's share",
+                                cover * split_exact / exact_albedo + (1 - cover) * at_mean,
+                            ),
+                        ):
+                            factors.setdefault(form, {}).setdefault(kind, []).extend(
+                                (np.abs(value - over_light) / over_light)[keep]
+                            )
+                        approaches = {}
+                        for table_name, stored in tables.items():
+                            integral, direction = rect_light_direction(stored, normal, view, np.zeros(3), corners)
+                            local_view = np.array([sine, 0.0, mu_o])
+                            half = direction + local_view
+                            v_dot_h = float(np.clip(np.dot(local_view, half / np.linalg.norm(half)), 0.0, 1.0))
+                            punctual_basis = albedo * direct_fresnel(coefficients, np.full(len(coefficients), v_dot_h))
+                            punctual_exact = albedo * curve(np.array([v_dot_h]))[0]
+                            weight = float(np.clip(integral, 0.0, 1.0))
+                            approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
+                            approaches[f"punctual blend, {table_name}"] = (
+                                integral * (weight * split_basis + (1 - weight) * punctual_basis),
+                                integral * (weight * split_exact + (1 - weight) * punctual_exact),
+                            )
+                        if not isinstance(public, str):
+                            f0 = curve(np.array([1.0]))[0]
+                            integral, _ = rect_light_direction(tables["public fit"], normal, view, np.zeros(3), corners)
+                            schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
+                            approaches["three.js"] = (integral * schlick, integral * split_exact)
+                        size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
+                        for approach, (value, exact_fresnel) in approaches.items():
+                            entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
+                            entry[0].extend((np.abs(value - reference) / reference)[keep])
+                            entry[1].extend((np.abs(value - exact_fresnel) / reference)[keep])
+                            if approach.endswith("this project"):
+                                by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(
+                                    (np.abs(value - reference) / reference)[keep]
+                                )
+    lines = [
+        "# Area lights from tiny to huge",
+        "",
+        f"Command: `python -m benchmarks.area_light_set --out report/area_light_set.md` (reference {nodes}² "
+        f"Gauss–Legendre nodes, checked against {2 * nodes}²: {left_out} values differing by more than 1e-3 left "
+        f"out). Views N·V {list(VIEWS)}, roughness {list(ROUGHNESS)}, lights of width {list(WIDTHS)} at distance "
+        f"{DISTANCE} in five placements; gold, Figure 2 (conductors), glass, water (dielectrics). Relative error "
+        "median / p90 / max over the values with reference > 1e-3; 'Fresnel part': against the same approach with "
+        "the exact curve.",
+        "",
+        "| approach | conductors: total | conductors: Fresnel part | dielectrics: total | dielectrics: Fresnel part |",
+        "|---|---|---|---|---|",
+    ]
+    for approach, kinds in results.items():
+        cells = []
+        for kind in ("conductor", "dielectric"):
+            total, fresnel = (np.array(values) for values in kinds[kind])
+            cells += [_statistics(total), _statistics(fresnel)]
+        lines.append(f"| {approach} | " + " | ".join(cells) + " |")
+    if isinstance(public, str):
+        lines += ["", f"The public fit and three.js not measured: {public}."]
+    lines += [
+        "",
+        "By the light's width (this project's table), total error:",
+        "",
+        "| width | approach | conductors | dielectrics |",
+        "|---|---|---|---|",
+        *(
+            f"| {size} | {approach.split(',')[0]} | {_statistics(np.array(kinds['conductor']))} | "
+            f"{_statistics(np.array(kinds['dielectric']))} |"
+            for (size, approach), kinds in sorted(by_size.items())
+        ),
+    ]
+    lines += [
+        "",
+        "## The factorisation alone",
+        "",
+        "The Fresnel factor a rectangular light needs is F averaged over the light, weighted by the lobe "
+        "(the reference over its F = 1 part); each form's relative error against it, with the exact curve and the "
+        "exact mean V·H over the light (the reference's), median / p90 / max:",
+        "",
+        "| form | conductors | dielectrics |",
+        "|---|---|---|",
+        *(
+            f"| {form} | {_statistics(np.array(kinds['conductor']))} | {_statistics(np.array(kinds['dielectric']))} |"
+            for form, kinds in factors.items()
+        ),
+    ]
+    if measure_cost:
+        lines += ["", "## Cost", "", *cost()]
+    publish("\n".join(lines) + "\n", out)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--nodes", type=int, default=96, help="reference nodes per rectangle edge (default 96)")
+    parser.add_argument("--three", default="0.187.0", help="three.js version for the public fit ('none': skip)")
+    parser.add_argument("--no-cost", action="store_true", help="leave out the shader-cost section (ACO, llvmpipe)")
+    parser.add_argument("--out", default=None, help="Markdown file (default: print)")
+    arguments = parser.parse_args(argv)
+    run(arguments.nodes, arguments.three, arguments.out, not arguments.no_cost)
+
+
+if __name__ == "__main__":
+    main()
