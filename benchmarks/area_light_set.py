@@ -24,10 +24,12 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 
 "Fresnel part": |approach − the same with the exact curve| / reference.
 
-A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the cost of the two
-forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
+A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
+for this project's table, the public fit and two candidate fits made here (M's four entries free, L2 and
+chi-square); a fifth, the cost of the two forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
 
-Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--out FILE]`` (the
+Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
+[--out FILE]`` (the
 report: ``--out report/area_light_set.md``).
 """
 
@@ -157,12 +159,42 @@ def cost() -> list[str]:
     ]
 
 
+def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
+    """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
+    the light, the reference's), median / p90 / max by the light's placement."""
+    ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
+    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
+    errors: dict[tuple[str, str], list[float]] = {}
+    for mu_o in VIEWS:
+        view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
+        for roughness in ROUGHNESS:
+            alpha = roughness**2
+            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            stored = {name: ltc.lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
+            for placement, (theta, phi) in _placements(mu_o).items():
+                for width in WIDTHS:
+                    corners = _corners(theta, phi, width)
+                    lobe = rect_light_reference(normal, view, np.zeros(3), corners, alpha, ones, nodes)[0]
+                    if lobe <= 1e-3:
+                        continue
+                    for name, texel in stored.items():
+                        integral, _ = rect_light_direction(texel, normal, view, np.zeros(3), corners)
+                        error = abs(integral * albedo - lobe) / lobe
+                        errors.setdefault((name, "all"), []).append(error)
+                        errors.setdefault((name, placement), []).append(error)
+    placements = ["all", *_placements(0.5)]
+    lines = ["| table | " + " | ".join(placements) + " |", "|---|" + "---|" * len(placements)]
+    for name in tables:
+        lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, p)])) for p in placements) + " |")
+    return lines
+
+
 def _statistics(errors: np.ndarray) -> str:
     p50, p90 = np.percentile(errors, [50, 90])
     return f"{100 * p50:.2f} % / {100 * p90:.1f} % / {100 * errors.max():.0f} %"
 
 
-def run(nodes: int, three: str, out: str | None, measure_cost: bool = True) -> None:
+def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits: bool = True) -> None:
     basis_table = read_lut(shipped_lut(BASIS_LUT))[0]
     ltc_table = read_lut(shipped_path(LTC_LUT))[0]
     public = three_tables(three) if three != "none" else "not asked for"
@@ -304,6 +336,24 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True) -> N
             for form, kinds in factors.items()
         ),
     ]
+    if fits:
+        from preintegrate.ltc import fit_ltc
+
+        candidates = {"this project (mean axis, L2)": ltc_table}
+        if not isinstance(public, str):
+            candidates["public fit (three.js LTC_MAT_1)"] = public[0]
+        candidates["free axis, L2"] = fit_ltc(ltc, axis="free").inverse
+        candidates["free axis, chi-square"] = fit_ltc(ltc, axis="free", weighting="chi-square").inverse
+        lines += [
+            "",
+            "## The lobe alone (item 2)",
+            "",
+            "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light), median / p90 / "
+            "max, by the light's placement; the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s "
+            "each), not shipped:",
+            "",
+            *lobe_study(nodes, candidates),
+        ]
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]
     publish("\n".join(lines) + "\n", out)
@@ -314,9 +364,10 @@ def main(argv=None) -> None:
     parser.add_argument("--nodes", type=int, default=96, help="reference nodes per rectangle edge (default 96)")
     parser.add_argument("--three", default="0.187.0", help="three.js version for the public fit ('none': skip)")
     parser.add_argument("--no-cost", action="store_true", help="leave out the shader-cost section (ACO, llvmpipe)")
+    parser.add_argument("--no-fits", action="store_true", help="leave out the lobe study (two LTC fits, about 50 s)")
     parser.add_argument("--out", default=None, help="Markdown file (default: print)")
     arguments = parser.parse_args(argv)
-    run(arguments.nodes, arguments.three, arguments.out, not arguments.no_cost)
+    run(arguments.nodes, arguments.three, arguments.out, not arguments.no_cost, not arguments.no_fits)
 
 
 if __name__ == "__main__":

@@ -12,10 +12,11 @@ report: ``--out report/area_lights.md``, which also writes ``report/area_lights.
    packing, so the comparison is like for like. ``npm pack`` fetches the package; without npm the section says so.
 3. **Rectangular light**: spheres under the renderer's soft box (``fresnel_lut.render.RECT_LIGHT``), the Figure 2
    material, gold, chromium and beryllium (ACEScg), the error split into its three sources, as max and mean
-   ΔE2000 over the lit pixels (tone-mapped as the renders are): the **LTC's shape** (LTC × the exact curve's F̄
+   ΔE2000 over the lit pixels (tone-mapped as the renders are): the **LTC's shape** (the LTC with the exact curve
+   through the include's factorisation, E mix(F(V·H*), F̄ / E, w), :func:`fresnel_lut.render.render_rect_light`
    against the reference: the exact BRDF and curve over the light's area, ``tests/references/area_light.py``,
-   Gauss-Legendre), the **basis' Fresnel** (LTC × Σ c_k b̄_k against LTC × exact F̄) and **Schlick's** (LTC × Schlick
-   against LTC × exact F̄). Target: the basis' Fresnel part no larger than its own split-sum error for the material
+   Gauss-Legendre), the **basis' Fresnel** (``fresnelBasisRectLight`` against that) and **Schlick's** (LTC × Schlick
+   against that). Target: the basis' Fresnel part no larger than its own split-sum error for the material
    (max |F̄_basis − F̄_exact| over the table at that roughness, the same quantity ΔF̄ read at the lit pixels).
 """
 
@@ -240,7 +241,7 @@ def main(argv=None) -> int:
         "",
         "![spheres under the rectangular light and the dE maps of each error source](area_lights.png)",
         "",
-        "Left to right: the reference, LTC x the exact curve's Fbar, LTC x the basis, LTC x Schlick, then dE2000 maps "
+        "Left to right: the reference, the LTC with the exact curve, with the basis, LTC x Schlick, then dE2000 maps "
         "(0-5) of the LTC's shape, the basis' Fresnel and Schlick's Fresnel.",
     ]
     text = "\n".join(lines) + "\n"

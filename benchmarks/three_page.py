@@ -61,6 +61,7 @@ function material(c) {
   m.metalness = c.metalness;
   m.roughness = c.roughness;
   if (c.ior !== undefined) m.ior = c.ior;
+  if (c.extra !== undefined) Object.assign(m, c.extra);
   if (c.basis) applyFresnelBasis(m, c.basis);
   return m;
 }
@@ -201,7 +202,8 @@ def open_page(browser, missing=None):
 
 def furnace(page, cases: list[dict], lighting: dict | None = None) -> np.ndarray:
     """(len(cases), 3) of the furnace's read-back, one case a dict: ``mu``, ``roughness``, ``metalness``, ``color``
-    (linear RGB), ``physical`` (MeshPhysicalMaterial), ``ior``, ``basis`` (applyFresnelBasis's options; absent: stock
+    (linear RGB), ``physical`` (MeshPhysicalMaterial), ``ior``, ``extra`` (more of the material's properties, set as
+    they are), ``basis`` (applyFresnelBasis's options; absent: stock
     three.js), or ``gltf``: the index of a material :func:`load_gltf` loaded. ``lighting``: in place of the white environment, one light, ``{"kind": "directional", "direction":
     [x, y, z]}`` (intensity 1) or ``{"kind": "rect", "position", "size": [w, h], "lookAt"}``; the plane of case i
     is centred at ((i mod COLUMNS + ½) CELL, (⌊i / COLUMNS⌋ + ½) CELL, 0) with normal (0, √(1 − μ²), μ)."""

@@ -1,6 +1,6 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
+Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
 ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``polygon_vector``, ``rect_light_integral``, ``rect_light_direction``, ``shading_frame``.
 
@@ -24,14 +24,19 @@ deterministic: a grid of visible-normal samples of the lobe (Heitz 2018) and a g
 balance heuristic. Levenberg-Marquardt on (log s, t, log u), all columns of a row at once, from normal to grazing
 incidence, each row starting from the one before or from the isotropic guess, whichever is closer (the public fit,
 ``fitLTC.cpp``, starts each texel from its neighbour; it minimises an L3 error by Nelder-Mead on random samples).
+``weighting="chi-square"`` divides each squared residual by the lobe plus a tenth of its peak (issue 41's study:
+``benchmarks.area_light_set`` measures the fits under lights of many sizes and places).
 
 Stored: M⁻¹ / (M⁻¹)₁₁ as (m00, m20, m02, m22) (the polygon integral depends only on the directions M⁻¹p / |M⁻¹p|,
 so the scale is free) on the axes of the public tables (:func:`ltc_grid`: column r, row √(1 − μo), end points on
 texel centres; three.js ``ltc_1`` and ``LTC_Uv``), so an engine's existing area-light code reads it unchanged.
 
 The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
-(∫_P D dω) × ∫_Ω f F cos dω, the second factor the split sum Σ_k c_k b̄_k(μo, r) of the basis table: the LTC
-matrices do not depend on Fresnel, so one table of them serves every material.
+(∫_P D dω) × E · mix(F(V·H*), F̄ / E, w), F̄ = ∫_Ω f F cos dω the split sum Σ_k c_k b̄_k(μo, r) of the basis table,
+H* the half vector of the light's representative direction (the direction of the transformed polygon's vector form
+factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and w = ∫_P D dω, the share of
+the lobe the light covers: a small light tends to the punctual F(V·H), one that covers the lobe to the split sum
+(issue 41). The LTC matrices do not depend on Fresnel, so one table of them serves every material.
 
 References
 ----------
@@ -61,6 +66,7 @@ __all__ = [
     "AXES",
     "LTC_CHANNELS",
     "MU_FLOOR",
+    "WEIGHTINGS",
     "LtcFit",
     "fit_points",
     "ltc_grid",
@@ -127,11 +133,13 @@ class LtcFit:
     parameters: np.ndarray
     inverse: np.ndarray
     error: np.ndarray
+    weighting: str = "l2"
 
     @property
     def method(self) -> str:
         """How the table was fitted, as its header states it."""
-        return f"L2 by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel"
+        norm = "L2" if self.weighting == "l2" else "chi-square (residual / sqrt(lobe + lobe max / 10))"
+        return f"{norm} by Levenberg-Marquardt on 2 x {_FIT_GRID}^2 fixed directions per texel"
 
 
 def _midpoints(count: int) -> np.ndarray:
@@ -282,13 +290,18 @@ def _mean_angle(directions, weights, target) -> np.ndarray:
     return np.arctan2(mean[:, 0], np.maximum(mean[:, 2], 1e-9))
 
 
-def _fit_rows(mu_o, alpha, albedo, visibility, start, iterations, axis) -> tuple[np.ndarray, np.ndarray]:
+def _fit_rows(
+    mu_o, alpha, albedo, visibility, start, iterations, axis, weighting="l2"
+) -> tuple[np.ndarray, np.ndarray]:
     """Fit the texels of one row's columns (T,): (free (T, P), (a, b, c, d) (T, 4)), from ``start`` (the previous
     row's free parameters) or the guess, whichever is closer: s = u = 2α, t = 0 on the lobe's mean axis; for
-    ``axis="free"`` the same matrix in (a, b, c, d)."""
+    ``axis="free"`` the same matrix in (a, b, c, d). ``weighting`` "chi-square" divides each squared residual by the
+    lobe there plus a tenth of its peak: an LTC that puts density where the lobe has little pays for it."""
     directions, weights = _directions(mu_o, alpha, _FIT_GRID)
     target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[:, None], visibility)
     theta = _mean_angle(directions, weights, target)
+    if weighting == "chi-square":
+        weights = weights / (target + 0.1 * np.max(target, axis=-1, keepdims=True))
     spread = np.log(np.clip(2.0 * alpha, 1e-5, 1.0))
     guess = np.stack([spread, np.zeros_like(spread), spread], axis=-1)
     if axis == "free":
@@ -350,6 +363,8 @@ def _albedo(grid: LutGrid) -> np.ndarray:
 
 #: The LTC's axis: the lobe's mean direction (the shipped table, as the public fit), or M's four entries free.
 AXES = ("mean", "free")
+#: The fit's norm: L2 of the density (the shipped table, as the public fit), or chi-square (issue 41's study).
+WEIGHTINGS = ("l2", "chi-square")
 
 
 def fit_ltc(
@@ -357,11 +372,14 @@ def fit_ltc(
     progress: Callable[[int, int], None] | None = None,
     workers: int | None = None,
     axis: str = "mean",
+    weighting: str = "l2",
 ) -> LtcFit:
     """The LTC of every texel of ``grid`` (default 64 × 64, height-correlated G2), row by row from normal to grazing
     incidence, the roughness columns of a row shared among ``workers`` threads (default: the machine's cores; the
-    result is the same bits); ``axis`` one of :data:`AXES` (module docstring: the benchmark measures both)."""
+    result is the same bits); ``axis`` one of :data:`AXES`, ``weighting`` one of :data:`WEIGHTINGS` (module
+    docstring: the benchmarks measure them)."""
     check_choice("axis", axis, AXES)
+    check_choice("weighting", weighting, WEIGHTINGS)
     grid = ltc_grid() if grid is None else _checked_grid(grid)
     albedo = _albedo(grid)
     mu_rows, alpha = fit_points(grid)
@@ -382,6 +400,7 @@ def fit_ltc(
                     None if free is None else free[columns],
                     iterations,
                     axis,
+                    weighting,
                 ),
                 chunks,
             )
@@ -396,7 +415,7 @@ def fit_ltc(
     error = lobe_error(fitted, grid, albedo)
     if progress is not None:
         progress(size + 1, size + 1)
-    return LtcFit(grid, fitted, stored, error)
+    return LtcFit(grid, fitted, stored, error, weighting)
 
 
 def ltc_inverse(stored) -> np.ndarray:
