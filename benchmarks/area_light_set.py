@@ -49,7 +49,13 @@ from benchmarks.output import publish
 from handoff.exr import read_lut
 from handoff.shaders.mirrors import direct_fresnel
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
-from preintegrate.ltc import fit_points, ltc_grid, rect_light_direction, rect_light_integral
+from preintegrate.ltc import (
+    fit_points,
+    ltc_grid,
+    rect_light_fresnel,
+    rect_light_half_cosine,
+    rect_light_integral,
+)
 from preintegrate.lut import LutGrid
 from tests.references.area_light import rect_light_reference
 from tests.references.fresnel import fresnel_complex
@@ -206,7 +212,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
                     if lobe <= 1e-3:
                         continue
                     for name, texel in stored.items():
-                        integral, _ = rect_light_direction(texel, normal, view, np.zeros(3), corners)
+                        integral = rect_light_integral(texel, normal, view, np.zeros(3), corners)
                         error = abs(integral * albedo - lobe) / lobe
                         errors.setdefault((name, "all"), []).append(error)
                         errors.setdefault((name, placement), []).append(error)
@@ -290,21 +296,17 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                             )
                         approaches = {}
                         for table_name, stored in tables.items():
-                            integral, direction = rect_light_direction(stored, normal, view, np.zeros(3), corners)
-                            local_view = np.array([sine, 0.0, mu_o])
-                            half = direction + local_view
-                            v_dot_h = float(np.clip(np.dot(local_view, half / np.linalg.norm(half)), 0.0, 1.0))
+                            integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners)
                             punctual_basis = albedo * direct_fresnel(coefficients, np.full(len(coefficients), v_dot_h))
-                            punctual_exact = albedo * curve(np.array([v_dot_h]))[0]
-                            weight = float(np.clip(integral, 0.0, 1.0))
+                            punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
                             approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
                             approaches[f"punctual blend, {table_name}"] = (
-                                integral * (weight * split_basis + (1 - weight) * punctual_basis),
-                                integral * (weight * split_exact + (1 - weight) * punctual_exact),
+                                rect_light_fresnel(integral, split_basis, punctual_basis),
+                                rect_light_fresnel(integral, split_exact, punctual_exact),
                             )
                         if not isinstance(public, str):
                             f0 = curve(np.array([1.0]))[0]
-                            integral, _ = rect_light_direction(tables["public fit"], normal, view, np.zeros(3), corners)
+                            integral = rect_light_integral(tables["public fit"], normal, view, np.zeros(3), corners)
                             schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
                             approaches["three.js"] = (integral * schlick, integral * split_exact)
                         size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")

@@ -17,8 +17,9 @@ Public objects: ``Environment``, ``STUDIO``, ``RenderMaterial``, ``DEFAULT_SCENE
   the basis' (the shaders' direct-light curves, :func:`handoff.shaders.direct_fresnel`, with the
   material's coefficients: one material, one curve for the environment and the lamp) and the exact curve
   (the reference of a punctual light needs no integral).
-* **Rectangular light**: linearly transformed cosines (Heitz 2016; :mod:`preintegrate.ltc`) times F̄ three ways:
-  the exact curve's split sum (the LTC's own error), the basis table (``fresnelBasisRectLight``) and Schlick's; its
+* **Rectangular light**: linearly transformed cosines (Heitz 2016; :mod:`preintegrate.ltc`) with Fresnel three ways:
+  the exact curve through the include's factorisation (the LTC's own error), the basis (``fresnelBasisRectLight``)
+  and Schlick's split sum; its
   reference (the exact BRDF and curve over the light's area) is ``tests/references/area_light.py``.
 * **Reference**: Monte Carlo of ∫ F(ωo·h) ρ(ωo, ωi) L(ωi) μi dωi with VNDF sampling (Heitz 2018),
   weight F · G2/G1, the material's exact RGB Fresnel curve, seeded; its standard error is returned.
@@ -50,7 +51,7 @@ from basis.validation import check_choice, check_positive_int, check_range
 from handoff.shaders import direct_fresnel, rect_light_specular
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import ltc_grid, rect_light_direction
+from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -304,13 +305,10 @@ def render_rect_light(
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normals, view), axis=-1)
     grid = ltc_grid(ltc_lut.shape[0], visibility)
-    integral, direction = rect_light_direction(
+    integral, v_dot_h = rect_light_half_cosine(
         grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners
     )
     integral = np.where(mask, integral, 0.0)
-    local_view = np.stack([sine, np.zeros_like(sine), mu_o], axis=-1)
-    half = local_view + direction
-    v_dot_h = np.clip(np.sum(local_view * half, axis=-1) / np.maximum(np.linalg.norm(half, axis=-1), 1e-30), 0, 1)
     nodes = texel_centres(256)
     exact_table = directional_albedo(
         material.curve, nodes, roughness_to_alpha(roughness), visibility=visibility, workers=1
@@ -318,12 +316,10 @@ def render_rect_light(
     exact = np.stack([np.interp(mu_o, nodes, exact_table[:, c]) for c in range(3)], axis=-1)
     f0 = material.curve(np.array(1.0))
     schlick = lut_lookup(schlick_lut, mu_o, roughness)
-    weight = np.clip(integral, 0.0, 1.0)[..., None]
-    exact_blend = weight * exact + (1.0 - weight) * schlick[..., 2:3] * material.curve(v_dot_h)
     coefficients = np.broadcast_to(material.coefficients, normals.shape[:-1] + material.coefficients.shape)
     basis = rect_light_specular(ltc_lut, basis_lut, normals, view, normals, corners, roughness, coefficients)
     images = {
-        "exact": radiance * integral[..., None] * exact_blend,
+        "exact": radiance * rect_light_fresnel(integral, exact, schlick[..., 2:3] * material.curve(v_dot_h)),
         "basis": radiance * basis,
         "schlick": radiance * integral[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
     }

@@ -2,7 +2,8 @@
 
 Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
 ``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
-``polygon_integral``, ``polygon_vector``, ``rect_light_integral``, ``rect_light_direction``, ``shading_frame``.
+``polygon_integral``, ``polygon_vector``, ``rect_light_integral``, ``rect_light_direction``,
+``rect_light_half_cosine``, ``rect_light_fresnel``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -77,6 +78,8 @@ __all__ = [
     "polygon_integral",
     "polygon_vector",
     "rect_light_direction",
+    "rect_light_fresnel",
+    "rect_light_half_cosine",
     "rect_light_integral",
     "shading_frame",
     "stored_lobe_error",
@@ -519,3 +522,24 @@ def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.nd
     length = np.linalg.norm(back, axis=-1, keepdims=True)
     direction = np.where(length > 0.0, back / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
     return np.maximum(vector[..., 2], 0.0), direction
+
+
+def rect_light_half_cosine(stored, normal, view, position, corners) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`rect_light_integral`, V·H* (…)): H* the half vector of the light's representative direction
+    (:func:`rect_light_direction`), the view (√(1 − N·V²), 0, N·V) in the shading frame with N·V clamped to [0, 1],
+    as the shaders' ``fresnelLtcVdotH``."""
+    integral, direction = rect_light_direction(stored, normal, view, position, corners)
+    n_dot_v = np.clip(np.sum(as_float_array("normal", normal) * as_float_array("view", view), axis=-1), 0.0, 1.0)
+    local_view = np.stack([np.sqrt(np.maximum(1.0 - n_dot_v**2, 0.0)), np.zeros_like(n_dot_v), n_dot_v], axis=-1)
+    half = local_view + direction
+    half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)
+    return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0)
+
+
+def rect_light_fresnel(integral, split_sum, punctual) -> np.ndarray:
+    """(…, C) a rectangular light's specular per unit radiance: the LTC ``integral`` (…) × mix(``punctual``,
+    ``split_sum``, w), w the integral clamped to [0, 1]; ``punctual`` = E F(V·H*) and ``split_sum`` = F̄ (…, C)
+    (module docstring; the shaders' ``fresnelBasisRectLight`` and ``fresnelLinearRectLight``)."""
+    integral = np.asarray(integral, dtype=np.float64)
+    weight = np.clip(integral, 0.0, 1.0)[..., None]
+    return integral[..., None] * (weight * np.asarray(split_sum) + (1.0 - weight) * np.asarray(punctual))

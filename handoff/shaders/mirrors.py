@@ -33,8 +33,7 @@ import numpy as np
 from basis.coefficient_table import coefficients_from_coefficient_table
 from basis.models.formulas import adobe_dip_weight, f82_dip_weight
 from basis.validation import ParameterError, as_float_array, check_choice
-from preintegrate.ltc import ltc_grid
-from preintegrate.ltc import rect_light_direction as ltc_rect_light_direction
+from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
 from preintegrate.multiple_scattering import weigh_schlick_texels
 
 from .constants import (
@@ -294,23 +293,14 @@ def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
 
 def _rect_light(ltc_table, normal, view, position, corners, roughness, constants):
     """(LTC integral (…), V·H* (…), N·V (…), roughness (…)) as ``fresnelLtcRectVector`` and ``fresnelLtcVdotH`` compute
-    them: H* the half vector of the light's representative direction (:func:`preintegrate.ltc.rect_light_direction`)."""
+    them (:func:`preintegrate.ltc.rect_light_half_cosine`)."""
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normal, view), axis=-1)
     roughness = sanitize_unit(roughness, 0.5)
     stored = ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine)
-    integral, direction = ltc_rect_light_direction(stored, normal, view, position, corners)
-    local_view = np.stack([np.sqrt(np.maximum(1.0 - n_dot_v**2, 0.0)), np.zeros_like(n_dot_v), n_dot_v], axis=-1)
-    half = local_view + direction
-    half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)
-    return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0), n_dot_v, roughness
-
-
-def _punctual_blend(integral, average, punctual) -> np.ndarray:
-    """The LTC integral × mix(E F(V·H*), F̄, w), w the integral (each (…, 3) but the integral (…))."""
-    weight = np.clip(integral, 0.0, 1.0)[..., None]
-    return integral[..., None] * (weight * average + (1.0 - weight) * punctual)
+    integral, v_dot_h = rect_light_half_cosine(stored, normal, view, position, corners)
+    return integral, v_dot_h, n_dot_v, roughness
 
 
 def rect_light_specular(
@@ -329,7 +319,7 @@ def rect_light_specular(
     coefficients = as_float_array("coefficients", coefficients)
     average = np.einsum("...ck,...k->...c", coefficients, terms)
     punctual = terms[..., :1] * direct_fresnel(coefficients, v_dot_h[..., None], constants)
-    return _punctual_blend(integral, average, punctual)
+    return rect_light_fresnel(integral, average, punctual)
 
 
 def linear_rect_light_specular(
@@ -345,7 +335,7 @@ def linear_rect_light_specular(
     weights = as_float_array("weights", weights)
     average = weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), texels, multiple_scattering=False)
     punctual = texels[..., 2:3] * linear_direct(weights, v_dot_h)
-    return _punctual_blend(integral, average, punctual)
+    return rect_light_fresnel(integral, average, punctual)
 
 
 def linear_model_curve(model: str, mu, **parameters) -> np.ndarray:
