@@ -23,7 +23,6 @@ report: ``--out report/area_lights.md``, which also writes ``report/area_lights.
 from __future__ import annotations
 
 import argparse
-import re
 import time
 from pathlib import Path
 
@@ -31,8 +30,7 @@ import numpy as np
 
 from basis.colorimetry import delta_E_2000
 from basis.storage import shipped_path, write_together
-from benchmarks.area_light_set import per_texel_choice
-from benchmarks.npm import NpmError, npm_unpacked
+from benchmarks.area_light_set import per_texel_choice, three_tables
 from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sphere_geometry, to_srgb8, tone_map
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
@@ -46,21 +44,14 @@ SPACE = "ACEScg"
 EXPOSURE = 1.0
 RADIANCE = 4.0
 ROUGHNESS = {"figure2": 0.2828, "gold": 0.3, "chromium": 0.3, "beryllium": 0.6}
-THREE_FILE = "examples/jsm/lights/RectAreaLightTexturesLib.js"
 
 
 def three_table(version: str) -> np.ndarray | str:
     """three.js's ``LTC_MAT_1`` (64, 64, 4), rows √(1 − μo), columns r, entries (m00, m20, m02, m22) as its shader's
-    ``mat3(vec3(t.x, 0, t.y), …)`` reads them; or why it could not be had."""
-    try:
-        folder = npm_unpacked("three", version)
-    except NpmError as error:
-        return str(error)
-    text = (folder / THREE_FILE).read_text(encoding="utf-8")
-    found = re.search(r"const LTC_MAT_1 = \[([^\]]*)\]", text)
-    if found is None:
-        return f"no LTC_MAT_1 in three@{version}'s {THREE_FILE}"
-    return np.array([float(value.replace(" ", "")) for value in found.group(1).split(",")]).reshape(64, 64, 4)
+    ``mat3(vec3(t.x, 0, t.y), …)`` reads them (:func:`benchmarks.area_light_set.three_tables`); or why it could not be
+    had."""
+    tables = three_tables(version)
+    return tables if isinstance(tables, str) else tables[0]
 
 
 def peer_lines(tables: dict[str, np.ndarray]) -> list[str]:
