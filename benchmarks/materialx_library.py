@@ -23,7 +23,6 @@ import argparse
 import numpy as np
 
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.models.formulas import adobe_dip_weight
 from basis.storage import shipped_path
 from basis.training.holdout import FIGURE_2
 from benchmarks import materialx_render as render
@@ -31,10 +30,8 @@ from benchmarks.output import publish
 from handoff.exr import read_lut
 from handoff.materialx import ATLAS_UNIFORM, MATERIALX_VERSION, basis_branch
 from tests.references.fresnel import fresnel_complex
-from tests.references.integration import reference_albedo_grid
 
 ROUGHNESS = (0.2, 0.5, 0.8)
-SAMPLED = slice(2, None, 6)
 
 
 def _metals(count: int) -> list[tuple[str, np.ndarray, np.ndarray]]:
@@ -45,14 +42,6 @@ def _metals(count: int) -> list[tuple[str, np.ndarray, np.ndarray]]:
     ]
     metals += [(f"random {i}", rng.uniform(0.05, 0.95, 3), rng.uniform(0.0, 1.0, 3)) for i in range(3)]
     return metals[:count]
-
-
-def _adobe(f0, tint):
-    def curve(x):
-        x = x[:, None]
-        return f0 + (1 - f0) * (1 - x) ** 5 - adobe_dip_weight(f0, tint) * x * (1 - x) ** 6
-
-    return curve
 
 
 def _cases(count: int):
@@ -70,15 +59,8 @@ def _cases(count: int):
         f0, tint = rng.uniform(0.3, 0.98, 3), rng.uniform(0.0, 1.0, 3)
         for r in ROUGHNESS:
             builder = lambda f=f0, t=tint, r=r: render.open_pbr_surface(f, t, r)  # noqa: E731
-            cases.append(("open_pbr_surface", f"F82 tint {i}", builder, _adobe(f0, tint), r))
+            cases.append(("open_pbr_surface", f"F82 tint {i}", builder, render.f82_tint_curve(f0, tint), r))
     return cases
-
-
-def _exact(curve, alpha: float) -> np.ndarray:
-    mu = render.furnace_cosines()[SAMPLED]
-    single = reference_albedo_grid(curve, mu, np.full_like(mu, alpha))
-    albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), mu, np.full_like(mu, alpha))
-    return single * (1.0 + curve(mu) * (1.0 - albedo) / albedo)
 
 
 def run(samples: int, count: int, out: str | None) -> None:
@@ -87,7 +69,7 @@ def run(samples: int, count: int, out: str | None) -> None:
     errors: dict[str, dict[str, list[float]]] = {}
     for model, _, build, curve, r in _cases(count):
         doc, node = build()
-        exact = _exact(curve, r * r)
+        exact = render.exact_environment_light(curve, r * r)
         stock = render.generate(doc, node)
         fis = render.generate(doc, node, "fis")
         rendered = {
@@ -97,7 +79,7 @@ def run(samples: int, count: int, out: str | None) -> None:
             "FIS, exact E": render.furnace(basis_branch(fis), {"u_envRadianceSamples": samples}, textures=textures),
         }
         for path, values in rendered.items():
-            errors.setdefault(model, {}).setdefault(path, []).extend(np.abs(values[SAMPLED] - exact).ravel())
+            errors.setdefault(model, {}).setdefault(path, []).extend(np.abs(values[render.COMPARED] - exact).ravel())
     paths = ["stock (prefiltered)", "basis branch", "FIS, stock", "FIS, exact E"]
     lines = [
         "# MaterialX with the basis branch",

@@ -2,7 +2,8 @@
 tests' and ``benchmarks.materialx_library``'s harness.
 
 Public objects: ``MaterialXMissing``, ``standard_library``, ``document``, ``conductor``, ``standard_surface``,
-``open_pbr_surface``, ``generate``, ``furnace``, ``furnace_cosines``.
+``open_pbr_surface``, ``generate``, ``furnace``, ``furnace_cosines``, ``COMPARED``, ``f82_tint_curve``,
+``exact_environment_light``.
 
 A furnace: MaterialX's own pixel shader with a vertex shader of ours that feeds its ``VertexData`` block (world
 position 0, view position on +z: V = (0, 0, 1)), a one-row framebuffer whose normals sweep from grazing to the view
@@ -18,10 +19,15 @@ import re
 
 import numpy as np
 
+from basis.models.formulas import adobe_dip_weight
+
 __all__ = [
+    "COMPARED",
     "MaterialXMissing",
     "conductor",
     "document",
+    "exact_environment_light",
+    "f82_tint_curve",
     "furnace",
     "furnace_cosines",
     "generate",
@@ -190,3 +196,31 @@ def furnace(pixel: str, uniforms: dict | None = None, textures: dict | None = No
         return np.frombuffer(framebuffer.read(components=4, dtype="f4"), "f4").reshape(width, 4)[:, :3].astype(float)
     finally:
         context.release()
+
+
+#: The furnace pixels the exact model is evaluated at (N·V 0.05 … 0.99; every sixth).
+COMPARED = slice(2, None, 6)
+
+
+def f82_tint_curve(f0, tint):
+    """μ (N,) → (N, 3): OpenPBR's metal Fresnel, Hoffman 2023 eq. 3 (F82 tint, exponent 5, F90 = 1), unclamped as
+    MaterialX's ``mx_fresnel_hoffman_schlick`` evaluates it."""
+    f0, tint = np.asarray(f0, dtype=float), np.asarray(tint, dtype=float)
+
+    def curve(mu):
+        mu = np.asarray(mu, dtype=float)[:, None]
+        return f0 + (1 - f0) * (1 - mu) ** 5 - adobe_dip_weight(f0, tint) * mu * (1 - mu) ** 6
+
+    return curve
+
+
+def exact_environment_light(curve, alpha: float) -> np.ndarray:
+    """(len(furnace_cosines()[COMPARED]), C): MaterialX's environment light made exact at the compared pixels, F̄ of
+    ``curve`` × (1 + F(N·V) (1 − E) / E) (Turquin 2019 eq. 16), F̄ and E by the independent quadrature of
+    tests/references."""
+    from tests.references.integration import reference_albedo_grid
+
+    mu = furnace_cosines()[COMPARED]
+    single = reference_albedo_grid(curve, mu, np.full_like(mu, alpha))
+    albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), mu, np.full_like(mu, alpha))
+    return single * (1.0 + curve(mu) * (1.0 - albedo) / albedo)

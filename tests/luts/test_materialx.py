@@ -21,7 +21,6 @@ import pytest
 
 from basis.eigenbasis import resolve_basis
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.models.formulas import adobe_dip_weight
 from benchmarks import materialx_render as render
 from handoff.exr import read_lut
 from handoff.materialx import ATLAS_UNIFORM, MATERIALX_FILES, basis_branch, materialx_library
@@ -30,12 +29,10 @@ from handoff.shipped import shipped_tables
 from preintegrate.lut import LutGrid
 from tests.conftest import gpu_missing
 from tests.references.fresnel import fresnel_complex
-from tests.references.integration import reference_albedo_grid
 
 ROOT = render.__file__.rsplit("/benchmarks/", 1)[0]
 LIBRARY = f"{ROOT}/luts/materialx"
 GOLD = ((0.944, 0.776, 0.373), (0.998, 0.981, 0.751))  # Gulbrandsen (r, g)
-SAMPLED = slice(2, None, 6)  # the furnace pixels compared with the exact model (N·V 0.05 … 0.99)
 
 
 @pytest.fixture(scope="module")
@@ -87,21 +84,9 @@ def test_the_albedo_node_renders_the_mirror(atlas, tmp_path):
     np.testing.assert_allclose(rendered, expected, rtol=0, atol=1e-5)
 
 
-def _exact(curve, alpha: float) -> np.ndarray:
-    """MaterialX's environment light made exact: F̄ of the exact curve × (1 + F(N·V) (1 − E) / E)."""
-    mu = render.furnace_cosines()[SAMPLED]
-    single = reference_albedo_grid(curve, mu, np.full_like(mu, alpha))
-    albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), mu, np.full_like(mu, alpha))
-    return single * (1.0 + curve(mu) * (1.0 - albedo) / albedo)
-
-
 def _cases():
     gold_eta, gold_kappa = gulbrandsen_to_nk(np.array(GOLD[0]), np.array(GOLD[1]))
     f0, tint = np.array([0.95, 0.64, 0.54]), np.array([0.9, 0.6, 0.3])
-
-    def adobe(x):
-        x = x[:, None]
-        return f0 + (1 - f0) * (1 - x) ** 5 - adobe_dip_weight(f0, tint) * x * (1 - x) ** 6
 
     return {
         "conductor_bsdf": (
@@ -114,7 +99,7 @@ def _cases():
             lambda x: fresnel_complex(x[:, None], gold_eta[None, :], gold_kappa[None, :]),
             0.25,
         ),
-        "open_pbr_surface": (lambda: render.open_pbr_surface(f0, tint, 0.4), adobe, 0.16),
+        "open_pbr_surface": (lambda: render.open_pbr_surface(f0, tint, 0.4), render.f82_tint_curve(f0, tint), 0.16),
     }
 
 
@@ -125,14 +110,16 @@ def test_stock_models_with_the_basis_branch(model, atlas, tmp_path):
     stock = _run(render.generate, doc, node)
     branched = basis_branch(stock)
     _compiles(branched, tmp_path, model)
-    exact = _exact(curve, alpha)
-    stock_error = np.abs(_run(render.furnace, stock)[SAMPLED] - exact).max()
-    branch_error = np.abs(_run(render.furnace, branched, textures={ATLAS_UNIFORM: atlas})[SAMPLED] - exact).max()
+    exact = render.exact_environment_light(curve, alpha)
+    stock_error = np.abs(_run(render.furnace, stock)[render.COMPARED] - exact).max()
+    branch_error = np.abs(
+        _run(render.furnace, branched, textures={ATLAS_UNIFORM: atlas})[render.COMPARED] - exact
+    ).max()
     # MaterialX's in-library reference, its FIS path (the exact Fresnel per sample), agrees with the exact model once
     # its energy compensation's E is exact too (the branch's only change there; stock, E's fit costs it up to 3e-2)
     fis = basis_branch(_run(render.generate, doc, node, "fis"))
     fis = _run(render.furnace, fis, {"u_envRadianceSamples": 1024}, textures={ATLAS_UNIFORM: atlas})
-    fis_error = np.abs(fis[SAMPLED] - exact).max()
+    fis_error = np.abs(fis[render.COMPARED] - exact).max()
     assert fis_error < 1e-3, fis_error
     assert branch_error < stock_error / 3, (branch_error, stock_error)
     # the basis' own error for gold (2e-3 in F̄) or the exact table's interpolation for OpenPBR's F82 tint
