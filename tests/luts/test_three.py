@@ -125,27 +125,32 @@ def _cases():
     return cases
 
 
+def _fresnel(case):
+    """("linear", weights (3, 3)) or ("basis", coefficients (3, 4)) of a case's metal (metalness 1) or black
+    dielectric (metalness 0: Schlick with F0 0.04), as the package's fresnelThreeSetUp chooses them."""
+    options, color = case["basis"], np.array(case["color"])
+    if case["metalness"] == 0.0:
+        return "linear", linear_weights("schlick", f0=np.full(3, 0.04), f90=1.0)
+    if options["model"] == "f82-tint":
+        return "linear", linear_weights("f82-tint", f0=color, tint=np.array(options["tint"]))
+    if options["model"] == "coefficients":
+        return "basis", np.array(options["coefficients"])
+    if options["model"] == "nk":
+        return "basis", coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
+    return "basis", coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
+
+
 def _mirror(case, tables):
     """The package's arithmetic in float64 on its half-float tables: the furnace's radiance × single scattering plus
     irradiance / π × the multiple-scattering term, for a metal (metalness 1) or a black dielectric (metalness 0)."""
     grid = LutGrid(128, 128)
     mu, roughness = case["mu"], max(case["roughness"], THREE_MIN_ROUGHNESS)
-    options, color = case["basis"], np.array(case["color"])
-    multiple = options["multipleScattering"]
-    schlick = grid.lookup(tables["schlick"], mu, roughness)
-    if case["metalness"] == 0.0:
-        return weigh_schlick_texels(
-            np.insert(linear_weights("schlick", f0=np.full(3, 0.04), f90=1.0), 2, 0, -1), schlick, multiple
-        )
-    if options["model"] == "f82-tint":
-        weights = linear_weights("f82-tint", f0=color, tint=np.array(options["tint"]))
-        return weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), schlick, multiple)
-    if options["model"] == "nk":
-        coefficients = coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
-    elif options["model"] == "coefficients":
-        coefficients = np.array(options["coefficients"])
-    else:
-        coefficients = coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
+    multiple = case["basis"]["multipleScattering"]
+    kind, values = _fresnel(case)
+    if kind == "linear":
+        schlick = grid.lookup(tables["schlick"], mu, roughness)
+        return weigh_schlick_texels(np.insert(values, 2, 0.0, axis=-1), schlick, multiple)
+    coefficients = values
     terms = grid.lookup(tables["basis"], mu, roughness)
     single = coefficients @ terms
     if not multiple:
@@ -212,20 +217,10 @@ def test_figure_2_green_rim(page):
 
 def _metal_fresnel(case):
     """(F(μ) per channel as a function, F0 per channel) of a case's metal (metalness 1) or black dielectric."""
-    options, color = case["basis"], np.array(case["color"])
-    if case["metalness"] == 0.0:
-        weights = linear_weights("schlick", f0=np.full(3, 0.04), f90=1.0)
-    elif options["model"] == "f82-tint":
-        weights = linear_weights("f82-tint", f0=color, tint=np.array(options["tint"]))
-    else:
-        if options["model"] == "coefficients":
-            coefficients = np.array(options["coefficients"])
-        elif options["model"] == "nk":
-            coefficients = coefficients_per_pixel_nk(np.array(options["eta"]), np.array(options["kappa"]))
-        else:
-            coefficients = coefficients_per_pixel_gulbrandsen(color, np.array(options["edge"]))
-        return (lambda mu: direct_fresnel(coefficients, mu)), coefficients[:, 0]
-    return (lambda mu: linear_direct(weights, mu)), weights[:, 0]
+    kind, values = _fresnel(case)
+    if kind == "linear":
+        return (lambda mu: linear_direct(values, mu)), values[:, 0]
+    return (lambda mu: direct_fresnel(values, mu)), values[:, 0]
 
 
 def _punctual_mirror(case, light, tables):
