@@ -21,7 +21,7 @@ from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, SCHLICK_LUT, shipped_lut
 from preintegrate.channels import basis_channels, schlick_table_weights
 from tests.conftest import linear_model_materials
-from tests.references.integration import reference_albedo, reference_albedo_grid, reference_albedo_half_vector
+from tests.references.integration import reference_albedo_adaptive, reference_albedo_grid
 
 SCHLICK = read_lut(shipped_lut(SCHLICK_LUT))[0]  # (128, 128, 4)
 BASIS = read_lut(shipped_lut(BASIS_LUT))[0]
@@ -104,11 +104,6 @@ def test_the_reference_is_the_adaptive_cubatures():
         mu_o, alpha = _texel(i, j)
         order = STIFF_ORDER if i == 0 or j == 1 else ORDER
         grid = reference_albedo_grid(schlick_functions, [mu_o], [alpha], order=order)[0]
-        if alpha < 0.05:
-            adaptive = reference_albedo_half_vector(schlick_functions, mu_o, alpha)
-        elif mu_o == 0.0:
-            adaptive = reference_albedo(schlick_functions, 1e-9, alpha, rtol=1e-8, atol=1e-9, accepted_error=1e-8)
-        else:
-            adaptive = reference_albedo(schlick_functions, mu_o, alpha, accepted_error=1e-9)
+        adaptive = reference_albedo_adaptive(schlick_functions, mu_o, alpha)
         worst = max(worst, float(np.max(np.abs(grid - adaptive))))
     assert worst <= 3e-8, worst

@@ -139,6 +139,16 @@ def reference_albedo_half_vector(functions, mu_o, alpha, rtol=1e-9, atol=1e-10):
     return _cubature_over_cuts(_half_vector_integrand, cuts, functions, mu_o, alpha, rtol, atol, accepted_error=1e-9)
 
 
+def reference_albedo_adaptive(functions, mu_o, alpha):
+    """(K,) F̄_k at one texel by whichever adaptive cubature holds it: over the half vector for α < 0.05, at μo = 0
+    its limit (μo = 1e-9, looser tolerances), else over the incident direction."""
+    if alpha < 0.05:
+        return reference_albedo_half_vector(functions, mu_o, alpha)
+    if mu_o == 0.0:
+        return reference_albedo(functions, 1e-9, alpha, rtol=1e-8, atol=1e-9, accepted_error=1e-8)
+    return reference_albedo(functions, mu_o, alpha, accepted_error=1e-9)
+
+
 def _graded_nodes(low, high, scale, order):
     """Gauss–Legendre nodes and weights (…, order) on [low, high] graded geometrically from ``low``: d = x − low =
     s (e^{t ln(1 + L/s)} − 1), t ∈ [0, 1], L = high − low, s = ``scale``; a peak of width ≳ s at ``low`` and every
