@@ -60,11 +60,13 @@ void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, f
 	fresnelThreeDG = fresnelLinearSchlick( specularColor.g, f90 );
 	fresnelThreeDB = fresnelLinearSchlick( specularColor.b, f90 );
 	fresnelThreeMetalness = metalness;
+	// each table read once: the split sums and their multiple-scattering terms (Kulla-Conty / Fdez-Aguera: E is the
+	// Schlick table's B and the basis table's b0) come from these texels
 	vec4 schlick = textureLod( fresnelBasisAtlas, fresnelAtlasSchlick( fresnelBasisLutUV( NdotV, roughness ) ), 0.0 );
 	fresnelThreeDfg = schlick.xy;  // three.js's DFG (scale, bias) for what still reads it (direct-light compensation)
 	fresnelThreeSingleDielectric = fresnelLinearWeigh( schlick, fresnelThreeDR, fresnelThreeDG, fresnelThreeDB );
 	#if FRESNEL_THREE_MULTIPLE_SCATTERING
-		fresnelThreeMultiDielectric = fresnelLinearMultipleScattering( fresnelBasisAtlas, NdotV, roughness, fresnelThreeDR, fresnelThreeDG, fresnelThreeDB ) - fresnelThreeSingleDielectric;
+		fresnelThreeMultiDielectric = fresnelCompensate( fresnelThreeSingleDielectric, schlick.z, fresnelLinearAverage( fresnelThreeDR, fresnelThreeDG, fresnelThreeDB ) ) - fresnelThreeSingleDielectric;
 	#else
 		fresnelThreeMultiDielectric = vec3( 0.0 );
 	#endif
@@ -75,7 +77,7 @@ void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, f
 		fresnelThreeMB = fresnelLinearF82Tint( baseColor.b, tint.b );
 		fresnelThreeSingleMetal = fresnelLinearWeigh( schlick, fresnelThreeMR, fresnelThreeMG, fresnelThreeMB );
 		#if FRESNEL_THREE_MULTIPLE_SCATTERING
-			fresnelThreeMultiMetal = fresnelLinearMultipleScattering( fresnelBasisAtlas, NdotV, roughness, fresnelThreeMR, fresnelThreeMG, fresnelThreeMB ) - fresnelThreeSingleMetal;
+			fresnelThreeMultiMetal = fresnelCompensate( fresnelThreeSingleMetal, schlick.z, fresnelLinearAverage( fresnelThreeMR, fresnelThreeMG, fresnelThreeMB ) ) - fresnelThreeSingleMetal;
 		#endif
 	#else
 		#if FRESNEL_THREE_MODEL == 3
@@ -91,9 +93,10 @@ void fresnelThreeSetUp( vec3 baseColor, vec3 specularColor, float specularF90, f
 			fresnelThreeCG = fresnelCoefficientsGulbrandsen( baseColor.g, fresnelBasisEdge.g );
 			fresnelThreeCB = fresnelCoefficientsGulbrandsen( baseColor.b, fresnelBasisEdge.b );
 		#endif
-		fresnelThreeSingleMetal = fresnelBasisSplitSum( fresnelBasisAtlas, NdotV, roughness, fresnelThreeCR, fresnelThreeCG, fresnelThreeCB );
+		vec4 terms = fresnelBasisTerms( fresnelBasisAtlas, fresnelBasisLutUV( NdotV, roughness ) );
+		fresnelThreeSingleMetal = vec3( fresnelTermsDot( fresnelThreeCR, terms ), fresnelTermsDot( fresnelThreeCG, terms ), fresnelTermsDot( fresnelThreeCB, terms ) );
 		#if FRESNEL_THREE_MULTIPLE_SCATTERING
-			fresnelThreeMultiMetal = fresnelBasisMultipleScattering( fresnelBasisAtlas, NdotV, roughness, fresnelThreeCR, fresnelThreeCG, fresnelThreeCB ) - fresnelThreeSingleMetal;
+			fresnelThreeMultiMetal = fresnelCompensate( fresnelThreeSingleMetal, terms.x, fresnelBasisAverage( fresnelThreeCR, fresnelThreeCG, fresnelThreeCB ) ) - fresnelThreeSingleMetal;
 		#endif
 	#endif
 	#if ! FRESNEL_THREE_MULTIPLE_SCATTERING
