@@ -1,7 +1,8 @@
 """A table of Gulbrandsen's (r, g) → basis coefficients, read per pixel with one bilinear fetch (issue 38).
 
 Public objects: ``COEFFICIENT_TABLE_SIZE``, ``COEFFICIENT_TABLE_FITS``, ``REFLECTIVITY_MAX``, ``warp_reflectivity``,
-``unwarp_reflectivity``, ``warp_edge_tint``, ``unwarp_edge_tint``, ``coefficient_table``, ``coefficient_table_lookup``,
+``unwarp_reflectivity``, ``warp_edge_tint``, ``unwarp_edge_tint``, ``coefficient_table_axes``,
+``coefficient_table_weights``, ``coefficient_table_model``, ``coefficient_table``, ``coefficient_table_lookup``,
 ``coefficients_from_coefficient_table``.
 
 For Gulbrandsen's inputs F(0) = r and F(π/2) = 1, so c0 = r and c1 = 1 − r exactly (:mod:`basis.coefficients`); only
@@ -9,29 +10,35 @@ c2 … c_(K−1) depend on (r, g) nonlinearly, and those are what the table hold
 bend (Gulbrandsen 2014, eq. 7–9: η grows like 4 / (1 − r) at r → 1, g = 0, and n_min → n_max at r → 0):
 
     x = r^(1/4) − √(1 − r) / 2    (columns, r from 0 to :data:`REFLECTIVITY_MAX`),
-    y = 1 − (1 − g)^(1/4)         (rows, g from 0 to 1),
+    y = 1 − (1 − g)^(1/4)         (rows, g from 0 to 1, texel centres on both ends).
 
-texels at the end points of both (the first and last texel centre on r = 0 and 0.9999, g = 0 and 1).
+The last channel is F(π/2), f90: 1, except in column 0, which holds the material of r = 0 (η = 1, κ = 0: F = 0, every
+coefficient and f90 0). r = 0 lies a quarter texel outside column 0's centre, where a clamped bilinear read returns
+column 0 alone whatever the rounding of the coordinate, so a shader takes c1 = f90 − r from the fetch (one
+subtraction) where the test r > 0 and three products per colour channel cost 0.14 of Schlick's pass in a GPU
+compiler's estimate; column 1 lies at r ≈ 2e-10. The last column's centre is r = :data:`REFLECTIVITY_MAX`.
 
-**Criterion** (``fit="minimax"``, the default): the coefficients minimise max over θ of |F − F_exact| on the basis'
-θ grid with c0, c1 kept exact (:func:`basis.coefficients.coefficients_least_squares`, 40 Lawson steps). That is the
-error for lights, F(V·H), and it also bounds the split sum's everywhere in a table: F̄ is an average of F with positive
-weights that sum to E ≤ 1, so |ΔF̄| ≤ max |ΔF|, with equality on the mirror row. Against exact Fresnel it is never worse
-than the four-point solve at a texel and 1.5 × better at the median (``python -m benchmarks.coefficient_table``).
-``fit="four-point"`` tabulates the include's own solve instead: smoother in (r, g), so read between texels it stays
-closer to its model, at the four-point solve's accuracy.
-
-At r = 0 (η = 1, κ = 0) every coefficient is 0; column 0 holds the limit r → 0⁺ for the interpolation beside it,
-and the lookup returns 0 there, as the solve does.
+**Criterion** (``fit="weighted"``, the default): weighted least squares over θ with c0, c1 exact and one set of
+weights w(θ) on the basis' θ grid for every texel, :func:`coefficient_table_weights`: Lawson's reweighting run over
+the table's materials at once, w_j ← w_j max over materials of |e_j| / E₄, E₄ the four-point solve's max error of that
+material, so that w minimises the worst ratio to the four-point solve. Being linear in the exact curve, the fit is as
+smooth in (r, g) as the Fresnel equations, so the table read between texels stays within 6e-5 of it; a minimax fit at
+each texel (``fit="minimax"``, 40 Lawson steps) is 1.15 × more accurate at the median but bends where its extremal
+angles switch, and bilinear reading misses it by up to 6e-4. Max over θ of |F − F_exact| bounds the split sum's error
+too: F̄ is an average of F with positive weights that sum to E ≤ 1. ``fit="four-point"`` tabulates the include's own
+solve. ``python -m benchmarks.coefficient_table`` measures all three against exact Fresnel.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .angles import cos_theta, trapezoid_weights
 from .coefficients import coefficients_from_gulbrandsen, coefficients_least_squares
 from .eigenbasis import Basis, resolve_basis
+from .fresnel import fresnel_kernel
 from .gulbrandsen import gulbrandsen_to_nk
+from .parallel import one_blas_thread
 from .validation import ParameterError, as_float_array, check_broadcast, check_choice, check_positive_int, check_range
 
 __all__ = [
@@ -39,7 +46,10 @@ __all__ = [
     "COEFFICIENT_TABLE_SIZE",
     "REFLECTIVITY_MAX",
     "coefficient_table",
+    "coefficient_table_axes",
     "coefficient_table_lookup",
+    "coefficient_table_model",
+    "coefficient_table_weights",
     "coefficients_from_coefficient_table",
     "unwarp_edge_tint",
     "unwarp_reflectivity",
@@ -51,9 +61,13 @@ __all__ = [
 COEFFICIENT_TABLE_SIZE = (512, 128)
 #: The largest reflectivity, as the include clamps it: beyond it η of g = 0 passes 4 × 10⁴.
 REFLECTIVITY_MAX = 0.9999
-COEFFICIENT_TABLE_FITS = ("minimax", "four-point")
-#: The r at which column 0 is computed: the limit r → 0⁺ (the material at r = 0 itself reflects nothing).
-_R_LIMIT = 1e-12
+COEFFICIENT_TABLE_FITS = ("weighted", "minimax", "four-point")
+#: Lawson steps of :func:`coefficient_table_weights` (the worst ratio settles to 3 digits by 60), and how often a
+#: texel of the training set is taken along each axis before the rest are checked.
+_WEIGHT_ITERATIONS = 80
+_TRAINING_STRIDE = 2
+#: Materials per block when the whole table is fitted or checked (a few (block × θ grid) float64 arrays at a time).
+_BLOCK = 4096
 
 
 def warp_reflectivity(reflectivity):
@@ -83,60 +97,184 @@ def unwarp_edge_tint(y):
     return 1.0 - (1.0 - np.asarray(y, dtype=np.float64)) ** 4
 
 
-def _axes(width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
-    """(r (W,), g (H,)) of the texels: end points of the warped axes."""
-    x = np.linspace(warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX), width)
-    reflectivity = unwarp_reflectivity(x)
-    reflectivity[0], reflectivity[-1] = 0.0, REFLECTIVITY_MAX
+def coefficient_table_axes(width: int, height: int) -> tuple[float, float]:
+    """(x of column 0's centre, the step between columns) of a table ``width`` wide: the last centre at
+    x(:data:`REFLECTIVITY_MAX`) and x(0) = −1/2 a quarter step before the first (module notes)."""
+    low, high = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
+    step = (high - low) / (width - 0.75)
+    return float(low + 0.25 * step), float(step)
+
+
+def _texel_parameters(width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+    """(r (W,), g (H,)) at the texel centres; r[0] is column 0's centre, which holds r = 0."""
+    first, step = coefficient_table_axes(width, height)
+    reflectivity = unwarp_reflectivity(first + step * np.arange(width))
+    reflectivity[-1] = REFLECTIVITY_MAX
     return reflectivity, unwarp_edge_tint(np.linspace(0.0, 1.0, height))
 
 
+def _residuals(reflectivity: np.ndarray, edge_tint: np.ndarray, basis: Basis) -> np.ndarray:
+    """(N, M) exact Fresnel of Gulbrandsen's (r, g) less c0 b0 + c1 b1 (c0 = r, c1 = 1 − r) on ``basis.theta``: what
+    c2 … fit, 0 at both ends of θ (b_k(0) = 0 for k ≥ 1, b_k(π/2) = 0 for k ≥ 2)."""
+    eta, kappa = gulbrandsen_to_nk(reflectivity, edge_tint)
+    values = fresnel_kernel(cos_theta(basis.theta)[None, :], eta[:, None], kappa[:, None])
+    return values - values[:, :1] - (values[:, -1:] - values[:, :1]) * basis.curves[1]
+
+
+def _weighted_projection(weights: np.ndarray, basis: Basis) -> np.ndarray:
+    """(M, K − 2): residuals (N, M) @ it are the weighted least-squares c2 …"""
+    design = basis.curves[2:].T
+    root = np.sqrt(weights)[:, None]
+    return (np.linalg.pinv(root * design) * root.T).T
+
+
+def _ratios(weights: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
+    """(N, M) |error| of the weighted fit over each material's four-point max error."""
+    error = residuals @ _weighted_projection(weights, basis) @ basis.curves[2:] - residuals
+    return np.abs(error) / four_point[:, None]
+
+
+def _four_point_errors(residuals: np.ndarray, reflectivity, edge_tint, basis: Basis) -> np.ndarray:
+    """(N,) max over ``basis.theta`` of the four-point solve's error (c0, c1 are the same in both fits)."""
+    fit = coefficients_from_gulbrandsen(reflectivity, edge_tint, basis)[:, 2:] @ basis.curves[2:]
+    return np.maximum(np.max(np.abs(fit - residuals), axis=1), 1e-12)
+
+
+def _lawson(weights: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
+    for _ in range(_WEIGHT_ITERATIONS):
+        weights = weights * np.max(_ratios(weights, residuals, four_point, basis), axis=0)
+        weights = weights / weights.sum()
+    return weights
+
+
+_WEIGHTS: dict[str, np.ndarray] = {}
+
+
+def coefficient_table_weights(basis: Basis | None = None) -> np.ndarray:
+    """(M,) weights w(θ) on ``basis.theta`` (sum 1) of ``fit="weighted"`` (module notes), trained on the texels of a
+    :data:`COEFFICIENT_TABLE_SIZE` table whatever size is built from them.
+
+    Lawson's steps run on every other texel of each axis (column 0 aside); every texel is then checked, and any whose
+    fit is worse than its four-point solve joins the training set for another round (at most four). Deterministic,
+    with BLAS on one thread; about 10 s, once per basis and process.
+
+    >>> weights = coefficient_table_weights()
+    >>> weights.shape, round(float(weights.sum()), 12), bool(np.all(weights >= 0.0))
+    ((512,), 1.0, True)
+    """
+    basis = resolve_basis(basis)
+    if basis.content_hash not in _WEIGHTS:
+        with one_blas_thread():
+            _WEIGHTS[basis.content_hash] = _train_weights(basis, *COEFFICIENT_TABLE_SIZE)
+    return _WEIGHTS[basis.content_hash].copy()
+
+
+def _train_weights(basis: Basis, width: int, height: int) -> np.ndarray:
+    reflectivity, edge_tint = (part.ravel() for part in np.meshgrid(*_texel_parameters(width, height)))
+    column, row = (part.ravel() for part in np.meshgrid(np.arange(width), np.arange(height)))
+    used = column > 0  # column 0 holds r = 0, no fit
+    reflectivity, edge_tint = reflectivity[used], edge_tint[used]
+    training = ((column[used] % _TRAINING_STRIDE == 1) & (row[used] % _TRAINING_STRIDE == 0)) | (column[used] == 1)
+    weights = trapezoid_weights(basis.theta)
+    weights = weights / weights.sum()
+    for _ in range(4):
+        chosen = np.flatnonzero(training)
+        residuals = _residuals(reflectivity[chosen], edge_tint[chosen], basis)
+        weights = _lawson(
+            weights, residuals, _four_point_errors(residuals, reflectivity[chosen], edge_tint[chosen], basis), basis
+        )
+        worse = np.zeros_like(training)
+        for start in range(0, reflectivity.size, _BLOCK):
+            part = slice(start, start + _BLOCK)
+            residuals = _residuals(reflectivity[part], edge_tint[part], basis)
+            four_point = _four_point_errors(residuals, reflectivity[part], edge_tint[part], basis)
+            worse[part] = np.max(_ratios(weights, residuals, four_point, basis), axis=1) > 1.0
+        if not np.any(worse & ~training):
+            break
+        training |= worse
+    return weights
+
+
+def coefficient_table_model(reflectivity, edge_tint, basis: Basis | None = None, fit: str = "weighted") -> np.ndarray:
+    """(…, K) the float64 coefficients a table of ``fit`` (:data:`COEFFICIENT_TABLE_FITS`) holds at any (r, g), not
+    only at its texels: c0 = r, c1 = 1 − r and c2 … by the criterion; all 0 at r = 0. r in
+    [0, :data:`REFLECTIVITY_MAX`], g in [0, 1].
+
+    >>> c = coefficient_table_model(0.9, 0.5)
+    >>> [round(float(value), 6) for value in c[:2]]
+    [0.9, 0.1]
+    """
+    basis = resolve_basis(basis)
+    fit = check_choice("fit", fit, list(COEFFICIENT_TABLE_FITS))
+    reflectivity = check_range("reflectivity", reflectivity, 0.0, REFLECTIVITY_MAX)
+    edge_tint = check_range("edge_tint", edge_tint, 0.0, 1.0)
+    check_broadcast(reflectivity=reflectivity, edge_tint=edge_tint)
+    reflectivity, edge_tint = np.broadcast_arrays(reflectivity, edge_tint)
+    shape = reflectivity.shape
+    r, g = reflectivity.ravel(), edge_tint.ravel()
+    reflects = r > 0.0
+    coefficients = np.zeros((r.size, basis.n_terms))
+    lit = np.flatnonzero(reflects)
+    if fit == "four-point":
+        coefficients[lit] = coefficients_from_gulbrandsen(r[lit], g[lit], basis)
+    elif fit == "minimax":
+        coefficients[lit] = coefficients_least_squares(*gulbrandsen_to_nk(r[lit], g[lit]), basis, fit="minimax")
+    else:
+        projection = _weighted_projection(coefficient_table_weights(basis), basis)
+        with one_blas_thread():
+            for start in range(0, lit.size, _BLOCK):
+                part = lit[start : start + _BLOCK]
+                coefficients[part, 2:] = _residuals(r[part], g[part], basis) @ projection
+        coefficients[lit, 0], coefficients[lit, 1] = r[lit], 1.0 - r[lit]
+    return coefficients.reshape(shape + (basis.n_terms,))
+
+
 def coefficient_table(
-    basis: Basis | None = None, fit: str = "minimax", size: tuple[int, int] = COEFFICIENT_TABLE_SIZE
+    basis: Basis | None = None, fit: str = "weighted", size: tuple[int, int] = COEFFICIENT_TABLE_SIZE
 ) -> np.ndarray:
-    """(H, W, K − 2) coefficients c2 … c_(K−1) of Gulbrandsen's (r, g) at the texels (module notes) on ``basis``
-    (default: the shipped one), by ``fit`` (:data:`COEFFICIENT_TABLE_FITS`); ``size`` = (W, H), each in [2, 4096].
+    """(H, W, K − 1) c2 … c_(K−1) and f90 of Gulbrandsen's (r, g) at the texels (module notes) on ``basis`` (default:
+    the shipped one), by ``fit`` (:data:`COEFFICIENT_TABLE_FITS`); ``size`` = (W, H), each in [2, 4096]. Column 0 is
+    the material of r = 0: all 0.
 
     >>> table = coefficient_table(size=(8, 4), fit="four-point")
-    >>> table.shape
-    (4, 8, 2)
+    >>> table.shape, float(table[0, 0, -1]), float(table[0, 1, -1])
+    ((4, 8, 3), 0.0, 1.0)
     """
     basis = resolve_basis(basis)
     fit = check_choice("fit", fit, list(COEFFICIENT_TABLE_FITS))
     width, height = (
         check_positive_int(name, value, low=2, high=4096) for name, value in zip(("width", "height"), size)
     )
-    reflectivity, edge_tint = np.meshgrid(*_axes(width, height))
-    reflectivity = np.maximum(reflectivity, _R_LIMIT)
-    if fit == "four-point":
-        coefficients = coefficients_from_gulbrandsen(reflectivity, edge_tint, basis)
-    else:
-        coefficients = coefficients_least_squares(*gulbrandsen_to_nk(reflectivity, edge_tint), basis, fit="minimax")
-    return coefficients[..., 2:]
+    reflectivity, edge_tint = np.meshgrid(*_texel_parameters(width, height))
+    reflectivity[:, 0] = 0.0
+    coefficients = coefficient_table_model(reflectivity, edge_tint, basis, fit)
+    f90 = (reflectivity > 0.0).astype(np.float64)[..., None]
+    return np.concatenate([coefficients[..., 2:], f90], axis=-1)
 
 
 def coefficient_table_lookup(table, reflectivity, edge_tint, weight_bits: int | None = None) -> np.ndarray:
-    """(…, C) of a table (H, W, C) on this module's axes read as a GPU reads it (bilinear, clamp to edge, texel
-    centres at the axes' end points) at (r, g) in [0, :data:`REFLECTIVITY_MAX`] × [0, 1] (unchecked: callers clamp);
-    with ``weight_bits``, each filter weight rounded to that many bits, as GPUs that filter with 8-bit weights do."""
+    """(…, C) of a table (H, W, C) on this module's axes read as a GPU reads it (bilinear, clamp to edge; r = 0 a
+    quarter texel before column 0's centre) at (r, g) in [0, :data:`REFLECTIVITY_MAX`] × [0, 1] (unchecked: callers
+    clamp); with ``weight_bits``, each filter weight rounded to that many bits, as GPUs that filter with 8-bit weights
+    do."""
     table = as_float_array("table", table)
     height, width = table.shape[:2]
-    x0, x1 = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
-    u = np.clip((warp_reflectivity(reflectivity) - x0) / (x1 - x0), 0.0, 1.0) * (width - 1)
+    first, step = coefficient_table_axes(width, height)
+    u = np.clip((warp_reflectivity(reflectivity) - first) / step, 0.0, width - 1)
     v = np.clip(warp_edge_tint(edge_tint), 0.0, 1.0) * (height - 1)
     i, j = np.minimum(np.floor(u).astype(int), width - 2), np.minimum(np.floor(v).astype(int), height - 2)
     fu, fv = (u - i)[..., None], (v - j)[..., None]
     if weight_bits is not None:
-        step = 2.0 ** check_positive_int("weight_bits", weight_bits, low=1, high=52)
-        fu, fv = np.round(fu * step) / step, np.round(fv * step) / step
+        step_size = 2.0 ** check_positive_int("weight_bits", weight_bits, low=1, high=52)
+        fu, fv = np.round(fu * step_size) / step_size, np.round(fv * step_size) / step_size
     return (1 - fv) * ((1 - fu) * table[j, i] + fu * table[j, i + 1]) + fv * (
         (1 - fu) * table[j + 1, i] + fu * table[j + 1, i + 1]
     )
 
 
 def coefficients_from_coefficient_table(table, reflectivity, edge_tint, weight_bits: int | None = None) -> np.ndarray:
-    """(…, K) coefficients of Gulbrandsen's (r, g) from a :func:`coefficient_table` (H, W, K − 2): c0 = r,
-    c1 = 1 − r, the rest read bilinearly (``weight_bits``: :func:`coefficient_table_lookup`); all 0 at r = 0. r in
+    """(…, K) coefficients of Gulbrandsen's (r, g) from a :func:`coefficient_table` (H, W, K − 1): c0 = r,
+    c1 = f90 − r and c2 … read bilinearly (``weight_bits``: :func:`coefficient_table_lookup`); all 0 at r = 0. r in
     [0, :data:`REFLECTIVITY_MAX`], g in [0, 1].
 
     >>> table = coefficient_table(size=(64, 16), fit="four-point")
@@ -145,13 +283,12 @@ def coefficients_from_coefficient_table(table, reflectivity, edge_tint, weight_b
     ((4,), 0.5, 0.5)
     """
     table = as_float_array("table", table)
-    if table.ndim != 3:
-        raise ParameterError(f"table must be (H, W, K - 2), got shape {table.shape}")
+    if table.ndim != 3 or table.shape[-1] < 1:
+        raise ParameterError(f"table must be (H, W, K - 1), got shape {table.shape}")
     reflectivity = check_range("reflectivity", reflectivity, 0.0, REFLECTIVITY_MAX)
     edge_tint = check_range("edge_tint", edge_tint, 0.0, 1.0)
     check_broadcast(reflectivity=reflectivity, edge_tint=edge_tint)
     reflectivity, edge_tint = np.broadcast_arrays(reflectivity, edge_tint)
-    reflects = (reflectivity > 0.0)[..., None]
-    rest = np.where(reflects, coefficient_table_lookup(table, reflectivity, edge_tint, weight_bits), 0.0)
-    first = np.stack([reflectivity, np.where(reflectivity > 0.0, 1.0 - reflectivity, 0.0)], axis=-1)
-    return np.concatenate([first, rest], axis=-1)
+    read = coefficient_table_lookup(table, reflectivity, edge_tint, weight_bits)
+    first = np.stack([reflectivity, read[..., -1] - reflectivity], axis=-1)
+    return np.concatenate([first, read[..., :-1]], axis=-1)

@@ -45,9 +45,9 @@ SCHLICK_LUT = "ggx_schlick_rgba.exr"
 AVERAGE_LUT = "ggx_albedo_average.exr"
 #: The area lights' LTC table (``fresnel-lut build --ltc``; :mod:`preintegrate.ltc`).
 LTC_LUT = "ggx_ltc.exr"
-#: Gulbrandsen's (r, g) → c2, c3 of a four-term basis (``fresnel-lut build --pixel-tables``;
-#: :mod:`basis.coefficient_table`); a basis of K terms has K − 2 channels (``fresnel_coefficients_rgba`` for six).
-COEFFICIENT_LUT = "fresnel_coefficients_rg.exr"
+#: Gulbrandsen's (r, g) → c2, c3 and f90 of a four-term basis (``fresnel-lut build --pixel-tables``;
+#: :mod:`basis.coefficient_table`); a basis of K terms has K − 1 channels (``fresnel_coefficients_rgba`` for five).
+COEFFICIENT_LUT = "fresnel_coefficients_rgb.exr"
 #: The direct-light curves b_1 … b_(K−1) of the basis over μ = V·H, one row (``fresnel-lut build --pixel-tables``), and
 #: its texels (end points of μ from 0 to 1): with a guard texel on each side, WebGL 2's guaranteed largest texture width
 #: (an atlas holds it: handoff.atlas); linear interpolation between them holds the shipped basis' curves within 2.5e-5,

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, REFLECTIVITY_MAX, coefficient_table
+from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, REFLECTIVITY_MAX, coefficient_table, coefficient_table_axes
 from basis.eigenbasis import Basis, resolve_basis
 from basis.models import fresnel_model
 from basis.storage import write_together
@@ -108,7 +108,7 @@ DEFAULT_SET = (_stem(BASIS_LUT), f"{_stem(BASIS_LUT)}_2", _stem(SCHLICK_LUT), "g
 
 def _channels_stem(shipped: str, channels: int) -> str:
     """The stem of a shipped per-pixel table (``COEFFICIENT_LUT``, ``CURVE_LUT``) for ``channels`` channels: its
-    channel suffix replaced (``fresnel_coefficients_rgba`` for a six-term basis)."""
+    channel suffix replaced (``fresnel_coefficients_rgba`` for a five-term basis)."""
     return _stem(shipped).rsplit("_", 1)[0] + "_" + "rgba"[:channels]
 
 
@@ -367,7 +367,7 @@ def _atlas(tables: list[Table], basis: Basis, grid, ltc_size: int, command: str)
         "basis2": f"{_stem(BASIS_LUT)}_2",
         "schlick": _stem(SCHLICK_LUT),
         "ltc": _stem(LTC_LUT),
-        "coefficients": _channels_stem(COEFFICIENT_LUT, basis.n_terms - 2),
+        "coefficients": _channels_stem(COEFFICIENT_LUT, basis.n_terms - 1),
         "curves": _channels_stem(CURVE_LUT, basis.n_terms - 1),
     }
     values, layout = pack_atlas({role: by_stem[stem] for role, stem in stems.items() if stem in by_stem})
@@ -431,36 +431,41 @@ def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:
 
 
 def coefficient_build_table(
-    basis: Basis | None = None, fit: str = "minimax", command: str = "fresnel-lut build --pixel-tables"
+    basis: Basis | None = None, fit: str = "weighted", command: str = "fresnel-lut build --pixel-tables"
 ) -> Table:
-    """The table of Gulbrandsen's (r, g) → c2 … c_(K−1) (:func:`basis.coefficient_table.coefficient_table`) of a
-    basis of three to six terms, with the basis hash, the axes and the criterion in its header."""
+    """The table of Gulbrandsen's (r, g) → c2 … c_(K−1) and f90 (:func:`basis.coefficient_table.coefficient_table`)
+    of a basis of three to five terms, with the basis hash, the axes and the criterion in its header."""
     basis = resolve_basis(basis)
-    if not 3 <= basis.n_terms <= 6:
+    if not 3 <= basis.n_terms <= 5:
         raise ParameterError(
-            f"the coefficient table holds c2 ... c(K-1) in one RGBA texture: a basis of 3 to 6 terms, not {basis.n_terms}"
+            f"the coefficient table holds c2 ... c(K-1) and f90 in one RGBA texture: a basis of 3 to 5 terms, not "
+            f"{basis.n_terms}"
         )
     width, height = COEFFICIENT_TABLE_SIZE
-    names = tuple(f"c{k}" for k in range(2, basis.n_terms))
+    first, step = coefficient_table_axes(width, height)
+    names = (*(f"c{k}" for k in range(2, basis.n_terms)), "f90")
+    criteria = {
+        "weighted": "weighted least squares over theta, c0 and c1 exact, one weight per basis angle for every texel "
+        "(Lawson's reweighting of the worst ratio to the four-point solve's max error over the table's materials); "
+        "max over theta of |F - F_exact| bounds the split sum's error too",
+        "minimax": "minimax over theta of |F - F_exact| on the basis grid, c0 and c1 exact (40 Lawson steps)",
+        "four-point": "the four-point solve at the basis' fit angles",
+    }
     header = table_header(
         "gulbrandsen coefficients",
         names,
-        "per colour channel: c0 = r, c1 = 1 - r, (c2 ...) = texture(x, y) (all 0 at r = 0)",
+        "per colour channel: c0 = r, c1 = f90 - r, (c2 ...) = texture(x, y) (all 0 at r = 0)",
         width,
         height,
         command,
-        f"columns: x = r^(1/4) - sqrt(1 - r)/2 at {width} end points from r = 0 to {REFLECTIVITY_MAX}; rows: y = "
-        f"1 - (1 - g)^(1/4) at {height} end points from g = 0 to 1; texel centres on both ends (bilinear, clamp)",
+        f"columns: x = r^(1/4) - sqrt(1 - r)/2, texel centres from x = {first!r} by {step!r} (r = 0 at x = -0.5, a "
+        f"quarter texel before column 0, which holds r = 0: all 0; the last centre r = {REFLECTIVITY_MAX}); rows: "
+        f"y = 1 - (1 - g)^(1/4) at {height} end points from g = 0 to 1 (bilinear, clamp)",
         basis_hash=basis.content_hash,
         fit=fit,
-        criterion=(
-            "minimax over theta of |F - F_exact| on the basis grid, c0 and c1 exact (40 Lawson steps); bounds the "
-            "split sum's error too"
-            if fit == "minimax"
-            else "the four-point solve at the basis' fit angles"
-        ),
+        criterion=criteria[fit],
     )
-    return Table(_channels_stem(COEFFICIENT_LUT, basis.n_terms - 2), coefficient_table(basis, fit), names, header)
+    return Table(_channels_stem(COEFFICIENT_LUT, basis.n_terms - 1), coefficient_table(basis, fit), names, header)
 
 
 def curve_table(basis: Basis | None = None, command: str = "fresnel-lut build --pixel-tables") -> Table:

@@ -62,8 +62,8 @@ const vec3 FRESNEL_LINEAR_AVERAGES = vec3(0.952380952, 0.0476190476, 0.007936507
 const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
-const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-const vec2 FRESNEL_CURVE_TABLE = vec2(0.999511241, 0.000244379277);  // scale, offset of mu
+const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.667927662, 0.334452112, -0.9921875, 0.99609375);  // x scale, x offset, s scale, s offset of the table's texels
+const vec3 FRESNEL_CURVE_TABLE = vec3(0.999511241, 0.000244379277, 0.5);  // scale, offset of mu, v of the row
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(vec4 c, vec4 x)
@@ -83,16 +83,6 @@ vec2 fresnelAtlasSchlick(vec2 uv)
 }
 
 vec2 fresnelAtlasLtc(vec2 uv)
-{
-    return uv;
-}
-
-vec2 fresnelAtlasCoefficients(vec2 uv)
-{
-    return uv;
-}
-
-vec2 fresnelAtlasCurves(vec2 uv)
 {
     return uv;
 }
@@ -210,18 +200,19 @@ vec4 fresnelCoefficientsGulbrandsen(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
-// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
-// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rgb,
+// written by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r, c1 = f90 - r with f90 the
+// table's last channel (1, and 0 in the column of r = 0, which a clamped read returns alone), c2 ... from the others,
+// bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2 and s = (1 - g)^(1/4) (rows at y = 1 - s, folded into
+// FRESNEL_COEFFICIENT_AXES); every coefficient 0 at r = 0. The table holds one weighted least-squares fit over theta
+// (basis.coefficient_table), where the solve interpolates four angles.
 // fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
 vec4 fresnelCoefficientsTableRead(sampler2D coefficientLut, float r, float q, float g)
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - g));
-    vec4 t = textureLod(coefficientLut, fresnelAtlasCoefficients(vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
-    float f90 = r > 0.0 ? 1.0 : 0.0;
-    return vec4(r, f90 - r, f90 * t.x, f90 * t.y);
+    float s = sqrt(sqrt(1.0 - g));
+    vec4 t = textureLod(coefficientLut, vec2(x, s) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    return vec4(r, t.z - r, t.x, t.y);
 }
 
 // Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
@@ -386,7 +377,7 @@ vec3 fresnelBasisDirect(float VdotH, vec4 cR, vec4 cG, vec4 cB)
 vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, vec4 cR, vec4 cG, vec4 cB)
 {
     float mu = fresnelUnitClamp(VdotH, 1.0);
-    vec4 t = textureLod(curveLut, fresnelAtlasCurves(vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
+    vec4 t = textureLod(curveLut, vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, FRESNEL_CURVE_TABLE.z), 0.0);
     vec4 b = vec4(1.0, t.x, t.y, t.z);
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }

@@ -62,13 +62,11 @@ static const float3 FRESNEL_LINEAR_AVERAGES = float3(0.952380952, 0.0476190476, 
 static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // scale, offset
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 static const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
-static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-static const float2 FRESNEL_CURVE_TABLE = float2(0.999511241, 0.000244379277);  // scale, offset of mu
+static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
+static const float3 FRESNEL_CURVE_TABLE = float3(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 static const float4 FRESNEL_ATLAS_BASIS = float4(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
 static const float4 FRESNEL_ATLAS_SCHLICK = float4(0.0625, 0.962406015, 0.0639648438, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
 static const float4 FRESNEL_ATLAS_LTC = float4(0.03125, 0.481203008, 0.378417969, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
-static const float4 FRESNEL_ATLAS_COEFFICIENTS = float4(0.25, 0.962406015, 0.127441406, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
-static const float4 FRESNEL_ATLAS_CURVES = float4(0.999023438, 0.00751879699, 0.00048828125, 0.984962406);  // scale u, scale v, offset u, offset v in the atlas
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 float fresnelTermsDot(float4 c, float4 x)
@@ -90,16 +88,6 @@ float2 fresnelAtlasSchlick(float2 uv)
 float2 fresnelAtlasLtc(float2 uv)
 {
     return uv * FRESNEL_ATLAS_LTC.xy + FRESNEL_ATLAS_LTC.zw;
-}
-
-float2 fresnelAtlasCoefficients(float2 uv)
-{
-    return uv * FRESNEL_ATLAS_COEFFICIENTS.xy + FRESNEL_ATLAS_COEFFICIENTS.zw;
-}
-
-float2 fresnelAtlasCurves(float2 uv)
-{
-    return uv * FRESNEL_ATLAS_CURVES.xy + FRESNEL_ATLAS_CURVES.zw;
 }
 
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
@@ -215,18 +203,19 @@ float4 fresnelCoefficientsGulbrandsen(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
-// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
-// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rgb,
+// written by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r, c1 = f90 - r with f90 the
+// table's last channel (1, and 0 in the column of r = 0, which a clamped read returns alone), c2 ... from the others,
+// bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2 and s = (1 - g)^(1/4) (rows at y = 1 - s, folded into
+// FRESNEL_COEFFICIENT_AXES); every coefficient 0 at r = 0. The table holds one weighted least-squares fit over theta
+// (basis.coefficient_table), where the solve interpolates four angles.
 // fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
 float4 fresnelCoefficientsTableRead(Texture2D<float4> coefficientLut, SamplerState linearClamp, float r, float q, float g)
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - g));
-    float4 t = coefficientLut.SampleLevel(linearClamp, fresnelAtlasCoefficients(float2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0);
-    float f90 = r > 0.0 ? 1.0 : 0.0;
-    return float4(r, f90 - r, f90 * t.x, f90 * t.y);
+    float s = sqrt(sqrt(1.0 - g));
+    float4 t = coefficientLut.SampleLevel(linearClamp, float2(x, s) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0);
+    return float4(r, t.z - r, t.x, t.y);
 }
 
 // Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
@@ -391,7 +380,7 @@ float3 fresnelBasisDirect(float VdotH, float4 cR, float4 cG, float4 cB)
 float3 fresnelBasisDirectTable(Texture2D<float4> curveLut, SamplerState linearClamp, float VdotH, float4 cR, float4 cG, float4 cB)
 {
     float mu = fresnelUnitClamp(VdotH, 1.0);
-    float4 t = curveLut.SampleLevel(linearClamp, fresnelAtlasCurves(float2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0);
+    float4 t = curveLut.SampleLevel(linearClamp, float2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, FRESNEL_CURVE_TABLE.z), 0);
     float4 b = float4(1.0, t.x, t.y, t.z);
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }

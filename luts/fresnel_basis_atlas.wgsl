@@ -62,13 +62,11 @@ const FRESNEL_LINEAR_AVERAGES: vec3f = vec3f(0.952380952, 0.0476190476, 0.007936
 const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offset
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
-const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667601047, 0.334777086, 0.9921875, 0.00390625);  // x scale, x offset, y scale, y offset of the table's texels
-const FRESNEL_CURVE_TABLE: vec2f = vec2f(0.999511241, 0.000244379277);  // scale, offset of mu
+const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
+const FRESNEL_CURVE_TABLE: vec3f = vec3f(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 const FRESNEL_ATLAS_BASIS: vec4f = vec4f(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
 const FRESNEL_ATLAS_SCHLICK: vec4f = vec4f(0.0625, 0.962406015, 0.0639648438, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
 const FRESNEL_ATLAS_LTC: vec4f = vec4f(0.03125, 0.481203008, 0.378417969, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
-const FRESNEL_ATLAS_COEFFICIENTS: vec4f = vec4f(0.25, 0.962406015, 0.127441406, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
-const FRESNEL_ATLAS_CURVES: vec4f = vec4f(0.999023438, 0.00751879699, 0.00048828125, 0.984962406);  // scale u, scale v, offset u, offset v in the atlas
 
 // One channel's coefficients times the terms: sum_k c_k x_k.
 fn fresnelTermsDot(c: vec4f, x: vec4f) -> f32
@@ -90,16 +88,6 @@ fn fresnelAtlasSchlick(uv: vec2f) -> vec2f
 fn fresnelAtlasLtc(uv: vec2f) -> vec2f
 {
     return uv * FRESNEL_ATLAS_LTC.xy + FRESNEL_ATLAS_LTC.zw;
-}
-
-fn fresnelAtlasCoefficients(uv: vec2f) -> vec2f
-{
-    return uv * FRESNEL_ATLAS_COEFFICIENTS.xy + FRESNEL_ATLAS_COEFFICIENTS.zw;
-}
-
-fn fresnelAtlasCurves(uv: vec2f) -> vec2f
-{
-    return uv * FRESNEL_ATLAS_CURVES.xy + FRESNEL_ATLAS_CURVES.zw;
 }
 
 // A texel value as the shaders read it: NaN -> fallback (tested by its bits: fast-math compilers may drop x != x),
@@ -215,18 +203,19 @@ fn fresnelCoefficientsGulbrandsen(rIn: f32, g: f32) -> vec4f
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
-// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
-// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rgb,
+// written by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r, c1 = f90 - r with f90 the
+// table's last channel (1, and 0 in the column of r = 0, which a clamped read returns alone), c2 ... from the others,
+// bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2 and s = (1 - g)^(1/4) (rows at y = 1 - s, folded into
+// FRESNEL_COEFFICIENT_AXES); every coefficient 0 at r = 0. The table holds one weighted least-squares fit over theta
+// (basis.coefficient_table), where the solve interpolates four angles.
 // fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
 fn fresnelCoefficientsTableRead(coefficientLut: texture_2d<f32>, linearClamp: sampler, r: f32, q: f32, g: f32) -> vec4f
 {
     let x: f32 = sqrt(q) - 0.5 * sqrt(1.0 - r);
-    let y: f32 = 1.0 - sqrt(sqrt(1.0 - g));
-    let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, fresnelAtlasCoefficients(vec2f(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
-    let f90: f32 = select(0.0, 1.0, r > 0.0);
-    return vec4f(r, f90 - r, f90 * t.x, f90 * t.y);
+    let s: f32 = sqrt(sqrt(1.0 - g));
+    let t: vec4f = textureSampleLevel(coefficientLut, linearClamp, vec2f(x, s) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
+    return vec4f(r, t.z - r, t.x, t.y);
 }
 
 // Inputs through fresnelUnitClamp: r to [0, 0.9999], g to [0, 1], a NaN to an end by its sign bit.
@@ -387,7 +376,7 @@ fn fresnelBasisDirect(VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 fn fresnelBasisDirectTable(curveLut: texture_2d<f32>, linearClamp: sampler, VdotH: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let mu: f32 = fresnelUnitClamp(VdotH, 1.0);
-    let t: vec4f = textureSampleLevel(curveLut, linearClamp, fresnelAtlasCurves(vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
+    let t: vec4f = textureSampleLevel(curveLut, linearClamp, vec2f(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, FRESNEL_CURVE_TABLE.z), 0.0);
     let b: vec4f = vec4f(1.0, t.x, t.y, t.z);
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }

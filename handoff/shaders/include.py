@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, REFLECTIVITY_MAX, warp_reflectivity
+from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, coefficient_table_axes
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
@@ -243,30 +243,51 @@ def _curve_parts(c: ShaderConstants) -> tuple[list[str], str]:
     return constants, "\n".join(statements)
 
 
-def _coefficient_table_parts(k: int) -> tuple[str, str]:
-    """(constant, return expression) of ``fresnelCoefficientsGulbrandsenTable``: the affine maps of its warped axes
-    onto the texel centres of a :data:`~basis.coefficient_table.COEFFICIENT_TABLE_SIZE` table (end points on both
-    ends), and c0 = r, c1 = f90 − r, c2 … from the fetch t (K − 2 ≤ 4 channels); a basis of more than six terms has
-    no table (``fresnel-lut build --pixel-tables`` refuses it) and solves instead."""
+def _atlas_map(c: ShaderConstants, role: str) -> tuple[float, float, float, float]:
+    """(scale u, scale v, offset u, offset v) of a per-pixel table's coordinates into the include's atlas (the identity
+    without one, or where the include reads no per-pixel table)."""
+    if c.atlas is None or not c.pixel_tables:
+        return 1.0, 1.0, 0.0, 0.0
+    if role not in c.atlas:
+        raise ParameterError(f"the atlas holds no {role} table, which this include reads")
+    return tuple(float(value) for value in c.atlas[role])
+
+
+def _coefficient_table_parts(c: ShaderConstants) -> tuple[str, str]:
+    """(constant, return expression) of ``fresnelCoefficientsTableRead``: the affine maps of x = r^(1/4) − √(1 − r)/2
+    and of s = (1 − g)^(1/4) (its row y = 1 − s folded into the map) onto the texel centres of a
+    :data:`~basis.coefficient_table.COEFFICIENT_TABLE_SIZE` table (r = 0 a quarter texel before column 0, g's end
+    points on the end rows), composed with the atlas' map where there is one (one multiply-add per coordinate either
+    way), and c0 = r, c1 = f90 − r, c2 … from the fetch t (K − 1 ≤ 4 channels, f90 the last); a basis of more than five
+    terms has no table (``fresnel-lut build --pixel-tables`` refuses it) and solves instead."""
+    k = c.n_terms
     width, height = COEFFICIENT_TABLE_SIZE
-    low, high = warp_reflectivity(0.0), warp_reflectivity(REFLECTIVITY_MAX)
-    x_scale = (width - 1) / (width * (high - low))
-    y_scale = (height - 1) / height
-    axes = [x_scale, 0.5 / width - low * x_scale, y_scale, 0.5 / height]
-    constant = _constant("FRESNEL_COEFFICIENT_AXES", axes, "x scale, x offset, y scale, y offset of the table's texels")
-    if k > 6:
+    first, step = coefficient_table_axes(width, height)
+    x_scale, x_offset = 1.0 / (width * step), (0.5 - first / step) / width
+    s_scale, s_offset = -(height - 1) / height, (height - 0.5) / height
+    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "coefficients") if 3 <= k <= 5 else (1.0, 1.0, 0.0, 0.0)
+    axes = [x_scale * scale_u, x_offset * scale_u + offset_u, s_scale * scale_v, s_offset * scale_v + offset_v]
+    constant = _constant("FRESNEL_COEFFICIENT_AXES", axes, "x scale, x offset, s scale, s offset of the table's texels")
+    if k > 5:
         return constant, "fresnelCoefficientsGulbrandsen(r, g)"
-    rest = [f"f90 * t.{axis}" for axis in "xyzw"[: k - 2]]
-    return constant, _terms_value(["r", "f90 - r", *rest], k > 4)
+    if k == 2:  # c0 and c1 alone: nothing to read
+        return constant, _terms_value(["r", "(r > 0.0 ? 1.0 : 0.0) - r"], False)
+    channels = "xyzw"[: k - 1]
+    return constant, _terms_value(["r", f"t.{channels[-1]} - r", *(f"t.{axis}" for axis in channels[:-1])], k > 4)
 
 
-def _curve_table_parts(k: int) -> tuple[str, str]:
+def _curve_table_parts(c: ShaderConstants) -> tuple[str, str]:
     """(constant, terms expression) of ``fresnelBasisDirectTable``: the map of μ onto the texel centres of the
-    :data:`~handoff.shipped.CURVE_LUT_SIZE` end points, and b = (1, t.x, …) from the fetch t; more than five terms
-    evaluate the polynomial instead."""
-    constant = _constant(
-        "FRESNEL_CURVE_TABLE", [(CURVE_LUT_SIZE - 1) / CURVE_LUT_SIZE, 0.5 / CURVE_LUT_SIZE], "scale, offset of mu"
-    )
+    :data:`~handoff.shipped.CURVE_LUT_SIZE` end points and the row's v, composed with the atlas' map where there is
+    one, and b = (1, t.x, …) from the fetch t; more than five terms evaluate the polynomial instead."""
+    k = c.n_terms
+    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "curves") if 2 <= k <= 5 else (1.0, 1.0, 0.0, 0.0)
+    table = [
+        (CURVE_LUT_SIZE - 1) / CURVE_LUT_SIZE * scale_u,
+        0.5 / CURVE_LUT_SIZE * scale_u + offset_u,
+        0.5 * scale_v + offset_v,
+    ]
+    constant = _constant("FRESNEL_CURVE_TABLE", table, "scale, offset of mu, v of the row")
     if k > 5:
         return constant, "fresnelBasisCurves(mu)"
     return constant, _terms_value(["1.0", *(f"t.{axis}" for axis in "xyzw"[: k - 1])], k > 4)
@@ -362,10 +383,11 @@ def _header(c: ShaderConstants, language: str, command: str) -> str:
 
 def _atlas_parts(c: ShaderConstants) -> tuple[list[str], str]:
     """(constants, functions) of the tables' address functions ``fresnelAtlas<Role>(uv)``: the identity where every
-    table is its own texture, the map into its rectangle of one atlas (FRESNEL_ATLAS_<ROLE>: scale, offset)."""
+    table is its own texture, the map into its rectangle of one atlas (FRESNEL_ATLAS_<ROLE>: scale, offset). The
+    per-pixel tables have none: their axes' constants already include the atlas' map."""
     constants, functions = [], []
     for role in ATLAS_ROLES:  # fresnelAtlasBasis, fresnelAtlasBasis2, fresnelAtlasSchlick, …
-        if (role == "basis2" and c.n_terms <= 4) or (role in PIXEL_TABLE_ROLES and not c.pixel_tables):
+        if (role == "basis2" and c.n_terms <= 4) or role in PIXEL_TABLE_ROLES:
             continue
         if c.atlas is None:
             body = "    return uv;"
@@ -447,8 +469,8 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         else ("fresnelSanitize(NdotV, 1.0, 0.0, 1.0)")
     )
     fetch = "textureLod(lut, fresnelAtlasBasis(uv), 0.0)"
-    axes_constant, table_terms = _coefficient_table_parts(c.n_terms)
-    curve_table_constant, curve_terms = _curve_table_parts(c.n_terms)
+    axes_constant, table_terms = _coefficient_table_parts(c)
+    curve_table_constant, curve_terms = _curve_table_parts(c)
     atlas_constants, atlas_functions = _atlas_parts(c)
     placeholders = {
         "terms": "FresnelTerms8" if wide else "vec4",

@@ -166,21 +166,21 @@ def coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants: Shade
 def coefficients_per_pixel_gulbrandsen_table(
     table, reflectivity, edge_tint, constants: ShaderConstants | None = None, weight_bits: int | None = None
 ) -> np.ndarray:
-    """(…, K) coefficients of (r, g) texels read from the coefficient table (H, W, K − 2) as
+    """(…, K) coefficients of (r, g) texels read from the coefficient table (H, W, K − 1) as
     ``fresnelCoefficientsGulbrandsenTable`` reads it (exact bilinear weights, or rounded to ``weight_bits`` as GPUs
-    that filter with 8-bit weights round them); a basis of more than six terms, which has no table, solves as the
+    that filter with 8-bit weights round them); a basis of more than five terms, which has no table, solves as the
     include does (and a two-term basis reads nothing: ``table`` may be None for both)."""
     constants = shader_constants() if constants is None else constants
     reflectivity, edge_tint = np.broadcast_arrays(
         bits_clamp(reflectivity, *REFLECTIVITY_LIMITS), bits_clamp(edge_tint, 0.0, 1.0)
     )
-    if constants.n_terms > 6:
+    if constants.n_terms > 5:
         return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
     if constants.n_terms == 2:  # c0 and c1 alone: nothing to read
-        table = np.zeros((2, 2, 0))
+        return np.stack([reflectivity, np.where(reflectivity > 0.0, 1.0 - reflectivity, 0.0)], axis=-1)
     table = as_float_array("table", table)
-    if table.ndim != 3 or table.shape[-1] != constants.n_terms - 2:
-        raise ParameterError(f"table must be (H, W, {constants.n_terms - 2}) for this basis, got {table.shape}")
+    if table.ndim != 3 or table.shape[-1] != constants.n_terms - 1:
+        raise ParameterError(f"table must be (H, W, {constants.n_terms - 1}) for this basis, got {table.shape}")
     return coefficients_from_coefficient_table(table, reflectivity, edge_tint, weight_bits)
 
 

@@ -1,13 +1,13 @@
 """The per-pixel tables (issue 38): ``fresnelCoefficientsGulbrandsenTable``, ``fresnelCoefficientsNKTable`` and
 ``fresnelBasisDirectTable`` of the
-generated include, with the shipped luts/fresnel_coefficients_rg.exr and luts/fresnel_curves_rgb.exr, run for real on
+generated include, with the shipped luts/fresnel_coefficients_rgb.exr and luts/fresnel_curves_rgb.exr, run for real on
 Mesa's llvmpipe (GLSL) and lavapipe (WGSL through wgpu) against their Python mirrors
 (``coefficients_per_pixel_gulbrandsen_table``, ``…_nk_table``, ``direct_fresnel_table``), over (r, g) spanning the
 table, its edges
 (r = 0, r → 1, g at 0 and 1) and bad values (NaN, ±inf, negative, beyond 1), and V·H over [0, 1] and the same bad
 values: no NaN or inf, the coefficients and F(V·H) within 1e-5 of the mirrors' exact linear weights (float32
-coordinates and filtering; measured 3.4e-6 and 2.5e-6 on both). A NaN goes to an end of its range by its sign bit
-(``fresnelUnitClamp``).
+coordinates and filtering; measured 3.4e-6 and 2.5e-6 on both), and r ≤ 0 exactly 0 (the column of r = 0 read alone,
+a quarter texel beside its centre). A NaN goes to an end of its range by its sign bit (``fresnelUnitClamp``).
 
 Against the float64 model and exact Fresnel: tests/basis/test_coefficient_table.py.
 """
@@ -66,6 +66,8 @@ def _assert(coefficients: np.ndarray, direct: np.ndarray, nk: np.ndarray, inputs
     assert np.all(np.isfinite(coefficients)) and np.all(np.isfinite(direct)), f"{where}: non-finite output"
     error = float(np.max(np.abs(coefficients - expected)))
     assert error <= TOLERANCE, f"{where}: coefficients, max |GPU - mirror| {error:.3g}"
+    dark = inputs[:, 0] <= 0.0
+    assert dark.sum() >= 2 and np.all(coefficients[dark] == 0.0), f"{where}: r <= 0 reflects {coefficients[dark]}"
     expected = np.stack(
         [
             direct_fresnel_table(CURVES, expected, inputs[:, 2]),
@@ -153,7 +155,8 @@ def test_wgsl_on_webgpu_lavapipe_matches_the_mirror(monkeypatch):
 def test_the_table_is_the_shipped_basis_and_its_axes():
     """The header names the include's basis and the axes the include addresses."""
     assert HEADER["basis_hash"] in INCLUDES["fresnel_basis.glsl"].splitlines()[0]
-    assert TABLE.shape == (128, 512, 2) and "x = r^(1/4) - sqrt(1 - r)/2" in HEADER["convention"]
+    assert TABLE.shape == (128, 512, 3) and "x = r^(1/4) - sqrt(1 - r)/2" in HEADER["convention"]
+    assert HEADER["channels"] == "c2,c3,f90" and HEADER["fit"] == "weighted"
 
 
 SWITCH_MAIN = """

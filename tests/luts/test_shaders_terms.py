@@ -32,7 +32,7 @@ from tests.conftest import (
     wgpu_device,
 )
 
-TERMS = (2, 3, 6, 8)
+TERMS = (2, 3, 5, 6, 8)
 
 
 @pytest.fixture(scope="module", params=TERMS, ids=[f"{k} terms" for k in TERMS])
@@ -186,14 +186,15 @@ void main()
 
 
 def test_the_coefficient_table_path_of_other_sizes_on_llvmpipe(basis):
-    """``fresnelCoefficientsGulbrandsenTable`` of a K-term include with a table of its basis (K − 2 channels; here the
-    four-point table, seconds to build) against the mirror: c0 = r, c1 = 1 − r and the fetch, within 1e-5; K = 2 reads
-    nothing and K = 8 (no table: more than six terms) solves, as their mirrors do."""
+    """``fresnelCoefficientsGulbrandsenTable`` of a K-term include with a table of its basis (K − 1 channels; here the
+    four-point table, seconds to build) against the mirror: c0 = r, c1 = f90 − r and the fetch, within 1e-5; K = 2
+    reads nothing and K = 6, 8 (no table: more than five terms) solve, as their mirrors do."""
     from basis.coefficient_table import coefficient_table
     from handoff.shaders import coefficients_per_pixel_gulbrandsen_table
 
     k = basis.n_terms
-    table = coefficient_table(basis, fit="four-point") if 3 <= k <= 6 else np.zeros((128, 512, max(k - 2, 1)))
+    tabled = 3 <= k <= 5
+    table = coefficient_table(basis, fit="four-point") if tabled else np.zeros((128, 512, 1))
     rgba = np.zeros(table.shape[:2] + (4,))
     rgba[..., : min(table.shape[2], 4)] = table[..., :4]
     inputs = per_pixel_inputs()
@@ -212,12 +213,12 @@ void main() {
         "OUTPUTS", "lo = c.lo;\n    hi = c.hi;" if wide else "lo = c;\n    hi = vec4(0.0);"
     )
     include = dict(includes_of(basis))["fresnel_basis.glsl"]
-    uniforms = {"inputs": 0} if k in (2, 8) else {"inputs": 0, "coefficientLut": 1}
+    uniforms = {"inputs": 0, "coefficientLut": 1} if tabled else {"inputs": 0}
     lo, hi = gl_draw("#version 330\n" + include + main, [inputs.reshape(32, 32, 4), rgba], uniforms, 2)
     got = np.concatenate([lo, hi], axis=-1)[:, :k]
     expected = coefficients_per_pixel_gulbrandsen_table(
-        table if 3 <= k <= 6 else None, inputs[:, 2], inputs[:, 3], shader_constants(basis)
+        table if tabled else None, inputs[:, 2], inputs[:, 3], shader_constants(basis)
     )
     assert np.all(np.isfinite(got))
-    tolerance = 1e-5 if k <= 6 else shader_constants(basis).float32_tolerance
+    tolerance = 1e-5 if k <= 5 else shader_constants(basis).float32_tolerance
     assert np.max(np.abs(got - expected)) <= tolerance, float(np.max(np.abs(got - expected)))

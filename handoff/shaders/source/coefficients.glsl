@@ -41,17 +41,18 @@ vec2 fresnelGulbrandsenToEtaKappa2(float r, float g)
     return fresnelCoefficientsSolve(r, nk2.x, nk2.y);
 }
 
-// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rg, written
-// by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r and c1 = 1 - r exactly (F(0) = r,
-// F(90) = 1), the rest bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2, y = 1 - (1 - g)^(1/4); every
-// coefficient 0 at r = 0. The table holds the minimax fit over theta, where the solve interpolates four angles.
+// Gulbrandsen's (r, g) with one fetch of the coefficient table instead of the solve (fresnel_coefficients_rgb,
+// written by `fresnel-lut build --pixel-tables` from this include's basis): c0 = r, c1 = f90 - r with f90 the
+// table's last channel (1, and 0 in the column of r = 0, which a clamped read returns alone), c2 ... from the others,
+// bilinear on the warped axes x = r^(1/4) - sqrt(1 - r)/2 and s = (1 - g)^(1/4) (rows at y = 1 - s, folded into
+// FRESNEL_COEFFICIENT_AXES); every coefficient 0 at r = 0. The table holds one weighted least-squares fit over theta
+// (basis.coefficient_table), where the solve interpolates four angles.
 // fresnelCoefficientsTableRead takes r in [0, 0.9999], q = sqrt(r) and g in [0, 1].
 {{terms}} fresnelCoefficientsTableRead(sampler2D coefficientLut, float r, float q, float g)
 {
     float x = sqrt(q) - 0.5 * sqrt(1.0 - r);
-    float y = 1.0 - sqrt(sqrt(1.0 - g));
-    vec4 t = textureLod(coefficientLut, fresnelAtlasCoefficients(vec2(x, y) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw), 0.0);
-    float f90 = r > 0.0 ? 1.0 : 0.0;
+    float s = sqrt(sqrt(1.0 - g));
+    vec4 t = textureLod(coefficientLut, vec2(x, s) * FRESNEL_COEFFICIENT_AXES.xz + FRESNEL_COEFFICIENT_AXES.yw, 0.0);
     return {{table_terms}};
 }
 

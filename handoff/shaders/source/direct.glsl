@@ -18,7 +18,7 @@ vec3 fresnelBasisDirect(float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
 vec3 fresnelBasisDirectTable(sampler2D curveLut, float VdotH, {{terms}} cR, {{terms}} cG, {{terms}} cB)
 {
     float mu = fresnelUnitClamp(VdotH, 1.0);
-    vec4 t = textureLod(curveLut, fresnelAtlasCurves(vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, 0.5)), 0.0);
+    vec4 t = textureLod(curveLut, vec2(mu * FRESNEL_CURVE_TABLE.x + FRESNEL_CURVE_TABLE.y, FRESNEL_CURVE_TABLE.z), 0.0);
     {{terms}} b = {{curve_terms}};
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
