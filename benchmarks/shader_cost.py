@@ -244,6 +244,15 @@ def gpu_compiler_estimates() -> tuple[dict[str, dict[str, int]], str]:
     )
 
 
+def rgba_upload(table: np.ndarray) -> np.ndarray:
+    """A three-channel table padded to four, as an engine uploads it: WebGPU has no RGB formats, and Vulkan drivers
+    rarely filter R32G32B32_SFLOAT (llvmpipe samples it through a slower path: the (r, g) tables' pass cost 3.36 ×
+    Schlick's with an RGB32F coefficient table, 2.69 × with RGBA32F)."""
+    if table.shape[-1] != 3:
+        return table
+    return np.concatenate([table, np.zeros(table.shape[:-1] + (1,), table.dtype)], axis=-1)
+
+
 def frame_times(
     width: int, height: int, frames: int, rounds: int, variants: dict[str, str] | None = None
 ) -> tuple[dict[str, float], str]:
@@ -264,6 +273,7 @@ def frame_times(
             *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT, f"{ATLAS_STEM}.exr")),
         ]
         for unit, table in enumerate(textures):
+            table = rgba_upload(table)
             texture = context.texture(
                 table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, "f4").tobytes(), dtype="f4"
             )
@@ -535,7 +545,8 @@ def main(argv=None) -> int:
     lines += [
         "",
         "One sampler: the tables' pass reading its three tables (basis, coefficients, curves) from the atlas of "
-        "`build --atlas` through `fresnel_basis_atlas.glsl` (one multiply-add per read), against three textures:",
+        "`build --atlas` through `fresnel_basis_atlas.glsl` (one multiply-add per read of the basis table; the per-pixel tables' constants include their rectangles), "
+        "against three textures:",
         "",
         "| tables | ms per frame | cost / Schlick | range | RDNA 2 instructions | RDNA 2 throughput cost / Schlick |",
         "|---|---|---|---|---|---|",

@@ -115,8 +115,8 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument(
         "--pixel-tables",
         action="store_true",
-        help="also write the per-pixel tables: fresnel_coefficients_rg (Gulbrandsen's (r, g) -> coefficients, 512 x "
-        "128, minimax over theta; about 25 s) and fresnel_curves_rgb (b1..b3 over V.H for punctual lights); make "
+        help="also write the per-pixel tables: fresnel_coefficients_rgb (Gulbrandsen's (r, g) -> coefficients and "
+        "f90, 512 x 128, one weighted least-squares fit over theta; about 25 s) and fresnel_curves_rgb (b1..b3 over V.H for punctual lights); make "
         "luts does",
     )
     build.add_argument(

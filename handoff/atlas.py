@@ -8,7 +8,8 @@ are packed on shelves of an RGBA texture :data:`ATLAS_WIDTH` texels wide, talles
 ring that repeats its edge texels: bilinear filtering at a table's outermost texel centres, where the include's
 coordinates end, then reads only that table's values even when float32 rounding puts the coordinate a hair outside.
 The include generated for the atlas (``fresnel_basis_atlas.*``) maps each table's own coordinates (u, v) into its
-rectangle, u' = u · w/W + x0/W (and so for v): one multiply-add per read.
+rectangle, u' = u · w/W + x0/W (and so for v): one multiply-add per read, none for the per-pixel tables, whose
+axes' constants it composes with their rectangles.
 """
 
 from __future__ import annotations
