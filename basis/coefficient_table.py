@@ -23,10 +23,11 @@ weights w(θ) on the basis' θ grid for every texel, :func:`coefficient_table_we
 the table's materials at once, w_j ← w_j max over materials of |e_j| / E₄, E₄ the four-point solve's max error of that
 material, so that w minimises the worst ratio to the four-point solve. Being linear in the exact curve, the fit is as
 smooth in (r, g) as the Fresnel equations, so the table read between texels stays within 6e-5 of it; a minimax fit at
-each texel (``fit="minimax"``, 40 Lawson steps) is 1.15 × more accurate at the median but bends where its extremal
-angles switch, and bilinear reading misses it by up to 6e-4. Max over θ of |F − F_exact| bounds the split sum's error
-too: F̄ is an average of F with positive weights that sum to E ≤ 1. ``fit="four-point"`` tabulates the include's own
-solve. ``python -m benchmarks.coefficient_table`` measures all three against exact Fresnel.
+each texel (``fit="minimax"``, 40 Lawson steps) is more accurate at the median (0.65 × the four-point solve's error
+against this fit's 0.76 ×) but bends where its extremal angles switch, and bilinear reading misses it by up to
+6e-4. Max over θ of |F − F_exact| bounds the split sum's error too: F̄ is an average of F with positive weights that
+sum to E ≤ 1. ``fit="four-point"`` tabulates the include's own solve. ``python -m benchmarks.coefficient_table``
+measures all three against exact Fresnel.
 """
 
 from __future__ import annotations
@@ -156,7 +157,7 @@ def coefficient_table_weights(basis: Basis | None = None) -> np.ndarray:
 
     Lawson's steps run on every other texel of each axis (column 0 aside); every texel is then checked, and any whose
     fit is worse than its four-point solve joins the training set for another round (at most four). Deterministic,
-    with BLAS on one thread; about 10 s, once per basis and process.
+    with BLAS on one thread; about 20 s, once per basis and process.
 
     >>> weights = coefficient_table_weights()
     >>> weights.shape, round(float(weights.sum()), 12), bool(np.all(weights >= 0.0))
