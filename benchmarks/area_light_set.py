@@ -26,7 +26,7 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and two candidate fits made here (M's four entries free, L2 and
-chi-square); a fifth, the cost of the two forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
+chi-square), and the lobe's own punctual limit (:data:`LOBE_LIMIT`); a fifth, the cost of the two forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
 [--out FILE]`` (the
@@ -52,9 +52,12 @@ from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     fit_points,
     ltc_grid,
+    ltc_inverse,
+    rect_light_direction,
     rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
+    target_lobe,
 )
 from preintegrate.lut import LutGrid
 from tests.references.area_light import rect_light_reference
@@ -193,9 +196,25 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
     return chosen
 
 
+#: The lobe study's row for the shipped table taken toward the lobe's own punctual limit, as item 1 takes its Fresnel:
+#: the integral × mix(f̂(L*) / D(L*), 1, √I), f̂ the exact lobe normalised by E (preintegrate.ltc.target_lobe), D the
+#: LTC's density, both at the light's representative direction L*, I the LTC integral.
+LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
+
+
+def _stored_density(stored: np.ndarray, direction: np.ndarray) -> float:
+    """The LTC's density D(ω) = D_o(M⁻¹ω / |M⁻¹ω|) |det M⁻¹| / |M⁻¹ω|³ (Heitz et al. 2016, eq. 1-3) of a stored
+    M⁻¹ (up to scale, which cancels) at a unit direction."""
+    inverse = ltc_inverse(stored)
+    local = inverse @ direction
+    length = float(np.linalg.norm(local))
+    return max(local[2] / length, 0.0) / np.pi * abs(float(np.linalg.det(inverse))) / length**3
+
+
 def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
-    the light, the reference's), median / p90 / max by the light's placement."""
+    the light, the reference's), median / p90 / max by the light's placement; and the first table toward the lobe's
+    punctual limit (:data:`LOBE_LIMIT`)."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     errors: dict[tuple[str, str], list[float]] = {}
@@ -211,14 +230,23 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
                     lobe = rect_light_reference(normal, view, np.zeros(3), corners, alpha, ones, nodes)[0]
                     if lobe <= 1e-3:
                         continue
-                    for name, texel in stored.items():
-                        integral = rect_light_integral(texel, normal, view, np.zeros(3), corners)
-                        error = abs(integral * albedo - lobe) / lobe
+                    first = next(iter(stored.values()))
+                    integral, direction = rect_light_direction(first, normal, view, np.zeros(3), corners)
+                    density = _stored_density(first, direction)
+                    ratio = float(target_lobe(direction, mu_o, alpha, albedo)) / density if density > 0.0 else 1.0
+                    weight = np.sqrt(min(float(integral), 1.0))
+                    approximations = {
+                        name: rect_light_integral(texel, normal, view, np.zeros(3), corners)
+                        for name, texel in stored.items()
+                    }
+                    approximations[LOBE_LIMIT] = integral * (weight + (1.0 - weight) * ratio)
+                    for name, approximation in approximations.items():
+                        error = abs(approximation * albedo - lobe) / lobe
                         errors.setdefault((name, "all"), []).append(error)
                         errors.setdefault((name, placement), []).append(error)
     placements = ["all", *_placements(0.5)]
     lines = ["| table | " + " | ".join(placements) + " |", "|---|" + "---|" * len(placements)]
-    for name in tables:
+    for name in [*tables, LOBE_LIMIT]:
         lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, p)])) for p in placements) + " |")
     return lines
 
@@ -383,8 +411,11 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "",
             "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light), median / p90 / "
             "max, by the light's placement; the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s "
-            "each), and the last row takes at each texel whichever of the shipped and the chi-square table holds the "
-            "lobe better over 24 seeded training lights (not this set's; about 4 min): none is shipped:",
+            "each), the next row takes at each texel whichever of the shipped and the chi-square table holds the "
+            "lobe better over 24 seeded training lights (not this set's; about 4 min), and the last takes the shipped "
+            "table toward the lobe's own punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / "
+            "D(L*), 1, √I), the exact lobe over the LTC's density at the light's representative direction: none is "
+            "shipped:",
             "",
             *lobe_study(nodes, candidates),
         ]
