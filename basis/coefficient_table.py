@@ -142,6 +142,7 @@ def _four_point_errors(residuals: np.ndarray, reflectivity, edge_tint, basis: Ba
 
 
 def _lawson(weights: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
+    """Lawson's steps on the worst ratio over the materials: w_j ← w_j max_n |e_nj| / E₄,n (Lawson 1961)."""
     for _ in range(_WEIGHT_ITERATIONS):
         weights = weights * np.max(_ratios(weights, residuals, four_point, basis), axis=0)
         weights = weights / weights.sum()
@@ -175,6 +176,7 @@ def _train_weights(basis: Basis, width: int, height: int) -> np.ndarray:
     column, row = (part.ravel() for part in np.meshgrid(np.arange(width), np.arange(height)))
     used = column > 0  # column 0 holds r = 0, no fit
     reflectivity, edge_tint = reflectivity[used], edge_tint[used]
+    # every other texel of each axis, and all of column 1 (r → 0, where the ratio is most delicate)
     training = ((column[used] % _TRAINING_STRIDE == 1) & (row[used] % _TRAINING_STRIDE == 0)) | (column[used] == 1)
     weights = trapezoid_weights(basis.theta)
     weights = weights / weights.sum()
