@@ -223,8 +223,9 @@ def coefficient_table_model(reflectivity, edge_tint, basis: Basis | None = None,
     elif fit == "minimax":
         coefficients[lit] = coefficients_least_squares(*gulbrandsen_to_nk(r[lit], g[lit]), basis, fit="minimax")
     else:
-        projection = _weighted_projection(coefficient_table_weights(basis), basis)
+        weights = coefficient_table_weights(basis)
         with one_blas_thread():
+            projection = _weighted_projection(weights, basis)
             for start in range(0, lit.size, _BLOCK):
                 part = lit[start : start + _BLOCK]
                 coefficients[part, 2:] = _residuals(r[part], g[part], basis) @ projection
