@@ -213,8 +213,8 @@ def _stored_density(stored: np.ndarray, direction: np.ndarray) -> float:
 
 def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
-    the light, the reference's), median / p90 / max by the light's placement; and the first table toward the lobe's
-    punctual limit (:data:`LOBE_LIMIT`)."""
+    the light, the reference's), median / p90 / max by the light's placement and by its width; and the first table
+    toward the lobe's punctual limit (:data:`LOBE_LIMIT`)."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     errors: dict[tuple[str, str], list[float]] = {}
@@ -244,11 +244,15 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
                         error = abs(approximation * albedo - lobe) / lobe
                         errors.setdefault((name, "all"), []).append(error)
                         errors.setdefault((name, placement), []).append(error)
+                        errors.setdefault((name, f"width {width:g}"), []).append(error)
     placements = ["all", *_placements(0.5)]
-    lines = ["| table | " + " | ".join(placements) + " |", "|---|" + "---|" * len(placements)]
-    for name in [*tables, LOBE_LIMIT]:
-        lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, p)])) for p in placements) + " |")
-    return lines
+    widths = [f"width {width:g}" for width in WIDTHS]
+    lines = []
+    for columns in (placements, widths):
+        lines += ["", "| table | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
+        for name in [*tables, LOBE_LIMIT]:
+            lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, c)])) for c in columns) + " |")
+    return lines[1:]
 
 
 def _statistics(errors: np.ndarray) -> str:
@@ -410,7 +414,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "## The lobe alone (item 2)",
             "",
             "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light), median / p90 / "
-            "max, by the light's placement; the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s "
+            "max, by the light's placement and then by its width; the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s "
             "each), the next row takes at each texel whichever of the shipped and the chi-square table holds the "
             "lobe better over 24 seeded training lights (not this set's; about 4 min), and the last takes the shipped "
             "table toward the lobe's own punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / "
