@@ -52,11 +52,11 @@ from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     fit_points,
     ltc_grid,
-    ltc_inverse,
     rect_light_direction,
     rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
+    stored_density,
     target_lobe,
 )
 from preintegrate.lut import LutGrid
@@ -202,15 +202,6 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
 LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
 
 
-def _stored_density(stored: np.ndarray, direction: np.ndarray) -> float:
-    """The LTC's density D(ω) = D_o(M⁻¹ω / |M⁻¹ω|) |det M⁻¹| / |M⁻¹ω|³ (Heitz et al. 2016, eq. 1-3) of a stored
-    M⁻¹ (up to scale, which cancels) at a unit direction."""
-    inverse = ltc_inverse(stored)
-    local = inverse @ direction
-    length = float(np.linalg.norm(local))
-    return max(local[2] / length, 0.0) / np.pi * abs(float(np.linalg.det(inverse))) / length**3
-
-
 def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
     the light, the reference's), median / p90 / max by the light's placement and by its width; and the first table
@@ -232,7 +223,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
                         continue
                     first = next(iter(stored.values()))
                     integral, direction = rect_light_direction(first, normal, view, np.zeros(3), corners)
-                    density = _stored_density(first, direction)
+                    density = float(stored_density(first, direction))
                     ratio = float(target_lobe(direction, mu_o, alpha, albedo)) / density if density > 0.0 else 1.0
                     weight = np.sqrt(min(float(integral), 1.0))
                     approximations = {

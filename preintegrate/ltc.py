@@ -1,7 +1,7 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
 Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
-``ltc_inverse``, ``ltc_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
+``ltc_inverse``, ``ltc_density``, ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``polygon_vector``, ``rect_light_integral``, ``rect_light_direction``,
 ``rect_light_half_cosine``, ``rect_light_fresnel``, ``shading_frame``.
 
@@ -82,6 +82,7 @@ __all__ = [
     "rect_light_half_cosine",
     "rect_light_integral",
     "shading_frame",
+    "stored_density",
     "stored_lobe_error",
     "target_lobe",
 ]
@@ -332,6 +333,15 @@ def lobe_error(parameters, grid: LutGrid, albedo: np.ndarray | None = None, coun
     return errors
 
 
+def stored_density(stored, omega) -> np.ndarray:
+    """D(ω) of LTCs given as stored entries (…, 4) = (m00, m20, m02, m22) at unit directions ``omega`` (…, 3), the
+    rest broadcast: D_o(M⁻¹ω / |M⁻¹ω|) |det M⁻¹| / |M⁻¹ω|³ (Heitz et al. 2016, eq. 1-3; the stored scale cancels)."""
+    inverse = ltc_inverse(stored)
+    local = np.einsum("...ij,...j->...i", inverse, np.asarray(omega, dtype=np.float64))
+    length2 = np.sum(local * local, axis=-1)
+    return np.maximum(local[..., 2], 0.0) * np.abs(np.linalg.det(inverse)) / (np.pi * length2 * length2)
+
+
 def stored_lobe_error(stored, mu_o, roughness, visibility: str = "height-correlated", count: int = _ERROR_GRID):
     """(N,) ½∫|f̂ − D| dω of LTCs given as stored entries (N, 4) = (m00, m20, m02, m22) at (μo, r) (N,): the
     measure of any table (this project's, the public ones) at any point, for the benchmark and the report; 256
@@ -346,11 +356,7 @@ def stored_lobe_error(stored, mu_o, roughness, visibility: str = "height-correla
         )
         directions, weights = _directions(mu_o[part], alpha[part], count)
         target = target_lobe(directions, mu_o[part, None], alpha[part, None], albedo[..., 0][:, None], visibility)
-        inverse = ltc_inverse(stored[part])
-        local = np.einsum("nij,nkj->nki", inverse, directions)
-        length2 = np.sum(local * local, axis=-1)
-        determinant = np.abs(np.linalg.det(inverse))
-        density = np.maximum(local[..., 2], 0.0) * determinant[:, None] / (np.pi * length2 * length2)
+        density = stored_density(stored[part, None, :], directions)
         errors.append(0.5 * np.sum(weights * np.abs(target - density), axis=-1))
     return np.concatenate(errors)
 
