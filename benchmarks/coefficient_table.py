@@ -29,7 +29,7 @@ import argparse
 import numpy as np
 
 from basis import coefficients_from_gulbrandsen, default_basis, fresnel_conductor, gulbrandsen_to_nk
-from basis.angles import cos_theta
+from basis.angles import cos_theta, trapezoid_weights
 from basis.coefficient_table import (
     coefficient_table,
     coefficient_table_model,
@@ -147,7 +147,7 @@ def weight_row() -> str:
     basis = default_basis()
     degrees = np.degrees(basis.theta)
     weights = coefficient_table_weights(basis)
-    uniform = np.gradient(basis.theta)
+    uniform = trapezoid_weights(basis.theta)
     uniform = uniform / uniform.sum()
     cells = []
     for low, high in zip(WEIGHT_BANDS[:-1], WEIGHT_BANDS[1:]):
