@@ -1,7 +1,8 @@
 """The files a build ships and what names them: the default build's table names, a linear model's table name, the
 header every table carries, and the shipped tables read back.
 
-Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``CURVE_LUT``, ``PACKAGE_VERSION``,
+Public objects: ``BASIS_LUT``, ``SCHLICK_LUT``, ``AVERAGE_LUT``, ``LTC_LUT``, ``COEFFICIENT_LUT``, ``CURVE_LUT``,
+``COEFFICIENT_LUT_TERMS``, ``CURVE_LUT_TERMS``, ``PACKAGE_VERSION``,
 ``CURVE_LUT_SIZE``, ``SHIPPED_LUTS``, ``RGBA``, ``GENERATOR``,
 ``model_lut_name``, ``shipped_lut``, ``shipped_tables``, ``table_header``, ``lut_attributes``.
 """
@@ -23,7 +24,9 @@ __all__ = [
     "AVERAGE_LUT",
     "BASIS_LUT",
     "COEFFICIENT_LUT",
+    "COEFFICIENT_LUT_TERMS",
     "CURVE_LUT",
+    "CURVE_LUT_TERMS",
     "CURVE_LUT_SIZE",
     "GENERATOR",
     "LTC_LUT",
@@ -48,6 +51,10 @@ LTC_LUT = "ggx_ltc.exr"
 #: Gulbrandsen's (r, g) → c2, c3 and f90 of a four-term basis (``fresnel-lut build --pixel-tables``;
 #: :mod:`basis.coefficient_table`); a basis of K terms has K − 1 channels (``fresnel_coefficients_rgba`` for five).
 COEFFICIENT_LUT = "fresnel_coefficients_rgb.exr"
+#: The basis sizes K whose per-pixel tables fit one RGBA texture each (c2 … c_(K−1) and f90; b1 … b_(K−1)): the others
+#: have none, and the include solves (or evaluates the polynomial) instead.
+COEFFICIENT_LUT_TERMS = range(3, 6)
+CURVE_LUT_TERMS = range(2, 6)
 #: The direct-light curves b_1 … b_(K−1) of the basis over μ = V·H, one row (``fresnel-lut build --pixel-tables``), and
 #: its texels (end points of μ from 0 to 1): with a guard texel on each side, WebGL 2's guaranteed largest texture width
 #: (an atlas holds it: handoff.atlas); linear interpolation between them holds the shipped basis' curves within 2.5e-5,

@@ -50,8 +50,10 @@ from .shipped import (
     AVERAGE_LUT,
     BASIS_LUT,
     COEFFICIENT_LUT,
+    COEFFICIENT_LUT_TERMS,
     CURVE_LUT,
     CURVE_LUT_SIZE,
+    CURVE_LUT_TERMS,
     LTC_LUT,
     PACKAGE_VERSION,
     RGBA,
@@ -436,7 +438,7 @@ def coefficient_build_table(
     """The table of Gulbrandsen's (r, g) → c2 … c_(K−1) and f90 (:func:`basis.coefficient_table.coefficient_table`)
     of a basis of three to five terms, with the basis hash, the axes and the criterion in its header."""
     basis = resolve_basis(basis)
-    if not 3 <= basis.n_terms <= 5:
+    if basis.n_terms not in COEFFICIENT_LUT_TERMS:
         raise ParameterError(
             f"the coefficient table holds c2 ... c(K-1) and f90 in one RGBA texture: a basis of 3 to 5 terms, not "
             f"{basis.n_terms}"
@@ -472,7 +474,7 @@ def curve_table(basis: Basis | None = None, command: str = "fresnel-lut build --
     """The direct-light curves b_1 … b_(K−1) of a basis of two to five terms at :data:`CURVE_LUT_SIZE` end points of
     μ = V·H (one row; ``fresnelBasisDirectTable`` reads it with one fetch)."""
     basis = resolve_basis(basis)
-    if not 2 <= basis.n_terms <= 5:
+    if basis.n_terms not in CURVE_LUT_TERMS:
         raise ParameterError(
             f"the curve table holds b1 ... b(K-1) in one RGBA texture: a basis of 2 to 5 terms, not {basis.n_terms}"
         )

@@ -33,7 +33,7 @@ from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
 from ..atlas import ATLAS_ROLES
-from ..shipped import CURVE_LUT_SIZE
+from ..shipped import COEFFICIENT_LUT_TERMS, CURVE_LUT_SIZE, CURVE_LUT_TERMS
 from .constants import ShaderConstants, segment_map, shader_constants
 from .translate import LANGUAGES, translate
 
@@ -265,13 +265,14 @@ def _coefficient_table_parts(c: ShaderConstants) -> tuple[str, str]:
     first, step = coefficient_table_axes(width, height)
     x_scale, x_offset = 1.0 / (width * step), (0.5 - first / step) / width
     s_scale, s_offset = -(height - 1) / height, (height - 0.5) / height
-    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "coefficients") if 3 <= k <= 5 else (1.0, 1.0, 0.0, 0.0)
+    tabled = k in COEFFICIENT_LUT_TERMS
+    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "coefficients") if tabled else (1.0, 1.0, 0.0, 0.0)
     axes = [x_scale * scale_u, x_offset * scale_u + offset_u, s_scale * scale_v, s_offset * scale_v + offset_v]
     constant = _constant("FRESNEL_COEFFICIENT_AXES", axes, "x scale, x offset, s scale, s offset of the table's texels")
-    if k > 5:
-        return constant, "fresnelCoefficientsGulbrandsen(r, g)"
     if k == 2:  # c0 and c1 alone: nothing to read
         return constant, _terms_value(["r", "(r > 0.0 ? 1.0 : 0.0) - r"], False)
+    if not tabled:
+        return constant, "fresnelCoefficientsGulbrandsen(r, g)"
     channels = "xyzw"[: k - 1]
     return constant, _terms_value(["r", f"t.{channels[-1]} - r", *(f"t.{axis}" for axis in channels[:-1])], k > 4)
 
@@ -281,14 +282,15 @@ def _curve_table_parts(c: ShaderConstants) -> tuple[str, str]:
     :data:`~handoff.shipped.CURVE_LUT_SIZE` end points and the row's v, composed with the atlas' map where there is
     one, and b = (1, t.x, …) from the fetch t; more than five terms evaluate the polynomial instead."""
     k = c.n_terms
-    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "curves") if 2 <= k <= 5 else (1.0, 1.0, 0.0, 0.0)
+    tabled = k in CURVE_LUT_TERMS
+    scale_u, scale_v, offset_u, offset_v = _atlas_map(c, "curves") if tabled else (1.0, 1.0, 0.0, 0.0)
     table = [
         (CURVE_LUT_SIZE - 1) / CURVE_LUT_SIZE * scale_u,
         0.5 / CURVE_LUT_SIZE * scale_u + offset_u,
         0.5 * scale_v + offset_v,
     ]
     constant = _constant("FRESNEL_CURVE_TABLE", table, "scale, offset of mu, v of the row")
-    if k > 5:
+    if not tabled:
         return constant, "fresnelBasisCurves(mu)"
     return constant, _terms_value(["1.0", *(f"t.{axis}" for axis in "xyzw"[: k - 1])], k > 4)
 

@@ -36,6 +36,7 @@ from basis.validation import ParameterError, as_float_array, check_choice
 from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
 from preintegrate.multiple_scattering import weigh_schlick_texels
 
+from ..shipped import COEFFICIENT_LUT_TERMS
 from .constants import (
     ETA_LIMITS,
     KAPPA_LIMITS,
@@ -174,10 +175,10 @@ def coefficients_per_pixel_gulbrandsen_table(
     reflectivity, edge_tint = np.broadcast_arrays(
         bits_clamp(reflectivity, *REFLECTIVITY_LIMITS), bits_clamp(edge_tint, 0.0, 1.0)
     )
-    if constants.n_terms > 5:
-        return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
     if constants.n_terms == 2:  # c0 and c1 alone: nothing to read
         return np.stack([reflectivity, np.where(reflectivity > 0.0, 1.0 - reflectivity, 0.0)], axis=-1)
+    if constants.n_terms not in COEFFICIENT_LUT_TERMS:
+        return coefficients_per_pixel_gulbrandsen(reflectivity, edge_tint, constants)
     table = as_float_array("table", table)
     if table.ndim != 3 or table.shape[-1] != constants.n_terms - 1:
         raise ParameterError(f"table must be (H, W, {constants.n_terms - 1}) for this basis, got {table.shape}")
