@@ -508,12 +508,13 @@ float2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
     return float2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+// Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
+// not depend on them), which float32 holds for short edges (atan where acos would cancel); 0 where p x q is.
 float3 fresnelLtcEdge(float3 p, float3 q)
 {
     float3 c = cross(p, q);
     float s = length(c);
-    return c * ((s > 1e-7) ? atan2(s, dot(p, q)) / s : 1.0);
+    return c * ((s > 0.0) ? atan2(s, dot(p, q)) / s : 0.0);
 }
 
 float3 fresnelLtcUnit(float3 v)
@@ -529,28 +530,69 @@ float3 fresnelLtcTransform(float4 t, float3 w)
     return float3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
-// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
-// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
-// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
-float3 fresnelLtcQuadVector(float3 p[4])
+// The vector form factor, in the cosine's space, of the quad w (shading frame, the normal along z) clipped to the
+// shading horizon and then, through the table's M^-1 (t), to the cosine's: (1/pi) times the integral of the direction
+// over it (Arvo 1994; Heitz 2016 eq. 11 per component). Each clip runs edge by edge and closes the polygon with a
+// horizon edge from its exit to its entry point: the quad's edges clipped to z >= 0 (an edge wholly below is a point,
+// which adds nothing) and the closing edge are taken through M^-1 and clipped again. Its z is the integral of the
+// LTC over the part of the quad above the surface (the BRDF is zero below, where the LTC need not be), its direction
+// the quad's mean direction there. Positive z when the corners turn counter-clockwise seen from the point that the
+// quad lights, as three.js winds them.
+float3 fresnelLtcClippedVector(float4 t, float3 w[4])
 {
-    float3 sum = float3(0.0);
-    float3 exitPoint = float3(1.0, 0.0, 0.0);
-    float3 entryPoint = float3(0.0, 1.0, 0.0);
+    float3 starts[5];
+    float3 ends[5];
+    float3 exitPoint = float3(0.0);
+    float3 entryPoint = float3(0.0);
     bool exits = false;
     bool enters = false;
+    float3 q[4];
     for (int i = 0; i < 4; ++i)
     {
-        float3 a = p[i];
-        float3 b = p[(i + 1) & 3];
+        q[i] = fresnelLtcTransform(t, w[i]);
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+        // the clip's points found from the heights in the shading frame, in the cosine's space (M^-1 is linear)
+        float heightA = w[i].z;
+        float heightB = w[(i + 1) & 3].z;
+        float3 a = q[i];
+        float3 b = q[(i + 1) & 3];
+        bool aboveA = heightA >= 0.0;
+        bool aboveB = heightB >= 0.0;
+        float denominator = heightA - heightB;
+        float3 x = a + (b - a) * (heightA / ((denominator != 0.0) ? denominator : 1.0));
+        starts[i] = aboveA ? a : x;
+        ends[i] = aboveB ? b : x;
+        if (aboveA && !aboveB)
+        {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB)
+        {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    starts[4] = exitPoint;
+    ends[4] = (exits && enters) ? entryPoint : exitPoint;
+    float3 sum = float3(0.0);
+    exitPoint = float3(1.0, 0.0, 0.0);
+    entryPoint = float3(0.0, 1.0, 0.0);
+    exits = false;
+    enters = false;
+    for (int i = 0; i < 5; ++i)
+    {
+        float3 a = starts[i];
+        float3 b = ends[i];
         bool aboveA = a.z >= 0.0;
         bool aboveB = b.z >= 0.0;
         float denominator = a.z - b.z;
         float3 x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
         if (aboveA || aboveB)
         {
-            sum += fresnelLtcEdge(fresnelLtcUnit(aboveA ? a : x), fresnelLtcUnit(aboveB ? b : x));
+            sum += fresnelLtcEdge(aboveA ? a : x, aboveB ? b : x);
         }
         if (aboveA && !aboveB)
         {
@@ -565,15 +607,9 @@ float3 fresnelLtcQuadVector(float3 p[4])
     }
     if (exits && enters)
     {
-        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+        sum += fresnelLtcEdge(exitPoint, entryPoint);
     }
     return -sum * 0.159154943;  // 1 / (2 pi)
-}
-
-// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
-float fresnelLtcQuad(float3 p[4])
-{
-    return max(fresnelLtcQuadVector(p).z, 0.0);
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
@@ -591,13 +627,13 @@ float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, 
     float3 other = (abs(N.x) < 0.9) ? float3(1.0, 0.0, 0.0) : float3(0.0, 1.0, 0.0);
     T1 = (tangential > 1e-4) ? T1 / max(tangential, 1e-30) : normalize(cross(N, other));
     float3 T2 = cross(N, T1);
-    float3 p[4];
+    float3 local[4];
     for (int i = 0; i < 4; ++i)
     {
         float3 w = corners[i] - P;
-        p[i] = fresnelLtcTransform(t, float3(dot(w, T1), dot(w, T2), dot(w, N)));
+        local[i] = float3(dot(w, T1), dot(w, T2), dot(w, N));
     }
-    float3 f = fresnelLtcQuadVector(p);
+    float3 f = fresnelLtcClippedVector(t, local);
     // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
     float det = t.x * t.w - t.z * t.y;
     float3 back = float3(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * ((det < 0.0) ? -1.0 : 1.0);

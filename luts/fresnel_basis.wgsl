@@ -504,12 +504,13 @@ fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f
     return vec2f(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+// Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
+// not depend on them), which float32 holds for short edges (atan where acos would cancel); 0 where p x q is.
 fn fresnelLtcEdge(p: vec3f, q: vec3f) -> vec3f
 {
     let c: vec3f = cross(p, q);
     let s: f32 = length(c);
-    return c * (select(1.0, atan2(s, dot(p, q)) / s, (s > 1e-7)));
+    return c * (select(0.0, atan2(s, dot(p, q)) / s, (s > 0.0)));
 }
 
 fn fresnelLtcUnit(v: vec3f) -> vec3f
@@ -525,28 +526,69 @@ fn fresnelLtcTransform(t: vec4f, w: vec3f) -> vec3f
     return vec3f(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
-// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
-// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
-// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
-fn fresnelLtcQuadVector(p: array<vec3f, 4>) -> vec3f
+// The vector form factor, in the cosine's space, of the quad w (shading frame, the normal along z) clipped to the
+// shading horizon and then, through the table's M^-1 (t), to the cosine's: (1/pi) times the integral of the direction
+// over it (Arvo 1994; Heitz 2016 eq. 11 per component). Each clip runs edge by edge and closes the polygon with a
+// horizon edge from its exit to its entry point: the quad's edges clipped to z >= 0 (an edge wholly below is a point,
+// which adds nothing) and the closing edge are taken through M^-1 and clipped again. Its z is the integral of the
+// LTC over the part of the quad above the surface (the BRDF is zero below, where the LTC need not be), its direction
+// the quad's mean direction there. Positive z when the corners turn counter-clockwise seen from the point that the
+// quad lights, as three.js winds them.
+fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
 {
-    var sum: vec3f = vec3f(0.0);
-    var exitPoint: vec3f = vec3f(1.0, 0.0, 0.0);
-    var entryPoint: vec3f = vec3f(0.0, 1.0, 0.0);
+    var starts: array<vec3f, 5>;
+    var ends: array<vec3f, 5>;
+    var exitPoint: vec3f = vec3f(0.0);
+    var entryPoint: vec3f = vec3f(0.0);
     var exits: bool = false;
     var enters: bool = false;
+    var q: array<vec3f, 4>;
     for (var i = 0; i < 4; i++)
     {
-        let a: vec3f = p[i];
-        let b: vec3f = p[(i + 1) & 3];
+        q[i] = fresnelLtcTransform(t, w[i]);
+    }
+    for (var i = 0; i < 4; i++)
+    {
+        // the clip's points found from the heights in the shading frame, in the cosine's space (M^-1 is linear)
+        let heightA: f32 = w[i].z;
+        let heightB: f32 = w[(i + 1) & 3].z;
+        let a: vec3f = q[i];
+        let b: vec3f = q[(i + 1) & 3];
+        let aboveA: bool = heightA >= 0.0;
+        let aboveB: bool = heightB >= 0.0;
+        let denominator: f32 = heightA - heightB;
+        let x: vec3f = a + (b - a) * (heightA / (select(1.0, denominator, (denominator != 0.0))));
+        starts[i] = select(x, a, aboveA);
+        ends[i] = select(x, b, aboveB);
+        if (aboveA && !aboveB)
+        {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB)
+        {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    starts[4] = exitPoint;
+    ends[4] = select(exitPoint, entryPoint, (exits && enters));
+    var sum: vec3f = vec3f(0.0);
+    exitPoint = vec3f(1.0, 0.0, 0.0);
+    entryPoint = vec3f(0.0, 1.0, 0.0);
+    exits = false;
+    enters = false;
+    for (var i = 0; i < 5; i++)
+    {
+        let a: vec3f = starts[i];
+        let b: vec3f = ends[i];
         let aboveA: bool = a.z >= 0.0;
         let aboveB: bool = b.z >= 0.0;
         let denominator: f32 = a.z - b.z;
         let x: vec3f = a + (b - a) * (a.z / (select(1.0, denominator, (denominator != 0.0))));
         if (aboveA || aboveB)
         {
-            sum += fresnelLtcEdge(fresnelLtcUnit(select(x, a, aboveA)), fresnelLtcUnit(select(x, b, aboveB)));
+            sum += fresnelLtcEdge(select(x, a, aboveA), select(x, b, aboveB));
         }
         if (aboveA && !aboveB)
         {
@@ -561,15 +603,9 @@ fn fresnelLtcQuadVector(p: array<vec3f, 4>) -> vec3f
     }
     if (exits && enters)
     {
-        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+        sum += fresnelLtcEdge(exitPoint, entryPoint);
     }
     return -sum * 0.159154943;  // 1 / (2 pi)
-}
-
-// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
-fn fresnelLtcQuad(p: array<vec3f, 4>) -> f32
-{
-    return max(fresnelLtcQuadVector(p).z, 0.0);
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
@@ -587,13 +623,13 @@ fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
     let other: vec3f = select(vec3f(0.0, 1.0, 0.0), vec3f(1.0, 0.0, 0.0), (abs(N.x) < 0.9));
     T1 = select(normalize(cross(N, other)), T1 / max(tangential, 1e-30), (tangential > 1e-4));
     let T2: vec3f = cross(N, T1);
-    var p: array<vec3f, 4>;
+    var local: array<vec3f, 4>;
     for (var i = 0; i < 4; i++)
     {
         let w: vec3f = corners[i] - P;
-        p[i] = fresnelLtcTransform(t, vec3f(dot(w, T1), dot(w, T2), dot(w, N)));
+        local[i] = vec3f(dot(w, T1), dot(w, T2), dot(w, N));
     }
-    let f: vec3f = fresnelLtcQuadVector(p);
+    let f: vec3f = fresnelLtcClippedVector(t, local);
     // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
     let det: f32 = t.x * t.w - t.z * t.y;
     let back: vec3f = vec3f(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * (select(1.0, -1.0, (det < 0.0)));

@@ -511,12 +511,13 @@ vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
     return vec2(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge vector (p x q) theta / sin(theta) of unit p, q; atan(y, x) keeps short edges in float32.
+// Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
+// not depend on them), which float32 holds for short edges (atan where acos would cancel); 0 where p x q is.
 vec3 fresnelLtcEdge(vec3 p, vec3 q)
 {
     vec3 c = cross(p, q);
     float s = length(c);
-    return c * ((s > 1e-7) ? atan(s, dot(p, q)) / s : 1.0);
+    return c * ((s > 0.0) ? atan(s, dot(p, q)) / s : 0.0);
 }
 
 vec3 fresnelLtcUnit(vec3 v)
@@ -532,28 +533,69 @@ vec3 fresnelLtcTransform(vec4 t, vec3 w)
     return vec3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
-// The vector form factor of the quad p, (1/pi) times the integral of the direction over it (Arvo 1994; Heitz 2016
-// eq. 11 per component), clipped to the upper hemisphere edge by edge, the horizon edge from the exit to the entry
-// point: its z is the integral of the clamped cosine over the quad, its direction the quad's mean direction.
-// Positive z when the corners turn counter-clockwise seen from the point that the quad lights, as three.js winds them.
-vec3 fresnelLtcQuadVector(vec3 p[4])
+// The vector form factor, in the cosine's space, of the quad w (shading frame, the normal along z) clipped to the
+// shading horizon and then, through the table's M^-1 (t), to the cosine's: (1/pi) times the integral of the direction
+// over it (Arvo 1994; Heitz 2016 eq. 11 per component). Each clip runs edge by edge and closes the polygon with a
+// horizon edge from its exit to its entry point: the quad's edges clipped to z >= 0 (an edge wholly below is a point,
+// which adds nothing) and the closing edge are taken through M^-1 and clipped again. Its z is the integral of the
+// LTC over the part of the quad above the surface (the BRDF is zero below, where the LTC need not be), its direction
+// the quad's mean direction there. Positive z when the corners turn counter-clockwise seen from the point that the
+// quad lights, as three.js winds them.
+vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 {
-    vec3 sum = vec3(0.0);
-    vec3 exitPoint = vec3(1.0, 0.0, 0.0);
-    vec3 entryPoint = vec3(0.0, 1.0, 0.0);
+    vec3 starts[5];
+    vec3 ends[5];
+    vec3 exitPoint = vec3(0.0);
+    vec3 entryPoint = vec3(0.0);
     bool exits = false;
     bool enters = false;
+    vec3 q[4];
     for (int i = 0; i < 4; ++i)
     {
-        vec3 a = p[i];
-        vec3 b = p[(i + 1) & 3];
+        q[i] = fresnelLtcTransform(t, w[i]);
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+        // the clip's points found from the heights in the shading frame, in the cosine's space (M^-1 is linear)
+        float heightA = w[i].z;
+        float heightB = w[(i + 1) & 3].z;
+        vec3 a = q[i];
+        vec3 b = q[(i + 1) & 3];
+        bool aboveA = heightA >= 0.0;
+        bool aboveB = heightB >= 0.0;
+        float denominator = heightA - heightB;
+        vec3 x = a + (b - a) * (heightA / ((denominator != 0.0) ? denominator : 1.0));
+        starts[i] = aboveA ? a : x;
+        ends[i] = aboveB ? b : x;
+        if (aboveA && !aboveB)
+        {
+            exitPoint = x;
+            exits = true;
+        }
+        if (!aboveA && aboveB)
+        {
+            entryPoint = x;
+            enters = true;
+        }
+    }
+    starts[4] = exitPoint;
+    ends[4] = (exits && enters) ? entryPoint : exitPoint;
+    vec3 sum = vec3(0.0);
+    exitPoint = vec3(1.0, 0.0, 0.0);
+    entryPoint = vec3(0.0, 1.0, 0.0);
+    exits = false;
+    enters = false;
+    for (int i = 0; i < 5; ++i)
+    {
+        vec3 a = starts[i];
+        vec3 b = ends[i];
         bool aboveA = a.z >= 0.0;
         bool aboveB = b.z >= 0.0;
         float denominator = a.z - b.z;
         vec3 x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
         if (aboveA || aboveB)
         {
-            sum += fresnelLtcEdge(fresnelLtcUnit(aboveA ? a : x), fresnelLtcUnit(aboveB ? b : x));
+            sum += fresnelLtcEdge(aboveA ? a : x, aboveB ? b : x);
         }
         if (aboveA && !aboveB)
         {
@@ -568,15 +610,9 @@ vec3 fresnelLtcQuadVector(vec3 p[4])
     }
     if (exits && enters)
     {
-        sum += fresnelLtcEdge(fresnelLtcUnit(exitPoint), fresnelLtcUnit(entryPoint));
+        sum += fresnelLtcEdge(exitPoint, entryPoint);
     }
     return -sum * 0.159154943;  // 1 / (2 pi)
-}
-
-// The integral of the clamped cosine over the quad p; one-sided: 0 when the quad faces away.
-float fresnelLtcQuad(vec3 p[4])
-{
-    return max(fresnelLtcQuadVector(p).z, 0.0);
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
@@ -594,13 +630,13 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     vec3 other = (abs(N.x) < 0.9) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     T1 = (tangential > 1e-4) ? T1 / max(tangential, 1e-30) : normalize(cross(N, other));
     vec3 T2 = cross(N, T1);
-    vec3 p[4];
+    vec3 local[4];
     for (int i = 0; i < 4; ++i)
     {
         vec3 w = corners[i] - P;
-        p[i] = fresnelLtcTransform(t, vec3(dot(w, T1), dot(w, T2), dot(w, N)));
+        local[i] = vec3(dot(w, T1), dot(w, T2), dot(w, N));
     }
-    vec3 f = fresnelLtcQuadVector(p);
+    vec3 f = fresnelLtcClippedVector(t, local);
     // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
     float det = t.x * t.w - t.z * t.y;
     vec3 back = vec3(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * ((det < 0.0) ? -1.0 : 1.0);

@@ -128,7 +128,8 @@ def test_the_ltc_density_is_normalised():
 
 
 def test_rect_light_integral_is_the_density_over_the_quad():
-    """∫_P D dω through M⁻¹ (transform, clip, Lambert) against D integrated directly over the light's area."""
+    """∫_P D dω through M⁻¹ (clip to the horizon, transform, clip, Lambert) against D integrated directly over the
+    light's area above the horizon (the normal is z and the view in the xz plane: the shading frame is the world's)."""
     rng = np.random.default_rng(9)
     for quad in _random_quads(12, seed=11):
         a, c = rng.uniform(0.3, 1.0, 2)
@@ -142,10 +143,16 @@ def test_rect_light_integral_is_the_density_over_the_quad():
         normal, view = np.array([0.0, 0.0, 1.0]), np.array([0.6, 0.0, 0.8])
         got = float(rect_light_integral(stored, normal, view, np.zeros(3), quad))
         want = _area_quadrature(
-            quad, lambda w: ltc_density(w.reshape(1, -1, 3), parameters[None])[0].reshape(w.shape[:-1])
+            quad,
+            lambda w: np.where(
+                w[..., 2] >= 0.0, ltc_density(w.reshape(1, -1, 3), parameters[None])[0].reshape(w.shape[:-1]), 0.0
+            ),
         )
-        local = quad @ shading_frame(normal, view).T @ ltc_inverse(stored).T
-        bound = 1e-9 if np.all(local[:, 2] >= 0.0) else 2e-6  # the quadrature's error at D's kink, as above
+        local = quad @ ltc_inverse(stored).T
+        # the quadrature's own error: at D's kink 2e-6, as above; at the step D makes at the horizon ~1/n: 5e-5
+        # (measured 1.4e-5 with 160² nodes, 4.7e-7 with 1280²)
+        bound = 1e-9 if np.all(local[:, 2] >= 0.0) else 2e-6
+        bound = bound if np.all(quad[:, 2] >= 0.0) else 5e-5
         assert abs(got - want) <= bound, (got, want)
 
 
