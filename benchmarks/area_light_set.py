@@ -20,7 +20,9 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
   to the split sum;
 * each with the exact curve in place of the basis (their LTC-and-factorisation part), and the public fit (three.js's
   ``LTC_MAT_1``) under both;
-* **three.js**: its LTC_MAT_1 integral × (F0 · t2.x + (1 − F0) · t2.y) of its ``LTC_MAT_2``, F0 the exact curve's.
+* **three.js**: its LTC_MAT_1 integral, the quad clipped in the cosine's space only (:func:`cosine_space_integral`;
+  three.js approximates even that clip by a sphere), × (F0 · t2.x + (1 − F0) · t2.y) of its ``LTC_MAT_2``, F0 the
+  exact curve's.
 
 "Fresnel part": |approach − the same with the exact curve| / reference.
 
@@ -37,6 +39,8 @@ from __future__ import annotations
 
 import argparse
 import re
+import subprocess
+from pathlib import Path
 
 import numpy as np
 
@@ -52,10 +56,13 @@ from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     fit_points,
     ltc_grid,
+    ltc_inverse,
+    polygon_integral,
     rect_light_direction,
     rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
+    shading_frame,
     stored_density,
     target_lobe,
 )
@@ -69,6 +76,7 @@ ROUGHNESS = (0.3, 0.5, 0.7)
 WIDTHS = (0.02, 0.2, 1.0, 3.0, 10.0)
 DISTANCE = 2.0
 THREE_FILE = "examples/jsm/lights/RectAreaLightTexturesLib.js"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _materials() -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -110,6 +118,13 @@ def _corners(theta: float, phi: float, width: float) -> np.ndarray:
     return corners
 
 
+def cosine_space_integral(stored, normal, view, corners) -> float:
+    """The LTC integral as three.js (and Heitz et al. 2016's code) take it: the quad ``corners`` (4, 3), seen from the
+    origin, through M⁻¹ of ``stored`` and clipped to the cosine's horizon only, not first to the surface's."""
+    local = corners @ shading_frame(normal, view).T
+    return max(float(polygon_integral(local @ ltc_inverse(stored).T)), 0.0)
+
+
 def three_tables(version: str) -> tuple[np.ndarray, np.ndarray] | str:
     """three.js's (LTC_MAT_1, LTC_MAT_2), each (64, 64, 4) on the LTC table's axes; or why they could not be had."""
     try:
@@ -126,11 +141,12 @@ def three_tables(version: str) -> tuple[np.ndarray, np.ndarray] | str:
     return tables[0], tables[1]
 
 
-#: The area light's two Fresnel forms in benchmarks.shader_cost's pass (a sphere seen per pixel; mapC stands in for
-#: the LTC table: the cost does not depend on its values).
+#: The area light's forms in benchmarks.shader_cost's pass (a sphere seen per pixel; mapC stands in for the LTC table:
+#: the cost does not depend on its values): the split sum (``fresnelLtcRect`` × F̄) and the include's
+#: ``fresnelBasisRectLight``; :data:`BASELINE` compiles the first with the include of :data:`BASELINE_REVISION`.
 COST_VARIANTS = {
-    "split sum (before)": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
-                                                       vec3(-1.0, 2.0, 3.0));
+    "split sum": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
+                                              vec3(-1.0, 2.0, 3.0));
     Fbar = fresnelLtcRect(mapC, N, V, N, corners, roughness) * fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",
     "punctual blend": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
@@ -138,33 +154,74 @@ COST_VARIANTS = {
     Fbar = fresnelBasisRectLight(mapC, basisLut, N, V, N, corners, roughness, cR, cG, cB);
     F = vec3(0.0);""",
 }
+#: The commit whose area light issue 41's cost budget (1.5 ×) is measured against: the split sum with the LTC clipped
+#: in the cosine's space only, before the issue's first change.
+BASELINE_REVISION = "ce2dc28"
+BASELINE = f"split sum at {BASELINE_REVISION} (issue 41's baseline)"
+
+
+def baseline_include() -> str:
+    """The GLSL include of :data:`BASELINE_REVISION`, from this checkout's history (``git show``)."""
+    try:
+        result = subprocess.run(
+            ["git", "show", f"{BASELINE_REVISION}:luts/fresnel_basis.glsl"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    except (OSError, subprocess.TimeoutExpired) as error:
+        raise RuntimeError(f"git show {BASELINE_REVISION}: {error}") from error
+    if result.returncode != 0:
+        raise RuntimeError(f"git show {BASELINE_REVISION}: {result.stderr.strip() or 'failed'}")
+    return result.stdout
 
 
 def cost() -> list[str]:
-    """Markdown lines: each form's area-light pass in ACO's estimate (RDNA 2) and on llvmpipe, × the split sum's."""
+    """Markdown lines: each form's area-light pass in ACO's estimate (RDNA 2) and on llvmpipe, × :data:`BASELINE`'s
+    (the split sum as the include of :data:`BASELINE_REVISION` had it)."""
     from benchmarks.gpu_compiler import compiler_estimates
     from benchmarks.shader_cost import fragment_source, frame_times
 
+    try:
+        includes = {BASELINE: baseline_include()}
+    except RuntimeError as error:
+        return [f"Not measured: issue 41's baseline include could not be read ({error})."]
+    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
     lines = [
-        "| form | ACO instructions | × before, ACO (inverse throughput) | × before, llvmpipe |",
+        "| form | ACO instructions | × baseline, ACO (inverse throughput) | × baseline, llvmpipe |",
         "|---|---|---|---|",
     ]
     try:
-        estimates, compiler = compiler_estimates({n: fragment_source(v, "450") for n, v in COST_VARIANTS.items()})
+        estimates, compiler = compiler_estimates(
+            {name: fragment_source(body, "450", include=includes.get(name)) for name, body in variants.items()}
+        )
     except RuntimeError as error:
         estimates, compiler = None, str(error).splitlines()[0]
-    times, renderer = frame_times(256, 256, 16, 12, COST_VARIANTS)
-    before = "split sum (before)"
-    for name in COST_VARIANTS:
+    times, renderer = frame_times(256, 256, 16, 12, variants, includes)
+    for name in variants:
         aco = "– | –"
         if estimates is not None:
-            ratio = estimates[name]["Inverse Throughput"] / estimates[before]["Inverse Throughput"]
+            ratio = estimates[name]["Inverse Throughput"] / estimates[BASELINE]["Inverse Throughput"]
             aco = f"{estimates[name]['Instructions']} | {ratio:.2f}"
-        lines.append(f"| {name} | {aco} | {times[name] / times[before]:.2f} |")
+        lines.append(f"| {name} | {aco} | {times[name] / times[BASELINE]:.2f} |")
     return [
         *lines,
         "",
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
+    ]
+
+
+def training_lights(count: int, widths: tuple[float, float] = (0.1, 6.0)) -> list[np.ndarray]:
+    """``count`` seeded training lights, (4, 3) corners each: widths log-uniform in ``widths`` at distance 2,
+    directions over the hemisphere and just below it (not the set's)."""
+    rng = np.random.default_rng(123)
+    smallest, largest = np.log(widths[0]), np.log(widths[1])
+    return [
+        _corners(
+            np.arccos(rng.uniform(-0.15, 1.0)), rng.uniform(0.0, 2.0 * np.pi), np.exp(rng.uniform(smallest, largest))
+        )
+        for _ in range(count)
     ]
 
 
@@ -173,11 +230,7 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
     better (widths 0.1 to 6 at distance 2, directions over the hemisphere and just below it, not the set's), by
     Σ |log((I E + 1e-3) / (lobe + 1e-3))|, the lobe by the reference with ``nodes``² nodes."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
-    rng = np.random.default_rng(123)
-    training = [
-        _corners(np.arccos(rng.uniform(-0.15, 1.0)), rng.uniform(0.0, 2.0 * np.pi), np.exp(rng.uniform(-2.3, 1.8)))
-        for _ in range(lights)
-    ]
+    training = training_lights(lights)
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     mu_rows, alphas = fit_points(ltc)
     chosen = np.array(first, dtype=float)
@@ -202,12 +255,58 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
 LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
 
 
-def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
+def toward_lobe_limit(stored, view, corners, alpha: float, albedo: float) -> np.ndarray:
+    """(…) the LTC integral of ``stored`` (4,) over the quads ``corners`` (…, 4, 3) seen from the origin with normal z
+    and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit (:data:`LOBE_LIMIT`):
+    × mix(f̂(L*) / D(L*), 1, √I), L* the light's representative direction."""
+    integral, direction = rect_light_direction(stored, np.array([0.0, 0.0, 1.0]), view, np.zeros(3), corners)
+    density = stored_density(stored, direction)
+    lobe = target_lobe(direction, view[2], alpha, albedo)
+    ratio = np.where(density > 0.0, lobe / np.where(density > 0.0, density, 1.0), 1.0)
+    weight = np.sqrt(np.minimum(integral, 1.0))
+    return integral * (weight + (1.0 - weight) * ratio)
+
+
+#: The radiance fit's lights and floor: the LTC's four entries fitted at one (μo, r) to the lobe over
+#: :data:`FIT_LIGHTS` training lights 0.02 to 10 wide (the set's range), residuals log((estimate E + ε) / (lobe + ε))
+#: with ε = :data:`FIT_FLOOR` (the set's own floor for a value; a smaller one fits far tails at the peak's cost: in a
+#: scratch study ε = 1e-5 over 96 lights gave 19 % median against 10 %).
+FIT_LIGHTS, FIT_FLOOR = 48, 1e-3
+
+
+def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit: bool) -> np.ndarray:
+    """(4,) stored LTC entries at one (μo, α) fitted to the lobe over training lights (issue 41 item 2: what area
+    lights need rather than the lobe's distribution): ``corners`` (L, 4, 3) seen as in :func:`toward_lobe_limit`,
+    ``lobes`` (L,) the reference's ∫_P f cos over them; the estimate the LTC integral, or with ``limit``
+    :func:`toward_lobe_limit`; Levenberg-Marquardt from ``start``, the shipped texel."""
+    from scipy.optimize import least_squares
+
+    normal = np.array([0.0, 0.0, 1.0])
+
+    def residuals(stored):
+        with np.errstate(all="ignore"):
+            if limit:
+                estimate = toward_lobe_limit(stored, view, corners, alpha, albedo)
+            else:
+                estimate = rect_light_integral(stored, normal, view, np.zeros(3), corners)
+        return np.log((estimate * albedo + FIT_FLOOR) / (lobes + FIT_FLOOR))
+
+    return least_squares(residuals, start, method="lm", x_scale=np.abs(start) + 0.1).x
+
+
+#: The lobe study's rows fitted at each of the set's (μo, r) (no table: the frontier a table of such fits could reach).
+RADIANCE_FIT = "fitted to lights' radiance at the set's (μo, r) (no table)"
+RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual limit"
+
+
+def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = True) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
-    the light, the reference's), median / p90 / max by the light's placement and by its width; and the first table
-    toward the lobe's punctual limit (:data:`LOBE_LIMIT`)."""
+    the light, the reference's), median / p90 / max by the light's placement and by its width; the first table
+    toward the lobe's punctual limit (:data:`LOBE_LIMIT`); with ``radiance_fits`` the LTC fitted at each of the set's
+    (μo, r) to the training lights' radiance (:func:`radiance_fit`), alone and with the limit."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
+    training = training_lights(FIT_LIGHTS, (0.02, 10.0)) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
     for mu_o in VIEWS:
         view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
@@ -215,22 +314,32 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
             alpha = roughness**2
             albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
             stored = {name: ltc.lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
+            first = next(iter(stored.values()))
+            fitted = {}
+            if radiance_fits:
+                lobes = np.array(
+                    [rect_light_reference(normal, view, np.zeros(3), c, alpha, ones, nodes)[0] for c in training]
+                )
+                for name, limit in ((RADIANCE_FIT, False), (RADIANCE_FIT_LIMIT, True)):
+                    fitted[name] = radiance_fit(first, view, np.array(training), alpha, albedo, lobes, limit)
             for placement, (theta, phi) in _placements(mu_o).items():
                 for width in WIDTHS:
                     corners = _corners(theta, phi, width)
                     lobe = rect_light_reference(normal, view, np.zeros(3), corners, alpha, ones, nodes)[0]
                     if lobe <= 1e-3:
                         continue
-                    first = next(iter(stored.values()))
-                    integral, direction = rect_light_direction(first, normal, view, np.zeros(3), corners)
-                    density = float(stored_density(first, direction))
-                    ratio = float(target_lobe(direction, mu_o, alpha, albedo)) / density if density > 0.0 else 1.0
-                    weight = np.sqrt(min(float(integral), 1.0))
                     approximations = {
                         name: rect_light_integral(texel, normal, view, np.zeros(3), corners)
                         for name, texel in stored.items()
                     }
-                    approximations[LOBE_LIMIT] = integral * (weight + (1.0 - weight) * ratio)
+                    approximations[LOBE_LIMIT] = toward_lobe_limit(first, view, corners, alpha, albedo)
+                    if radiance_fits:
+                        approximations[RADIANCE_FIT] = rect_light_integral(
+                            fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
+                        )
+                        approximations[RADIANCE_FIT_LIMIT] = toward_lobe_limit(
+                            fitted[RADIANCE_FIT_LIMIT], view, corners, alpha, albedo
+                        )
                     for name, approximation in approximations.items():
                         error = abs(approximation * albedo - lobe) / lobe
                         errors.setdefault((name, "all"), []).append(error)
@@ -238,10 +347,11 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray]) -> list[str]:
                         errors.setdefault((name, f"width {width:g}"), []).append(error)
     placements = ["all", *_placements(0.5)]
     widths = [f"width {width:g}" for width in WIDTHS]
+    rows = [*tables, LOBE_LIMIT, *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ())]
     lines = []
     for columns in (placements, widths):
         lines += ["", "| table | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
-        for name in [*tables, LOBE_LIMIT]:
+        for name in rows:
             lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, c)])) for c in columns) + " |")
     return lines[1:]
 
@@ -329,7 +439,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                             )
                         if not isinstance(public, str):
                             f0 = curve(np.array([1.0]))[0]
-                            integral = rect_light_integral(tables["public fit"], normal, view, np.zeros(3), corners)
+                            integral = cosine_space_integral(tables["public fit"], normal, view, corners)
                             schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
                             approaches["three.js"] = (integral * schlick, integral * split_exact)
                         size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
@@ -404,13 +514,17 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "",
             "## The lobe alone (item 2)",
             "",
-            "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light), median / p90 / "
-            "max, by the light's placement and then by its width; the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s "
-            "each), the next row takes at each texel whichever of the shipped and the chi-square table holds the "
-            "lobe better over 24 seeded training lights (not this set's; about 4 min), and the last takes the shipped "
-            "table toward the lobe's own punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / "
-            "D(L*), 1, √I), the exact lobe over the LTC's density at the light's representative direction: none is "
-            "shipped:",
+            "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light, both "
+            "clipped to the surface's horizon), median / p90 / max, by the light's placement and then by its width; "
+            "the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s each); the next row takes at "
+            "each texel whichever of the shipped and the chi-square table holds the lobe better over 24 seeded "
+            "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
+            "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
+            "over the LTC's density at the light's representative direction; the last two fit the LTC's four entries "
+            f"at each of the set's own (μo, r), no table between them, to the lobe over {FIT_LIGHTS} seeded training "
+            "lights 0.02 to 10 wide (item 2: what area lights need rather than the lobe's distribution; "
+            "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
+            "such fits could at best reach. None is shipped:",
             "",
             *lobe_study(nodes, candidates),
         ]

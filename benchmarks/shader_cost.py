@@ -215,15 +215,16 @@ vec3 fresnelBasisSplitSumRGB(sampler2D lut, float NdotV, float r, vec4 cR, vec4 
 """
 
 
-def fragment_source(variant: str, version: str = "330", atlas: bool = False) -> str:
-    """The whole fragment shader of one variant: the generated include (``atlas``: the shipped atlas include), the
-    diagnostics and :data:`COMMON` around the variant's lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan
-    compiler)."""
-    include = (
-        shipped_path(f"{ATLAS_INCLUDE_STEM}.glsl").read_text(encoding="utf-8")
-        if atlas
-        else dict(shader_includes())["fresnel_basis.glsl"]
-    )
+def fragment_source(variant: str, version: str = "330", atlas: bool = False, include: str | None = None) -> str:
+    """The whole fragment shader of one variant: the generated include (``atlas``: the shipped atlas include;
+    ``include``: this text instead, e.g. an older commit's), the diagnostics and :data:`COMMON` around the variant's
+    lines (GLSL ``version``: 330 for llvmpipe, 450 for a Vulkan compiler)."""
+    if include is None:
+        include = (
+            shipped_path(f"{ATLAS_INCLUDE_STEM}.glsl").read_text(encoding="utf-8")
+            if atlas
+            else dict(shader_includes())["fresnel_basis.glsl"]
+        )
     return (
         f"#version {version}\n"
         + include
@@ -254,11 +255,17 @@ def rgba_upload(table: np.ndarray) -> np.ndarray:
 
 
 def frame_times(
-    width: int, height: int, frames: int, rounds: int, variants: dict[str, str] | None = None
+    width: int,
+    height: int,
+    frames: int,
+    rounds: int,
+    variants: dict[str, str] | None = None,
+    includes: dict[str, str] | None = None,
 ) -> tuple[dict[str, float], str]:
-    """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants) and the
-    renderer's name."""
+    """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants; a
+    variant named in ``includes`` compiled with that include) and the renderer's name."""
     variants = ALL_VARIANTS if variants is None else variants
+    includes = {} if includes is None else includes
     import moderngl
 
     context = moderngl.create_standalone_context(backend="egl")
@@ -286,7 +293,8 @@ def frame_times(
         passes = {}
         for name, variant in variants.items():
             program = context.program(
-                vertex_shader=VERTEX, fragment_shader=fragment_source(variant, atlas=name in IN_ATLAS)
+                vertex_shader=VERTEX,
+                fragment_shader=fragment_source(variant, atlas=name in IN_ATLAS, include=includes.get(name)),
             )
             units = ("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC", "coefficientLut", "curveTable")
             for index, uniform in enumerate(units):
