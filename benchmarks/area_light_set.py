@@ -28,7 +28,9 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and two candidate fits made here (M's four entries free, L2 and
-chi-square), and the lobe's own punctual limit (:data:`LOBE_LIMIT`); a fifth, the cost of the two forms in ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass).
+chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`) and the LTC fitted to training lights' radiance at the
+set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
+(benchmarks.shader_cost's pass) against issue 41's baseline (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
 [--out FILE]`` (the

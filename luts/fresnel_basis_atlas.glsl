@@ -512,10 +512,11 @@ vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
 }
 
 // Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
-// not depend on them), which float32 holds for short edges (atan where acos would cancel); 0 where p x q is.
+// not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
+// vector, where p x q would cancel: a light 1e-3 wide two units away, 5 % -> 0.03 % median); 0 where p x q is.
 vec3 fresnelLtcEdge(vec3 p, vec3 q)
 {
-    vec3 c = cross(p, q);
+    vec3 c = cross(p, q - p);
     float s = length(c);
     return c * ((s > 0.0) ? atan(s, dot(p, q)) / s : 0.0);
 }
@@ -533,82 +534,63 @@ vec3 fresnelLtcTransform(vec4 t, vec3 w)
     return vec3(t.x * w.x + t.z * w.z, w.y, t.y * w.x + t.w * w.z);
 }
 
+// The point where the segment a -> b crosses a plane through the origin, given its ends' heights above the plane
+// (which run linearly along it); a where the heights are equal.
+vec3 fresnelLtcCrossing(vec3 a, vec3 b, float heightA, float heightB)
+{
+    float denominator = heightA - heightB;
+    return a + (b - a) * (heightA / ((denominator != 0.0) ? denominator : 1.0));
+}
+
 // The vector form factor, in the cosine's space, of the quad w (shading frame, the normal along z) clipped to the
-// shading horizon and then, through the table's M^-1 (t), to the cosine's: (1/pi) times the integral of the direction
-// over it (Arvo 1994; Heitz 2016 eq. 11 per component). Each clip runs edge by edge and closes the polygon with a
-// horizon edge from its exit to its entry point: the quad's edges clipped to z >= 0 (an edge wholly below is a point,
-// which adds nothing) and the closing edge are taken through M^-1 and clipped again. Its z is the integral of the
-// LTC over the part of the quad above the surface (the BRDF is zero below, where the LTC need not be), its direction
-// the quad's mean direction there. Positive z when the corners turn counter-clockwise seen from the point that the
-// quad lights, as three.js winds them.
+// surface's horizon and then to the cosine's: (1/pi) times the integral of the direction over it (Arvo 1994; Heitz
+// 2016 eq. 11 per component). Each clip runs edge by edge (an edge wholly below becomes a point, which adds nothing)
+// and closes the clipped polygon along its plane from the exit to the entry point (around a closed polygon the heights
+// change sign as often downward as upward; where they never do, the closing edge stays a point at the origin). The
+// first clip takes the heights in the shading frame and the points through the table's M^-1 (t; it is linear), so its
+// clipped edges and closing edge are five edges in the cosine's space for the second. Its z is the integral of the LTC
+// over the part of the quad above the surface (the BRDF is zero below, where the LTC need not be), its direction the
+// quad's mean direction there. Positive z when the corners turn counter-clockwise seen from the point that the quad
+// lights, as three.js winds them.
 vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 {
-    vec3 starts[5];
-    vec3 ends[5];
-    vec3 exitPoint = vec3(0.0);
-    vec3 entryPoint = vec3(0.0);
-    bool exits = false;
-    bool enters = false;
     vec3 q[4];
     for (int i = 0; i < 4; ++i)
     {
         q[i] = fresnelLtcTransform(t, w[i]);
     }
+    vec3 starts[5];
+    vec3 ends[5];
+    vec3 exitPoint = vec3(0.0);
+    vec3 entryPoint = vec3(0.0);
     for (int i = 0; i < 4; ++i)
     {
-        // the clip's points found from the heights in the shading frame, in the cosine's space (M^-1 is linear)
         float heightA = w[i].z;
         float heightB = w[(i + 1) & 3].z;
-        vec3 a = q[i];
-        vec3 b = q[(i + 1) & 3];
-        bool aboveA = heightA >= 0.0;
-        bool aboveB = heightB >= 0.0;
-        float denominator = heightA - heightB;
-        vec3 x = a + (b - a) * (heightA / ((denominator != 0.0) ? denominator : 1.0));
-        starts[i] = aboveA ? a : x;
-        ends[i] = aboveB ? b : x;
-        if (aboveA && !aboveB)
-        {
-            exitPoint = x;
-            exits = true;
-        }
-        if (!aboveA && aboveB)
-        {
-            entryPoint = x;
-            enters = true;
-        }
+        vec3 x = fresnelLtcCrossing(q[i], q[(i + 1) & 3], heightA, heightB);
+        starts[i] = (heightA >= 0.0) ? q[i] : x;
+        ends[i] = (heightB >= 0.0) ? q[(i + 1) & 3] : x;
+        exitPoint = (heightA >= 0.0 && heightB < 0.0) ? x : exitPoint;
+        entryPoint = (heightA < 0.0 && heightB >= 0.0) ? x : entryPoint;
     }
     starts[4] = exitPoint;
-    ends[4] = (exits && enters) ? entryPoint : exitPoint;
+    ends[4] = entryPoint;
     vec3 sum = vec3(0.0);
-    exitPoint = vec3(1.0, 0.0, 0.0);
-    entryPoint = vec3(0.0, 1.0, 0.0);
-    exits = false;
-    enters = false;
+    bool crosses = false;
     for (int i = 0; i < 5; ++i)
     {
         vec3 a = starts[i];
         vec3 b = ends[i];
-        bool aboveA = a.z >= 0.0;
-        bool aboveB = b.z >= 0.0;
-        float denominator = a.z - b.z;
-        vec3 x = a + (b - a) * (a.z / ((denominator != 0.0) ? denominator : 1.0));
-        if (aboveA || aboveB)
+        vec3 x = fresnelLtcCrossing(a, b, a.z, b.z);
+        if (a.z >= 0.0 || b.z >= 0.0)  // the edge evaluations are the cost: skip what adds nothing
         {
-            sum += fresnelLtcEdge(aboveA ? a : x, aboveB ? b : x);
+            sum += fresnelLtcEdge((a.z >= 0.0) ? a : x, (b.z >= 0.0) ? b : x);
         }
-        if (aboveA && !aboveB)
-        {
-            exitPoint = x;
-            exits = true;
-        }
-        if (!aboveA && aboveB)
-        {
-            entryPoint = x;
-            enters = true;
-        }
+        exitPoint = (a.z >= 0.0 && b.z < 0.0) ? x : exitPoint;
+        entryPoint = (a.z < 0.0 && b.z >= 0.0) ? x : entryPoint;
+        crosses = crosses || (a.z < 0.0 && b.z >= 0.0);
     }
-    if (exits && enters)
+    if (crosses)
     {
         sum += fresnelLtcEdge(exitPoint, entryPoint);
     }
