@@ -143,6 +143,13 @@ def three_tables(version: str) -> tuple[np.ndarray, np.ndarray] | str:
     return tables[0], tables[1]
 
 
+#: The lobe study's row with a second lobe, a clamped cosine about the normal, beside the shipped LTC (weights fitted
+#: at each of the set's (μo, r)): a second polygon integral, which would cost up to the LTC's share of the pass
+#: (the split sum's cost less :data:`LTC_SHARE`'s).
+TWO_LOBES = "this project + a cosine about the normal (two lobes, not shipped)"
+#: The cost section's pass without the LTC integral: the split sum alone.
+LTC_SHARE = "split sum without the LTC integral"
+
 #: The area light's forms in benchmarks.shader_cost's pass (a sphere seen per pixel; mapC stands in for the LTC table:
 #: the cost does not depend on its values): the split sum (``fresnelLtcRect`` × F̄) and the include's
 #: ``fresnelBasisRectLight``; :data:`BASELINE` compiles the first with the include of :data:`BASELINE_REVISION`.
@@ -154,6 +161,8 @@ COST_VARIANTS = {
     "punctual blend": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
                                                    vec3(-1.0, 2.0, 3.0));
     Fbar = fresnelBasisRectLight(mapC, basisLut, N, V, N, corners, roughness, cR, cG, cB);
+    F = vec3(0.0);""",
+    LTC_SHARE: """Fbar = fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",
 }
 #: The commit whose area light issue 41's cost budget (1.5 ×) is measured against: the split sum with the LTC clipped
@@ -210,6 +219,8 @@ def cost() -> list[str]:
     return [
         *lines,
         "",
+        f"'{LTC_SHARE}' is the pass less the LTC: the split sum's ratio less its is what the LTC integral costs, "
+        "and about what a second polygon integral (a second lobe) would add. "
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
     ]
 
@@ -296,6 +307,17 @@ def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit
     return least_squares(residuals, start, method="lm", x_scale=np.abs(start) + 0.1).x
 
 
+def two_lobe_weights(stored, mu_o: float, alpha: float, albedo: float, count: int = 400) -> np.ndarray:
+    """(a, b): f̂ ≈ a D + b max(0, z)/π over the upper hemisphere in L2 (D the LTC of ``stored``, f̂ the normalised
+    lobe, :func:`preintegrate.ltc.target_lobe`), on ``count``² equal-area cells (z uniform, then φ)."""
+    z, phi = np.meshgrid((np.arange(count) + 0.5) / count, 2.0 * np.pi * (np.arange(count) + 0.5) / count)
+    radius = np.sqrt(1.0 - z * z)
+    directions = np.stack([radius * np.cos(phi), radius * np.sin(phi), z], axis=-1).reshape(-1, 3)
+    lobes = np.stack([stored_density(stored, directions), directions[:, 2] / np.pi], axis=-1)
+    target = target_lobe(directions, mu_o, alpha, albedo)
+    return np.linalg.lstsq(lobes, target, rcond=None)[0]
+
+
 #: The lobe study's rows fitted at each of the set's (μo, r) (no table: the frontier a table of such fits could reach).
 RADIANCE_FIT = "fitted to lights' radiance at the set's (μo, r) (no table)"
 RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual limit"
@@ -316,7 +338,8 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
             alpha = roughness**2
             albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
             stored = {name: ltc.lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
-            first = next(iter(stored.values()))
+            name_first, first = next(iter(stored.items()))
+            weights = two_lobe_weights(first, mu_o, alpha, albedo)
             fitted = {}
             if radiance_fits:
                 lobes = np.array(
@@ -335,6 +358,8 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                         for name, texel in stored.items()
                     }
                     approximations[LOBE_LIMIT] = toward_lobe_limit(first, view, corners, alpha, albedo)
+                    cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
+                    approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
                     if radiance_fits:
                         approximations[RADIANCE_FIT] = rect_light_integral(
                             fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
@@ -349,7 +374,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                         errors.setdefault((name, f"width {width:g}"), []).append(error)
     placements = ["all", *_placements(0.5)]
     widths = [f"width {width:g}" for width in WIDTHS]
-    rows = [*tables, LOBE_LIMIT, *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ())]
+    rows = [*tables, LOBE_LIMIT, TWO_LOBES, *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ())]
     lines = []
     for columns in (placements, widths):
         lines += ["", "| table | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
@@ -522,7 +547,10 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "each texel whichever of the shipped and the chi-square table holds the lobe better over 24 seeded "
             "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
             "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
-            "over the LTC's density at the light's representative direction; the last two fit the LTC's four entries "
+            "over the LTC's density at the light's representative direction; the next adds to it a clamped cosine "
+            "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
+            "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
+            "the last two fit the LTC's four entries "
             f"at each of the set's own (μo, r), no table between them, to the lobe over {FIT_LIGHTS} seeded training "
             "lights 0.02 to 10 wide (item 2: what area lights need rather than the lobe's distribution; "
             "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
