@@ -282,8 +282,8 @@ def toward_lobe_limit(stored, view, corners, alpha: float, albedo: float) -> np.
 
 #: The radiance fit's lights and floor: the LTC's four entries fitted at one (μo, r) to the lobe over
 #: :data:`FIT_LIGHTS` training lights 0.02 to 10 wide (the set's range), residuals log((estimate E + ε) / (lobe + ε))
-#: with ε = :data:`FIT_FLOOR` (the set's own floor for a value; a smaller one fits far tails at the peak's cost: in a
-#: scratch study ε = 1e-5 over 96 lights gave 19 % median against 10 %).
+#: with ε = :data:`FIT_FLOOR` (the set's own floor for a value; a smaller one would weigh the lobe's far tails, which no
+#: LTC holds, against its peak).
 FIT_LIGHTS, FIT_FLOOR = 48, 1e-3
 
 
@@ -326,8 +326,9 @@ RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual
 def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = True) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
     the light, the reference's), median / p90 / max by the light's placement and by its width; the first table
-    toward the lobe's punctual limit (:data:`LOBE_LIMIT`); with ``radiance_fits`` the LTC fitted at each of the set's
-    (μo, r) to the training lights' radiance (:func:`radiance_fit`), alone and with the limit."""
+    toward the lobe's punctual limit (:data:`LOBE_LIMIT`) and with a second lobe (:data:`TWO_LOBES`); with
+    ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
+    (:func:`radiance_fit`), alone and with the limit."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     training = training_lights(FIT_LIGHTS, (0.02, 10.0)) if radiance_fits else []
