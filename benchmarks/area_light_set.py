@@ -225,11 +225,11 @@ def cost() -> list[str]:
     ]
 
 
-def training_lights(count: int, widths: tuple[float, float] = (0.1, 6.0)) -> list[np.ndarray]:
-    """``count`` seeded training lights, (4, 3) corners each: widths log-uniform in ``widths`` at distance 2,
-    directions over the hemisphere and just below it (not the set's)."""
+def training_lights(count: int, log_widths: tuple[float, float] = (-2.3, 1.8)) -> list[np.ndarray]:
+    """``count`` seeded training lights, (4, 3) corners each: widths log-uniform between e^``log_widths`` (by default
+    0.1 to 6) at distance 2, directions over the hemisphere and just below it (not the set's)."""
     rng = np.random.default_rng(123)
-    smallest, largest = np.log(widths[0]), np.log(widths[1])
+    smallest, largest = log_widths
     return [
         _corners(
             np.arccos(rng.uniform(-0.15, 1.0)), rng.uniform(0.0, 2.0 * np.pi), np.exp(rng.uniform(smallest, largest))
@@ -331,7 +331,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
     (:func:`radiance_fit`), alone and with the limit."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
-    training = training_lights(FIT_LIGHTS, (0.02, 10.0)) if radiance_fits else []
+    training = training_lights(FIT_LIGHTS, (np.log(0.02), np.log(10.0))) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
     for mu_o in VIEWS:
         view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
