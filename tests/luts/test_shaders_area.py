@@ -57,19 +57,28 @@ def _inputs():
     return np.concatenate([normal, roughness[:, None]], -1), np.concatenate([view, shift[:, None]], -1)
 
 
-def _expected(a, b, ltc, basis, schlick):
+def _as_read(a, b, light=LIGHT, step=1.0):
+    """The inputs as the shaders read them (float32): (N, r, V, N·V, |N × V|, the light's corners (…, 4, 3) shifted
+    along x by ``step`` × each input's shift)."""
     a, b = a.astype(np.float32).astype(np.float64), b.astype(np.float32).astype(np.float64)
     normal, roughness, view, shift = a[:, :3], a[:, 3], b[:, :3], b[:, 3]
-    corners = LIGHT[None] + np.stack([shift, np.zeros_like(shift), np.zeros_like(shift)], -1)[:, None, :]
-    position = np.zeros((len(a), 3))
+    corners = light[None] + np.stack([step * shift, np.zeros_like(shift), np.zeros_like(shift)], -1)[:, None, :]
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
+    return normal, roughness, view, n_dot_v, np.linalg.norm(np.cross(normal, view), axis=-1), corners
+
+
+def _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners):
+    """``fresnelLtcRect``'s float64 mirror: the table read at (N·V, r) through |N × V|, integrated over the light."""
+    stored = ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
+    return rect_light_integral(stored, normal, view, np.zeros((len(normal), 3)), corners)
+
+
+def _expected(a, b, ltc, basis, schlick):
+    normal, roughness, view, n_dot_v, sine, corners = _as_read(a, b)
+    position = np.zeros((len(a), 3))
     coefficients = np.broadcast_to(COEFFICIENTS, (len(a), 3, 4))
     specular = rect_light_specular(ltc, basis, normal, view, position, corners, roughness, coefficients)
-    grid = ltc_grid(ltc.shape[0])
-    sine = np.linalg.norm(np.cross(normal, view), axis=-1)
-    integral = rect_light_integral(
-        grid.lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine), normal, view, position, corners
-    )
+    integral = _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners)
     s = LutGrid(schlick.shape[1], schlick.shape[0]).lookup(schlick, n_dot_v, np.clip(roughness, 0, 1))
     schlick_specular = integral[:, None] * (F0[None] * s[:, :1] + s[:, 1:2])
     uv = ltc_coordinates(n_dot_v, roughness)
@@ -81,7 +90,7 @@ def _expected(a, b, ltc, basis, schlick):
     return [
         np.concatenate([specular, integral[:, None]], -1),
         np.concatenate([schlick_specular, np.zeros((len(a), 1))], -1),
-        np.concatenate([grid.texture_coordinates(n_dot_v, roughness, sine), uv], -1),
+        np.concatenate([ltc_grid(ltc.shape[0]).texture_coordinates(n_dot_v, roughness, sine), uv], -1),
         np.concatenate([linear_rect_light, np.zeros((len(a), 1))], -1),
         np.concatenate([linear, compensated[:, :1]], -1),
     ]
@@ -226,11 +235,6 @@ def test_glsl_ltc_integral_of_tiny_and_far_lights_on_llvmpipe():
     the tiny light 3.8e-3, where p × (q − p) keeps 6.7e-5), nothing NaN or inf."""
     ltc = _tables()[0]
     a, b = _inputs()
-    a32, b32 = a.astype(np.float32).astype(np.float64), b.astype(np.float32).astype(np.float64)
-    normal, roughness, view, shift = a32[:, :3], a32[:, 3], b32[:, :3], b32[:, 3]
-    n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
-    sine = np.linalg.norm(np.cross(normal, view), axis=-1)
-    stored = ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
     for light in (LIGHT * [1e-3, 1e-3, 1.0], LIGHT * [100.0, 100.0, 500.0]):
         light = light.astype(np.float32).astype(np.float64)
         outputs = gl_draw(
@@ -240,9 +244,7 @@ def test_glsl_ltc_integral_of_tiny_and_far_lights_on_llvmpipe():
             1,
         )
         got = np.asarray(outputs[0], dtype=np.float64).reshape(-1, 4)[:, 0]
-        step = np.linalg.norm(light[0] - light[2]) * 0.5 * shift
-        corners = light[None] + np.stack([step, np.zeros_like(step), np.zeros_like(step)], -1)[:, None, :]
-        want = rect_light_integral(stored, normal, view, np.zeros((len(a), 3)), corners)
+        want = _ltc_integral(ltc, *_as_read(a, b, light, np.linalg.norm(light[0] - light[2]) * 0.5))
         assert np.all(np.isfinite(got))
         assert np.sum(want > 0.0) > 200, np.sum(want > 0.0)
         error = np.max(np.abs(got - want)) / np.max(want)
