@@ -12,8 +12,8 @@ Lambert's closed form (Heitz 2016 eq. 11; Arvo 1995) Σ_edges (p̂_i × p̂_j)_z
 M⁻¹P to the upper hemisphere (done exactly here, edge by edge, with the horizon edge from the exit to the entry
 point; Heitz 2016 §5.2). A light is clipped to the shading horizon first (the BRDF is zero below the surface, where
 the LTC, unless its axis is the normal, is not; Heitz 2016 clips only in the cosine's space): the clipped edges, taken
-through M⁻¹, are clipped again (:func:`horizon_ltc_vector`). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|p̂_i × p̂_j|, which float32 holds for short
-edges where acos does not.
+through M⁻¹, are clipped again (:func:`horizon_ltc_vector`). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|p̂_i × p̂_j|,
+which float32 holds for short edges where acos does not.
 
 The fit. For an isotropic BRDF seen in the xz plane, M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 §4.2: four
 entries). As the public fit does, M = R_y(θ) [[s, 0, t], [0, u, 0], [0, 0, 1]] with θ the polar angle of the lobe's
