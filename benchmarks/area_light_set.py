@@ -53,6 +53,7 @@ from basis.training.holdout import FIGURE_2
 from benchmarks.npm import NpmError, npm_unpacked
 from benchmarks.output import publish
 from handoff.exr import read_lut
+from handoff.shaders import shader_includes
 from handoff.shaders.mirrors import direct_fresnel
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
@@ -165,6 +166,50 @@ COST_VARIANTS = {
     LTC_SHARE: """Fbar = fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",
 }
+#: The lobe study's :data:`LOBE_LIMIT_LOWER` as the shaders would compute it (not shipped: the cost section compiles
+#: it with the include): fresnelLtcRectVector's integral I × (w + (1 − w) min(f̂(L*) / D(L*), 1)), w = √I, from the
+#: same texel (the same fetch, which the compiler shares) and the representative direction L*: with q = M⁻¹ L*,
+#: π D(L*) = q_z |det M⁻¹| / |q|⁴ (Heitz et al. 2016, eq. 1-3) and π f̂(L*) = α² / d² · μi / (2 (μi Λ'o + μo Λ'i) E)
+#: (GGX, the height-correlated G2 in its V form, E = b̄0 the basis table's albedo).
+LOBE_LIMIT_GLSL = """
+float studyLobeLimit(sampler2D ltcLut, vec4 light, vec3 N, vec3 V, float r, float albedo)
+{
+    float NdotV = clamp(dot(N, V), 0.0, 1.0);
+    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
+    vec3 q = fresnelLtcTransform(t, light.xyz);
+    float q2 = dot(q, q);
+    vec3 view = vec3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
+    vec3 H = fresnelLtcUnit(view + light.xyz);
+    float a2 = r * r * r * r;
+    float d = 1.0 + (a2 - 1.0) * H.z * H.z;
+    float mu = max(light.z, 0.0);
+    float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
+    float lobe = a2 * mu * q2 * q2;
+    float density = 2.0 * d * d * smith * albedo * max(q.z, 0.0) * abs(t.x * t.w - t.z * t.y);
+    float w = sqrt(min(light.w, 1.0));
+    return light.w * (w + (1.0 - w) * lobe / max(max(lobe, density), 1e-30));
+}
+"""
+_LOBE_LIMIT_PASS = """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
+                                                   vec3(-1.0, 2.0, 3.0));
+    vec4 light = fresnelLtcRectVector(mapC, N, V, N, corners, roughness);
+    vec4 b = fresnelBasisTerms(basisLut, fresnelBasisLutUV(NdotV, roughness));
+    float integral = studyLobeLimit(mapC, light, N, V, roughness, b.x);
+    vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
+    vec3 punctual = b.x * {direct}(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    Fbar = integral * mix(punctual, average, clamp(integral, 0.0, 1.0));
+    F = vec3(0.0);"""
+#: The cost section's study forms (not shipped), each with :data:`LOBE_LIMIT_GLSL` after the include: F(V·H*) by the
+#: basis polynomial as ``fresnelBasisRectLight``, or from the curve table (``fresnelBasisDirectTable``), which a build
+#: without per-pixel tables (and so the three.js package) does not have.
+STUDY_COST_VARIANTS = {
+    "punctual blend + the lobe's limit where it lowers I (not shipped)": _LOBE_LIMIT_PASS.replace(
+        "{direct}", "fresnelBasisDirect"
+    ),
+    "the same, F(V·H*) from the curve table (not shipped)": _LOBE_LIMIT_PASS.replace(
+        "{direct}(", "fresnelBasisDirectTable(curveTable, "
+    ),
+}
 #: The commit whose area light issue 41's cost budget (1.5 ×) is measured against: the split sum with the LTC clipped
 #: in the cosine's space only, before the issue's first change.
 BASELINE_REVISION = "ce2dc28"
@@ -198,7 +243,9 @@ def cost() -> list[str]:
         includes = {BASELINE: baseline_include()}
     except RuntimeError as error:
         return [f"Not measured: issue 41's baseline include could not be read ({error})."]
-    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
+    study_include = dict(shader_includes())["fresnel_basis.glsl"] + LOBE_LIMIT_GLSL
+    includes.update(dict.fromkeys(STUDY_COST_VARIANTS, study_include))
+    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS, **STUDY_COST_VARIANTS}
     lines = [
         "| form | ACO instructions | × baseline, ACO (inverse throughput) | × baseline, llvmpipe |",
         "|---|---|---|---|",
@@ -220,7 +267,11 @@ def cost() -> list[str]:
         *lines,
         "",
         f"'{LTC_SHARE}' is the pass less the LTC: the split sum's ratio less its is what the LTC integral costs, "
-        "and about what a second polygon integral (a second lobe) would add. "
+        "and about what a second polygon integral (a second lobe) would add. The last two rows are the lobe "
+        "study's punctual limit where it lowers the integral, as a shader would compute it (`LOBE_LIMIT_GLSL`, from "
+        "the texel and the representative direction the pass already has), with F(V·H*) by the basis polynomial as "
+        "the punctual blend takes it or from the curve table, which a build without per-pixel tables (the three.js "
+        "package's) lacks. "
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
     ]
 
@@ -262,20 +313,30 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
     return chosen
 
 
+#: The lobe study's row for the shipped method on a finer grid (issue 41 item 2: "a finer ... table near grazing").
+FINER = "this project's fit, 128² (twice as fine, not shipped)"
+
 #: The lobe study's row for the shipped table taken toward the lobe's own punctual limit, as item 1 takes its Fresnel:
 #: the integral × mix(f̂(L*) / D(L*), 1, √I), f̂ the exact lobe normalised by E (preintegrate.ltc.target_lobe), D the
 #: LTC's density, both at the light's representative direction L*, I the LTC integral.
 LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
+#: The same where it lowers the integral only, min(f̂(L*) / D(L*), 1): where the LTC is denser than the lobe at L*
+#: (across the horizon, beside the lobe) it takes the excess off; where it is thinner (the mirror direction at grazing
+#: views, where the LTC is off pointwise and right in the integral) it leaves the integral as it is.
+LOBE_LIMIT_LOWER = "this project, toward the lobe's punctual limit where that lowers it (not shipped)"
 
 
-def toward_lobe_limit(stored, view, corners, alpha: float, albedo: float) -> np.ndarray:
+def toward_lobe_limit(stored, view, corners, alpha: float, albedo: float, lower_only: bool = False) -> np.ndarray:
     """(…) the LTC integral of ``stored`` (4,) over the quads ``corners`` (…, 4, 3) seen from the origin with normal z
     and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit (:data:`LOBE_LIMIT`):
-    × mix(f̂(L*) / D(L*), 1, √I), L* the light's representative direction."""
+    × mix(f̂(L*) / D(L*), 1, √I), L* the light's representative direction; with ``lower_only`` the ratio at most 1
+    (:data:`LOBE_LIMIT_LOWER`)."""
     integral, direction = rect_light_direction(stored, np.array([0.0, 0.0, 1.0]), view, np.zeros(3), corners)
     density = stored_density(stored, direction)
     lobe = target_lobe(direction, view[2], alpha, albedo)
     ratio = np.where(density > 0.0, lobe / np.where(density > 0.0, density, 1.0), 1.0)
+    if lower_only:
+        ratio = np.minimum(ratio, 1.0)
     weight = np.sqrt(np.minimum(integral, 1.0))
     return integral * (weight + (1.0 - weight) * ratio)
 
@@ -325,11 +386,12 @@ RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual
 
 def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = True) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
-    the light, the reference's), median / p90 / max by the light's placement and by its width; the first table
-    toward the lobe's punctual limit (:data:`LOBE_LIMIT`) and with a second lobe (:data:`TWO_LOBES`); with
+    the light, the reference's), median / p90 / max by the light's placement and by its width (a table of any size,
+    on :func:`preintegrate.ltc.ltc_grid`'s axes); the first table toward the lobe's punctual limit (:data:`LOBE_LIMIT`,
+    :data:`LOBE_LIMIT_LOWER`) and with a second lobe (:data:`TWO_LOBES`); with
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
-    ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
+    normal = np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     training = training_lights(FIT_LIGHTS, (np.log(0.02), np.log(10.0))) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
@@ -338,7 +400,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
         for roughness in ROUGHNESS:
             alpha = roughness**2
             albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
-            stored = {name: ltc.lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
+            stored = {name: ltc_grid(len(table)).lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
             name_first, first = next(iter(stored.items()))
             weights = two_lobe_weights(first, mu_o, alpha, albedo)
             fitted = {}
@@ -359,6 +421,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                         for name, texel in stored.items()
                     }
                     approximations[LOBE_LIMIT] = toward_lobe_limit(first, view, corners, alpha, albedo)
+                    approximations[LOBE_LIMIT_LOWER] = toward_lobe_limit(first, view, corners, alpha, albedo, True)
                     cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
                     approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
                     if radiance_fits:
@@ -375,7 +438,13 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                         errors.setdefault((name, f"width {width:g}"), []).append(error)
     placements = ["all", *_placements(0.5)]
     widths = [f"width {width:g}" for width in WIDTHS]
-    rows = [*tables, LOBE_LIMIT, TWO_LOBES, *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ())]
+    rows = [
+        *tables,
+        LOBE_LIMIT,
+        LOBE_LIMIT_LOWER,
+        TWO_LOBES,
+        *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ()),
+    ]
     lines = []
     for columns in (placements, widths):
         lines += ["", "| table | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
@@ -533,6 +602,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
         candidates = {"this project (mean axis, L2)": ltc_table}
         if not isinstance(public, str):
             candidates["public fit (three.js LTC_MAT_1)"] = public[0]
+        candidates[FINER] = fit_ltc(ltc_grid(128)).inverse
         candidates["free axis, L2"] = fit_ltc(ltc, axis="free").inverse
         candidates["free axis, chi-square"] = fit_ltc(ltc, axis="free", weighting="chi-square").inverse
         candidates["per texel: mean axis or free chi-square"] = per_texel_choice(
@@ -544,11 +614,15 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "",
             "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light, both "
             "clipped to the surface's horizon), median / p90 / max, by the light's placement and then by its width; "
-            "the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s each); the next row takes at "
+            "the shipped fit on a table twice as fine, 128² (the same axes, √(1 − μo) rows: finer toward grazing "
+            "views), and the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s each); the next row "
+            "takes at "
             "each texel whichever of the shipped and the chi-square table holds the lobe better over 24 seeded "
             "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
             "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
-            "over the LTC's density at the light's representative direction; the next adds to it a clamped cosine "
+            "over the LTC's density at the light's representative direction, and the same with the ratio at most 1 "
+            "(it only takes off what the LTC holds beyond the lobe; its shader's cost: cost section); the next adds "
+            "to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
             "the last two fit the LTC's four entries "
