@@ -12,10 +12,12 @@ conductors, one channel of the dielectrics).
 
 Approaches (all with bilinear lookups of the shipped tables at the shaders' coordinates):
 
-* **split sum** (the include today): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
-* **punctual blend**: the LTC integral × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative
-  direction (the vector form factor of the transformed polygon taken back through M, preintegrate.ltc.
-  rect_light_direction), F from the same coefficients (the direct-light curves), w the LTC integral itself (the
+* **split sum** (the include before issue 41): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
+* **punctual blend** (the include's ``fresnelBasisRectLight``): the LTC integral, taken toward the lobe's own
+  punctual limit where the LTC holds more than the lobe at the light (preintegrate.ltc.rect_light_half_cosine with
+  the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative direction (the vector
+  form factor of the transformed polygon taken back through M, preintegrate.ltc.rect_light_direction), F from the
+  same coefficients (the basis table's mirror row, handoff.shaders.rect_light_punctual), w the integral itself (the
   share of the lobe the light covers): a small light tends to the punctual limit F(V·H), a light covering the lobe
   to the split sum;
 * each with the exact curve in place of the basis (their LTC-and-factorisation part), and the public fit (three.js's
@@ -27,9 +29,10 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 "Fresnel part": |approach − the same with the exact curve| / reference.
 
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
-for this project's table, the public fit and two candidate fits made here (M's four entries free, L2 and
-chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`) and the LTC fitted to training lights' radiance at the
-set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
+for this project's table, the public fit and candidate fits made here (the shipped method on a finer table; M's four
+entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, and as shipped,
+:data:`LOBE_LIMIT_LOWER`) and the LTC fitted to training lights' radiance at the set's own views and roughnesses
+(:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
 (benchmarks.shader_cost's pass) against issue 41's baseline (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
@@ -53,11 +56,11 @@ from basis.training.holdout import FIGURE_2
 from benchmarks.npm import NpmError, npm_unpacked
 from benchmarks.output import publish
 from handoff.exr import read_lut
-from handoff.shaders import shader_includes
-from handoff.shaders.mirrors import direct_fresnel
+from handoff.shaders import rect_light_punctual
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     fit_points,
+    lobe_density_ratio,
     ltc_grid,
     ltc_inverse,
     polygon_integral,
@@ -68,6 +71,7 @@ from preintegrate.ltc import (
     shading_frame,
     stored_density,
     target_lobe,
+    toward_lobe_limit,
 )
 from preintegrate.lut import LutGrid
 from tests.references.area_light import rect_light_reference
@@ -166,50 +170,6 @@ COST_VARIANTS = {
     LTC_SHARE: """Fbar = fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",
 }
-#: The lobe study's :data:`LOBE_LIMIT_LOWER` as the shaders would compute it (not shipped: the cost section compiles
-#: it with the include): fresnelLtcRectVector's integral I × (w + (1 − w) min(f̂(L*) / D(L*), 1)), w = √I, from the
-#: same texel (the same fetch, which the compiler shares) and the representative direction L*: with q = M⁻¹ L*,
-#: π D(L*) = q_z |det M⁻¹| / |q|⁴ (Heitz et al. 2016, eq. 1-3) and π f̂(L*) = α² / d² · μi / (2 (μi Λ'o + μo Λ'i) E)
-#: (GGX, the height-correlated G2 in its V form, E = b̄0 the basis table's albedo).
-LOBE_LIMIT_GLSL = """
-float studyLobeLimit(sampler2D ltcLut, vec4 light, vec3 N, vec3 V, float r, float albedo)
-{
-    float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
-    vec3 q = fresnelLtcTransform(t, light.xyz);
-    float q2 = dot(q, q);
-    vec3 view = vec3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
-    vec3 H = fresnelLtcUnit(view + light.xyz);
-    float a2 = r * r * r * r;
-    float d = 1.0 + (a2 - 1.0) * H.z * H.z;
-    float mu = max(light.z, 0.0);
-    float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
-    float lobe = a2 * mu * q2 * q2;
-    float density = 2.0 * d * d * smith * albedo * max(q.z, 0.0) * abs(t.x * t.w - t.z * t.y);
-    float w = sqrt(min(light.w, 1.0));
-    return light.w * (w + (1.0 - w) * lobe / max(max(lobe, density), 1e-30));
-}
-"""
-_LOBE_LIMIT_PASS = """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
-                                                   vec3(-1.0, 2.0, 3.0));
-    vec4 light = fresnelLtcRectVector(mapC, N, V, N, corners, roughness);
-    vec4 b = fresnelBasisTerms(basisLut, fresnelBasisLutUV(NdotV, roughness));
-    float integral = studyLobeLimit(mapC, light, N, V, roughness, b.x);
-    vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    vec3 punctual = b.x * {direct}(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
-    Fbar = integral * mix(punctual, average, clamp(integral, 0.0, 1.0));
-    F = vec3(0.0);"""
-#: The cost section's study forms (not shipped), each with :data:`LOBE_LIMIT_GLSL` after the include: F(V·H*) by the
-#: basis polynomial as ``fresnelBasisRectLight``, or from the curve table (``fresnelBasisDirectTable``), which a build
-#: without per-pixel tables (and so the three.js package) does not have.
-STUDY_COST_VARIANTS = {
-    "punctual blend + the lobe's limit where it lowers I (not shipped)": _LOBE_LIMIT_PASS.replace(
-        "{direct}", "fresnelBasisDirect"
-    ),
-    "the same, F(V·H*) from the curve table (not shipped)": _LOBE_LIMIT_PASS.replace(
-        "{direct}(", "fresnelBasisDirectTable(curveTable, "
-    ),
-}
 #: The commit whose area light issue 41's cost budget (1.5 ×) is measured against: the split sum with the LTC clipped
 #: in the cosine's space only, before the issue's first change.
 BASELINE_REVISION = "ce2dc28"
@@ -243,9 +203,7 @@ def cost() -> list[str]:
         includes = {BASELINE: baseline_include()}
     except RuntimeError as error:
         return [f"Not measured: issue 41's baseline include could not be read ({error})."]
-    study_include = dict(shader_includes())["fresnel_basis.glsl"] + LOBE_LIMIT_GLSL
-    includes.update(dict.fromkeys(STUDY_COST_VARIANTS, study_include))
-    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS, **STUDY_COST_VARIANTS}
+    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
     lines = [
         "| form | ACO instructions | × baseline, ACO (inverse throughput) | × baseline, llvmpipe |",
         "|---|---|---|---|",
@@ -267,11 +225,7 @@ def cost() -> list[str]:
         *lines,
         "",
         f"'{LTC_SHARE}' is the pass less the LTC: the split sum's ratio less its is what the LTC integral costs, "
-        "and about what a second polygon integral (a second lobe) would add. The last two rows are the lobe "
-        "study's punctual limit where it lowers the integral, as a shader would compute it (`LOBE_LIMIT_GLSL`, from "
-        "the texel and the representative direction the pass already has), with F(V·H*) by the basis polynomial as "
-        "the punctual blend takes it or from the curve table, which a build without per-pixel tables (the three.js "
-        "package's) lacks. "
+        "and about what a second polygon integral (a second lobe) would add. "
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
     ]
 
@@ -323,22 +277,15 @@ LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
 #: The same where it lowers the integral only, min(f̂(L*) / D(L*), 1): where the LTC is denser than the lobe at L*
 #: (across the horizon, beside the lobe) it takes the excess off; where it is thinner (the mirror direction at grazing
 #: views, where the LTC is off pointwise and right in the integral) it leaves the integral as it is.
-LOBE_LIMIT_LOWER = "this project, toward the lobe's punctual limit where that lowers it (not shipped)"
+LOBE_LIMIT_LOWER = "this project as shipped: toward the lobe's punctual limit where that lowers the integral"
 
 
-def toward_lobe_limit(stored, view, corners, alpha: float, albedo: float, lower_only: bool = False) -> np.ndarray:
+def lobe_limit_integral(stored, view, corners, alpha: float, albedo: float) -> np.ndarray:
     """(…) the LTC integral of ``stored`` (4,) over the quads ``corners`` (…, 4, 3) seen from the origin with normal z
-    and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit (:data:`LOBE_LIMIT`):
-    × mix(f̂(L*) / D(L*), 1, √I), L* the light's representative direction; with ``lower_only`` the ratio at most 1
-    (:data:`LOBE_LIMIT_LOWER`)."""
+    and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit with the ratio unbounded
+    (:data:`LOBE_LIMIT`; the shipped path bounds it by 1: preintegrate.ltc.rect_light_half_cosine)."""
     integral, direction = rect_light_direction(stored, np.array([0.0, 0.0, 1.0]), view, np.zeros(3), corners)
-    density = stored_density(stored, direction)
-    lobe = target_lobe(direction, view[2], alpha, albedo)
-    ratio = np.where(density > 0.0, lobe / np.where(density > 0.0, density, 1.0), 1.0)
-    if lower_only:
-        ratio = np.minimum(ratio, 1.0)
-    weight = np.sqrt(np.minimum(integral, 1.0))
-    return integral * (weight + (1.0 - weight) * ratio)
+    return toward_lobe_limit(integral, lobe_density_ratio(stored, direction, view[2], alpha, albedo, sine=view[0]))
 
 
 #: The radiance fit's lights and floor: the LTC's four entries fitted at one (μo, r) to the lobe over
@@ -350,9 +297,9 @@ FIT_LIGHTS, FIT_FLOOR = 48, 1e-3
 
 def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit: bool) -> np.ndarray:
     """(4,) stored LTC entries at one (μo, α) fitted to the lobe over training lights (issue 41 item 2: what area
-    lights need rather than the lobe's distribution): ``corners`` (L, 4, 3) seen as in :func:`toward_lobe_limit`,
+    lights need rather than the lobe's distribution): ``corners`` (L, 4, 3) seen as in :func:`lobe_limit_integral`,
     ``lobes`` (L,) the reference's ∫_P f cos over them; the estimate the LTC integral, or with ``limit``
-    :func:`toward_lobe_limit`; Levenberg-Marquardt from ``start``, the shipped texel."""
+    :func:`lobe_limit_integral`; Levenberg-Marquardt from ``start``, the shipped texel."""
     from scipy.optimize import least_squares
 
     normal = np.array([0.0, 0.0, 1.0])
@@ -360,7 +307,7 @@ def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit
     def residuals(stored):
         with np.errstate(all="ignore"):
             if limit:
-                estimate = toward_lobe_limit(stored, view, corners, alpha, albedo)
+                estimate = lobe_limit_integral(stored, view, corners, alpha, albedo)
             else:
                 estimate = rect_light_integral(stored, normal, view, np.zeros(3), corners)
         return np.log((estimate * albedo + FIT_FLOOR) / (lobes + FIT_FLOOR))
@@ -420,15 +367,17 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                         name: rect_light_integral(texel, normal, view, np.zeros(3), corners)
                         for name, texel in stored.items()
                     }
-                    approximations[LOBE_LIMIT] = toward_lobe_limit(first, view, corners, alpha, albedo)
-                    approximations[LOBE_LIMIT_LOWER] = toward_lobe_limit(first, view, corners, alpha, albedo, True)
+                    approximations[LOBE_LIMIT] = lobe_limit_integral(first, view, corners, alpha, albedo)
+                    approximations[LOBE_LIMIT_LOWER] = rect_light_half_cosine(
+                        first, normal, view, np.zeros(3), corners, roughness, albedo
+                    )[0]
                     cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
                     approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
                     if radiance_fits:
                         approximations[RADIANCE_FIT] = rect_light_integral(
                             fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
                         )
-                        approximations[RADIANCE_FIT_LIMIT] = toward_lobe_limit(
+                        approximations[RADIANCE_FIT_LIMIT] = lobe_limit_integral(
                             fitted[RADIANCE_FIT_LIMIT], view, corners, alpha, albedo
                         )
                     for name, approximation in approximations.items():
@@ -526,10 +475,13 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                             )
                         approaches = {}
                         for table_name, stored in tables.items():
-                            integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners)
-                            punctual_basis = albedo * direct_fresnel(coefficients, np.full(len(coefficients), v_dot_h))
-                            punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
+                            integral = rect_light_integral(stored, normal, view, np.zeros(3), corners)
                             approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
+                            integral, v_dot_h = rect_light_half_cosine(
+                                stored, normal, view, np.zeros(3), corners, roughness, albedo
+                            )
+                            punctual_basis = albedo * rect_light_punctual(basis_table, coefficients, v_dot_h)
+                            punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
                             approaches[f"punctual blend, {table_name}"] = (
                                 rect_light_fresnel(integral, split_basis, punctual_basis),
                                 rect_light_fresnel(integral, split_exact, punctual_exact),

@@ -51,7 +51,7 @@ from basis.validation import check_choice, check_positive_int, check_range
 from handoff.shaders import direct_fresnel, rect_light_specular
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
+from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine, rect_light_integral
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -295,9 +295,10 @@ def render_rect_light(
 ) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of a rectangular light of ``radiance`` on the unit sphere by linearly transformed
     cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRectVector``), its Fresnel three ways: the exact
-    curve's (the LTC integral × E mix(F(V·H*), F̄ / E, w) with the exact F and F̄: what the LTC and that
-    factorisation alone cost), the basis' (``fresnelBasisRectLight``, :func:`handoff.shaders.rect_light_specular`)
-    and Schlick's F0 s + b (``fresnelSchlickRectLight``); and the LTC integral itself (``ltc``, one channel)."""
+    curve's (the LTC integral, taken toward the lobe's punctual limit, × E mix(F(V·H*), F̄ / E, w) with the exact F
+    and F̄: what the LTC and that factorisation alone cost), the basis' (``fresnelBasisRectLight``,
+    :func:`handoff.shaders.rect_light_specular`) and Schlick's F0 s + b on the LTC's own integral
+    (``fresnelSchlickRectLight``); and that integral itself (``ltc``, one channel)."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
     check_choice("visibility", visibility, list(VISIBILITIES))
     normals, mask = sphere_geometry(size)
@@ -305,21 +306,20 @@ def render_rect_light(
     mu_o = np.clip(normals[..., 2], 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normals, view), axis=-1)
     grid = ltc_grid(ltc_lut.shape[0], visibility)
-    integral, v_dot_h = rect_light_half_cosine(
-        grid.lookup(ltc_lut, mu_o, roughness, sine), normals, view, normals, corners
-    )
-    integral = np.where(mask, integral, 0.0)
+    stored = grid.lookup(ltc_lut, mu_o, roughness, sine)
+    integral = np.where(mask, rect_light_integral(stored, normals, view, normals, corners), 0.0)
+    schlick = lut_lookup(schlick_lut, mu_o, roughness)
+    toward, v_dot_h = rect_light_half_cosine(stored, normals, view, normals, corners, roughness, schlick[..., 2])
     nodes = texel_centres(256)
     exact_table = directional_albedo(
         material.curve, nodes, roughness_to_alpha(roughness), visibility=visibility, workers=1
     )  # (256, 3): F̄ of the exact curve along μo
     exact = np.stack([np.interp(mu_o, nodes, exact_table[:, c]) for c in range(3)], axis=-1)
     f0 = material.curve(np.array(1.0))
-    schlick = lut_lookup(schlick_lut, mu_o, roughness)
     coefficients = np.broadcast_to(material.coefficients, normals.shape[:-1] + material.coefficients.shape)
     basis = rect_light_specular(ltc_lut, basis_lut, normals, view, normals, corners, roughness, coefficients)
     images = {
-        "exact": radiance * rect_light_fresnel(integral, exact, schlick[..., 2:3] * material.curve(v_dot_h)),
+        "exact": radiance * rect_light_fresnel(toward, exact, schlick[..., 2:3] * material.curve(v_dot_h)),
         "basis": radiance * basis,
         "schlick": radiance * integral[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
     }

@@ -524,6 +524,22 @@ vec3 fresnelLtcUnit(vec3 v)
     return v / max(length(v), 1e-30);
 }
 
+// The view's part across the normal N (unit), V - N (N.V), taken twice (float32 leaves a part along N that dominates a
+// short tangent): |N x V| long, the LTC frame's T1 once normalised.
+vec3 fresnelLtcTangent(vec3 N, vec3 V)
+{
+    vec3 T1 = V - N * dot(V, N);
+    return T1 - N * dot(T1, N);
+}
+
+// The view in the LTC's frame, (sin, 0, cos) with cos = N.V clamped to [0, 1] and sin = |N x V| (sqrt(1 - NdotV^2)
+// would be float32's rounding of N.V near the normal, 3e-4); a view below the horizon is taken to it, (1, 0, 0).
+vec3 fresnelLtcView(vec3 N, vec3 V)
+{
+    float c = dot(N, V);
+    return vec3((c > 0.0) ? length(fresnelLtcTangent(N, V)) : 1.0, 0.0, clamp(c, 0.0, 1.0));
+}
+
 // M^-1 of the table's (m00, m20, m02, m22) applied to w, given in the shading frame (T1, T2, N): the LTC's
 // M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]], written out (no matrix type: the three languages order them
 // differently).
@@ -595,20 +611,45 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
+// The LTC integral I of a rectangular light taken toward the lobe's own punctual limit where the LTC holds more than
+// the lobe there: I (w + (1 - w) min(f(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit).
+// f is the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
+// representative direction L (unit, the shading frame); f the vector form factor in the cosine's space, back = |det|
+// M f. With q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and pi f(L) = a2 / d^2
+// mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so f / D = a2 det^2 q^2 back.z / (2 d^2 smith E f.z): every factor
+// O(1) or of the light's size, none squared, for float32. d = sin^2(theta_h) + a2 cos^2(theta_h) from H's components
+// (1 - cos^2 cancels in float32 for a sharp lobe). a2 = r^4, at least the fit's own floor (ALPHA_FLOOR^2).
+float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L, vec3 view, float r, float albedo)
+{
+    float NdotV = view.z;
+    vec3 H = fresnelLtcUnit(view + L);
+    float a2 = max(r * r * r * r, 1e-8);
+    float d = H.x * H.x + H.y * H.y + a2 * H.z * H.z;
+    float mu = max(L.z, 0.0);
+    float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
+    float q = dot(f, f) / max(dot(back, back), 1e-30);
+    float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
+    float density = 2.0 * d * d * smith * albedo * f.z;
+    float lower = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(lobe, density), 1e-30) : 1.0;
+    float w = sqrt(min(integral, 1.0));
+    return integral * (w + (1.0 - w) * lower);
+}
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
 // that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
-// integral (the share of the lobe the light covers).
-vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
+// integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
+// for albedo E > 0, the LTC's own for albedo 0.
+vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
-    vec3 T1 = V - N * dot(V, N);
-    T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
-    float tangential = length(T1);
+    vec3 T1 = fresnelLtcTangent(N, V);
+    float sinV = length(T1);  // |N x V|
+    vec4 t = textureLod(ltcLut, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, sinV, r)), 0.0);
     // a view within 1e-4 rad of the normal: any tangent (the LTC is isotropic there to float32's resolution)
     vec3 other = (abs(N.x) < 0.9) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    T1 = (tangential > 1e-4) ? T1 / max(tangential, 1e-30) : normalize(cross(N, other));
+    T1 = (sinV > 1e-4) ? T1 : cross(N, other);
+    T1 /= max(length(T1), 1e-30);
     vec3 T2 = cross(N, T1);
     vec3 local[4];
     for (int i = 0; i < 4; ++i)
@@ -620,33 +661,39 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
     float det = t.x * t.w - t.z * t.y;
     vec3 back = vec3(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * ((det < 0.0) ? -1.0 : 1.0);
-    return vec4(fresnelLtcUnit(back), max(f.z, 0.0));
+    vec3 L = fresnelLtcUnit(back);
+    float integral = max(f.z, 0.0);
+    float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
+    return vec4(L, (albedo > 0.0) ? fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo) : integral);
 }
 
-// The LTC integral of a rectangular light (fresnelLtcRectVector's w).
+// The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
 float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r)
 {
-    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r).w;
+    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, where V = (sin, 0, cos).
-float fresnelLtcVdotH(vec4 light, float NdotV)
+// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, the view from fresnelLtcView.
+float fresnelLtcVdotH(vec4 light, vec3 view)
 {
-    vec3 view = vec3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral times E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative
-// direction and w the share of the lobe it covers (fresnelLtcRectVector): a small light tends to the punctual limit
-// F(V.H) of its direction, a light that covers the lobe to the split sum (issue 41).
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
+// E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative direction and w the share of the lobe
+// it covers: a small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the
+// split sum (issue 41). F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
+// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
+// tests/luts/test_shaders_area.py measures it).
 vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec4 cR, vec4 cG, vec4 cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r);
     vec4 b = fresnelBasisTerms(lut, fresnelBasisLutUV(NdotV, r));
+    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, b.x);
     vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    vec3 punctual = b.x * fresnelBasisDirect(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    vec3 punctual = b.x * fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB);
     return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
@@ -662,8 +709,8 @@ vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec
 vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 wR, vec3 wG, vec3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r);
     vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, NdotV), wR, wG, wB);
+    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z);
+    vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
     return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
 }

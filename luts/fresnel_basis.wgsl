@@ -520,6 +520,22 @@ fn fresnelLtcUnit(v: vec3f) -> vec3f
     return v / max(length(v), 1e-30);
 }
 
+// The view's part across the normal N (unit), V - N (N.V), taken twice (float32 leaves a part along N that dominates a
+// short tangent): |N x V| long, the LTC frame's T1 once normalised.
+fn fresnelLtcTangent(N: vec3f, V: vec3f) -> vec3f
+{
+    let T1: vec3f = V - N * dot(V, N);
+    return T1 - N * dot(T1, N);
+}
+
+// The view in the LTC's frame, (sin, 0, cos) with cos = N.V clamped to [0, 1] and sin = |N x V| (sqrt(1 - NdotV^2)
+// would be float32's rounding of N.V near the normal, 3e-4); a view below the horizon is taken to it, (1, 0, 0).
+fn fresnelLtcView(N: vec3f, V: vec3f) -> vec3f
+{
+    let c: f32 = dot(N, V);
+    return vec3f(select(1.0, length(fresnelLtcTangent(N, V)), (c > 0.0)), 0.0, clamp(c, 0.0, 1.0));
+}
+
 // M^-1 of the table's (m00, m20, m02, m22) applied to w, given in the shading frame (T1, T2, N): the LTC's
 // M^-1 = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]], written out (no matrix type: the three languages order them
 // differently).
@@ -591,20 +607,45 @@ fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
+// The LTC integral I of a rectangular light taken toward the lobe's own punctual limit where the LTC holds more than
+// the lobe there: I (w + (1 - w) min(f(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit).
+// f is the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
+// representative direction L (unit, the shading frame); f the vector form factor in the cosine's space, back = |det|
+// M f. With q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and pi f(L) = a2 / d^2
+// mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so f / D = a2 det^2 q^2 back.z / (2 d^2 smith E f.z): every factor
+// O(1) or of the light's size, none squared, for float32. d = sin^2(theta_h) + a2 cos^2(theta_h) from H's components
+// (1 - cos^2 cancels in float32 for a sharp lobe). a2 = r^4, at least the fit's own floor (ALPHA_FLOOR^2).
+fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f, view: vec3f, r: f32, albedo: f32) -> f32
+{
+    let NdotV: f32 = view.z;
+    let H: vec3f = fresnelLtcUnit(view + L);
+    let a2: f32 = max(r * r * r * r, 1e-8);
+    let d: f32 = H.x * H.x + H.y * H.y + a2 * H.z * H.z;
+    let mu: f32 = max(L.z, 0.0);
+    let smith: f32 = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
+    let q: f32 = dot(f, f) / max(dot(back, back), 1e-30);
+    let lobe: f32 = a2 * (det * q) * (det * q) * max(back.z, 0.0);
+    let density: f32 = 2.0 * d * d * smith * albedo * f.z;
+    let lower: f32 = select(1.0, lobe / max(max(lobe, density), 1e-30), (albedo > 0.0 && f.z > 0.0));
+    let w: f32 = sqrt(min(integral, 1.0));
+    return integral * (w + (1.0 - w) * lower);
+}
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
 // that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
-// integral (the share of the lobe the light covers).
-fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> vec4f
+// integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
+// for albedo E > 0, the LTC's own for albedo 0.
+fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, albedo: f32) -> vec4f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    let t: vec4f = textureSampleLevel(ltcLut, linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, length(cross(N, V)), r)), 0.0);
-    var T1: vec3f = V - N * dot(V, N);
-    T1 -= N * dot(T1, N);  // again: float32 leaves a part along N that dominates a short tangent
-    let tangential: f32 = length(T1);
+    var T1: vec3f = fresnelLtcTangent(N, V);
+    let sinV: f32 = length(T1);  // |N x V|
+    let t: vec4f = textureSampleLevel(ltcLut, linearClamp, fresnelAtlasLtc(fresnelLtcUVSine(NdotV, sinV, r)), 0.0);
     // a view within 1e-4 rad of the normal: any tangent (the LTC is isotropic there to float32's resolution)
     let other: vec3f = select(vec3f(0.0, 1.0, 0.0), vec3f(1.0, 0.0, 0.0), (abs(N.x) < 0.9));
-    T1 = select(normalize(cross(N, other)), T1 / max(tangential, 1e-30), (tangential > 1e-4));
+    T1 = select(cross(N, other), T1, (sinV > 1e-4));
+    T1 /= max(length(T1), 1e-30);
     let T2: vec3f = cross(N, T1);
     var local: array<vec3f, 4>;
     for (var i = 0; i < 4; i++)
@@ -616,33 +657,39 @@ fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
     // M = (M^-1)^-1 on the xz block, scaled by |det| (the direction is normalised): the adjugate times sign(det)
     let det: f32 = t.x * t.w - t.z * t.y;
     let back: vec3f = vec3f(t.w * f.x - t.z * f.z, f.y * det, t.x * f.z - t.y * f.x) * (select(1.0, -1.0, (det < 0.0)));
-    return vec4f(fresnelLtcUnit(back), max(f.z, 0.0));
+    let L: vec3f = fresnelLtcUnit(back);
+    let integral: f32 = max(f.z, 0.0);
+    let rough: f32 = fresnelSanitize(r, 0.5, 0.0, 1.0);
+    return vec4f(L, select(integral, fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo), (albedo > 0.0)));
 }
 
-// The LTC integral of a rectangular light (fresnelLtcRectVector's w).
+// The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
 fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32) -> f32
 {
-    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r).w;
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, where V = (sin, 0, cos).
-fn fresnelLtcVdotH(light: vec4f, NdotV: f32) -> f32
+// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, the view from fresnelLtcView.
+fn fresnelLtcVdotH(light: vec4f, view: vec3f) -> f32
 {
-    let view: vec3f = vec3f(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral times E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative
-// direction and w the share of the lobe it covers (fresnelLtcRectVector): a small light tends to the punctual limit
-// F(V.H) of its direction, a light that covers the lobe to the split sum (issue 41).
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
+// E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative direction and w the share of the lobe
+// it covers: a small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the
+// split sum (issue 41). F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
+// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
+// tests/luts/test_shaders_area.py measures it).
 fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, lut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
     let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
+    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, b.x);
     let average: vec3f = vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
-    let punctual: vec3f = b.x * fresnelBasisDirect(fresnelLtcVdotH(light, NdotV), cR, cG, cB);
+    let VdotH: f32 = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    let punctual: vec3f = b.x * fresnelBasisSplitSum(lut, linearClamp, VdotH, 0.0, cR, cG, cB);
     return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
@@ -658,8 +705,8 @@ fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>,
 fn fresnelLinearRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r);
     let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    let punctual: vec3f = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, NdotV), wR, wG, wB);
+    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z);
+    let punctual: vec3f = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
     return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
 }

@@ -3,7 +3,7 @@
 Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``, ``fit_points``, ``LtcFit``, ``fit_ltc``,
 ``ltc_inverse``, ``ltc_density``, ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
 ``polygon_integral``, ``polygon_vector``, ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``,
-``rect_light_half_cosine``, ``rect_light_fresnel``, ``shading_frame``.
+``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -39,7 +39,11 @@ The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫
 H* the half vector of the light's representative direction (the direction of the transformed polygon's vector form
 factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and w = ∫_P D dω, the share of
 the lobe the light covers: a small light tends to the punctual F(V·H), one that covers the lobe to the split sum
-(issue 41). The LTC matrices do not depend on Fresnel, so one table of them serves every material.
+(issue 41). The lobe itself does the same where the LTC holds more than the lobe at the light: ∫_P D dω becomes
+I (w + (1 − w) min(f̂(L*) / D(L*), 1)), w = √I (:func:`toward_lobe_limit`, :func:`lobe_density_ratio`), which a
+small light takes to the lobe's own integral f̂(L*) Ω and a light covering the lobe leaves as it is; where the LTC
+holds less (the mirror direction at grazing views, where it is off pointwise and right in the integral), it stays.
+The LTC matrices do not depend on Fresnel, so one table of them serves every material.
 
 References
 ----------
@@ -58,7 +62,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from basis.parallel import one_blas_thread, worker_count
-from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int
+from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int, check_range
 
 from .ggx import g1, ndf, roughness_to_alpha, sample_vndf, view_vector, visibility_g2
 from .lut import LTC_LAYOUT, LutGrid
@@ -78,6 +82,7 @@ __all__ = [
     "lobe_error",
     "ltc_density",
     "ltc_inverse",
+    "lobe_density_ratio",
     "polygon_integral",
     "polygon_vector",
     "rect_light_direction",
@@ -88,6 +93,7 @@ __all__ = [
     "stored_density",
     "stored_lobe_error",
     "target_lobe",
+    "toward_lobe_limit",
 ]
 
 #: The stored entries of M⁻¹ / (M⁻¹)₁₁, in RGBA order: the public tables' (three.js ``ltc_1``) order.
@@ -160,12 +166,15 @@ def _sphere_grid(count: int) -> np.ndarray:
     return np.stack([radius * np.cos(phi), radius * np.sin(phi), z], axis=-1).reshape(-1, 3)
 
 
-def target_lobe(omega_i, mu_o, alpha, albedo, visibility: str = "height-correlated") -> np.ndarray:
+def target_lobe(omega_i, mu_o, alpha, albedo, visibility: str = "height-correlated", sine=None) -> np.ndarray:
     """f̂(ω_i) = D(h) G2(μo, μi) / (4 μo E): the cosine-weighted GGX lobe without Fresnel, normalised by its
-    directional albedo ``albedo`` = E(μo, α); 0 below the horizon. ``omega_i`` (…, 3), the rest broadcast."""
+    directional albedo ``albedo`` = E(μo, α); 0 below the horizon. ``omega_i`` (…, 3), the rest broadcast; the view
+    (√(1 − μo²), 0, μo), or (``sine``, 0, μo) where sin θo is known more closely (a view near the normal)."""
     omega_i = np.asarray(omega_i, dtype=np.float64)
     mu_o = np.asarray(mu_o, dtype=np.float64)
     omega_o = view_vector(mu_o)
+    if sine is not None:
+        omega_o = np.stack([np.broadcast_to(sine, mu_o.shape), np.zeros_like(mu_o), mu_o], axis=-1)
     half = omega_o + omega_i
     length = np.linalg.norm(half, axis=-1)
     mu_h = half[..., 2] / np.where(length > 0.0, length, 1.0)
@@ -556,13 +565,51 @@ def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.nd
     return np.maximum(vector[..., 2], 0.0), direction
 
 
-def rect_light_half_cosine(stored, normal, view, position, corners) -> tuple[np.ndarray, np.ndarray]:
+def lobe_density_ratio(
+    stored, direction, mu_o, alpha, albedo, visibility: str = "height-correlated", sine=None
+) -> np.ndarray:
+    """(…) f̂(L) / D(L) at unit directions L ``direction`` (…, 3) of the shading frame: the lobe normalised by
+    ``albedo`` E (:func:`target_lobe`: the view (``sine``, 0, μo), μo at least 1e-6, where f̂ is continuous) over the
+    density of the LTC of ``stored`` (…, 4) (:func:`stored_density`); 1 where that density is 0."""
+    density = stored_density(stored, direction)
+    lobe = target_lobe(direction, np.maximum(mu_o, 1e-6), alpha, albedo, visibility, sine)
+    return np.where(density > 0.0, lobe / np.where(density > 0.0, density, 1.0), 1.0)
+
+
+def toward_lobe_limit(integral, ratio) -> np.ndarray:
+    """(…) an LTC ``integral`` I taken toward the lobe's own punctual limit, I (w + (1 − w) ``ratio``), w = √min(I, 1):
+    ``ratio`` the lobe over the LTC's density at the light's representative direction (:func:`lobe_density_ratio`).
+    As a light shrinks, I × ratio tends to the lobe's own integral over it; as it covers the lobe, w → 1 keeps the
+    LTC's (issue 41; the shaders take min(ratio, 1): :func:`rect_light_half_cosine`)."""
+    integral = np.asarray(integral, dtype=np.float64)
+    weight = np.sqrt(np.clip(integral, 0.0, 1.0))
+    return integral * (weight + (1.0 - weight) * ratio)
+
+
+def rect_light_half_cosine(
+    stored, normal, view, position, corners, roughness=None, albedo=None
+) -> tuple[np.ndarray, np.ndarray]:
     """(:func:`rect_light_integral`, V·H* (…)): H* the half vector of the light's representative direction
-    (:func:`rect_light_direction`), the view (√(1 − N·V²), 0, N·V) in the shading frame with N·V clamped to [0, 1],
-    as the shaders' ``fresnelLtcVdotH``."""
+    (:func:`rect_light_direction`), the view (|N × V|, 0, N·V) in the shading frame with N·V clamped to [0, 1] ((1, 0, 0)
+    below the horizon), as the shaders' ``fresnelLtcView`` and ``fresnelLtcVdotH``. With the perceptual ``roughness`` r ∈ [0, 1] and the lobe's ``albedo`` E > 0
+    (…), the integral is taken toward the lobe's punctual limit where the LTC holds more than the lobe there,
+    :func:`toward_lobe_limit` with min(:func:`lobe_density_ratio`, 1), α = max(r², :data:`ALPHA_FLOOR`): what the
+    shaders' ``fresnelLtcRectVector`` returns for albedo E."""
     integral, direction = rect_light_direction(stored, normal, view, position, corners)
-    n_dot_v = np.clip(np.sum(as_float_array("normal", normal) * as_float_array("view", view), axis=-1), 0.0, 1.0)
-    local_view = np.stack([np.sqrt(np.maximum(1.0 - n_dot_v**2, 0.0)), np.zeros_like(n_dot_v), n_dot_v], axis=-1)
+    normal, view = as_float_array("normal", normal), as_float_array("view", view)
+    cosine = np.sum(normal * view, axis=-1)
+    n_dot_v = np.clip(cosine, 0.0, 1.0)
+    # sin θo as |N × V| (not √(1 − N·V²), which float32's N·V moves by 3e-4 at the normal); a view below the horizon
+    # is taken to it, as N·V is clamped (the shaders' fresnelLtcView)
+    sine = np.where(cosine > 0.0, np.linalg.norm(np.cross(normal, view), axis=-1), 1.0)
+    if (roughness is None) != (albedo is None):
+        raise ParameterError("roughness and albedo go together: both (the lobe's limit) or neither (the LTC's own)")
+    if albedo is not None:
+        alpha = np.maximum(check_range("roughness", roughness, 0.0, 1.0) ** 2, ALPHA_FLOOR)
+        albedo = check_range("albedo", albedo, 0.0, 1.0, low_open=True)
+        ratio = lobe_density_ratio(stored, direction, n_dot_v, alpha, albedo, sine=sine)
+        integral = toward_lobe_limit(integral, np.minimum(ratio, 1.0))
+    local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
     half = local_view + direction
     half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)
     return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0)

@@ -202,6 +202,13 @@ class LutGrid:
         return np.stack([x * column_scale + column_offset, np.clip(roughness, low, high) * row_scale + row_offset], -1)
 
     @property
+    def holds_mirror(self) -> bool:
+        """Whether a lookup at r = 0 reads the mirror's own texels, where the split sum is the curve itself
+        (b̄_k(μo, 0) = b_k(μo), :mod:`preintegrate.quadrature`): end-point rows from r = 0, as the default build's (a
+        scene's cropped rows may start above it; texel-centre rows hold r = 0 half a texel off)."""
+        return not self.transposed and self.rows == "endpoints" and self.roughness_range[0] == 0.0
+
+    @property
     def row_mapping(self) -> tuple[float, float, float, float]:
         """(r_low, r_high, scale, offset) of the affine v = clamp(r, r_low, r_high) · scale + offset that the generated
         include's ``fresnelBasisLutUV`` writes as constants (texel centres: v = r; end-point rows:

@@ -11,7 +11,8 @@ record of a basis of five to eight terms), then the bodies of ``source/*.glsl`` 
 * ``{{terms}}``: one channel's coefficients and terms: ``vec4`` for K ≤ 4, ``FresnelTerms8`` (``.lo`` terms 0-3,
   ``.hi`` 4-7) for K > 4;
 * ``{{solve}}``, ``{{linear}}``, ``{{curves}}``, ``{{fetch}}``, ``{{averages}}``, ``{{albedo}}``, ``{{column}}``,
-  ``{{table_terms}}``, ``{{curve_terms}}``:
+  ``{{table_terms}}``, ``{{curve_terms}}``, ``{{rect_punctual}}`` (and its comment, ``{{rect_punctual_note}}``:
+  :attr:`preintegrate.lut.LutGrid.holds_mirror`):
   statements or expressions generated from the basis and the grid;
 * a texture ``lut2`` (the second table of a basis of five to eight terms) and every argument passing it exist only
   where K > 4.
@@ -447,6 +448,22 @@ def _record(wide: bool) -> str:
     )
 
 
+def _rect_punctual_parts(grid: LutGrid) -> dict[str, str]:
+    """``fresnelBasisRectLight``'s F(V·H*): from the basis table's mirror row where the grid holds it
+    (:attr:`preintegrate.lut.LutGrid.holds_mirror`), else the direct-light polynomial."""
+    if grid.holds_mirror:
+        return {
+            "rect_punctual": "fresnelBasisSplitSum(lut, lut2, VdotH, 0.0, cR, cG, cB)",
+            "rect_punctual_note": "the basis table's mirror row (r = 0, where the split sum is the curve\n"
+            "// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:\n"
+            "// tests/luts/test_shaders_area.py measures it).",
+        }
+    return {
+        "rect_punctual": "fresnelBasisDirect(VdotH, cR, cG, cB)",
+        "rect_punctual_note": "the direct-light polynomial (this table's rows start above r = 0).",
+    }
+
+
 def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build") -> str:
     """The include in the project's GLSL subset, every placeholder filled in (GLSL as it is written)."""
     c = constants
@@ -487,6 +504,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         if wide
         else "FRESNEL_BASIS_AVERAGES",
         "albedo": "b.lo.x" if wide else "b.x",
+        **_rect_punctual_parts(grid),
     }
     preamble = [
         f"const uint FRESNEL_BASIS_HASH = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}",

@@ -5,7 +5,7 @@ Public objects: ``sanitize_nk``, ``sanitize_gulbrandsen``, ``sanitize_unit``, ``
 ``coefficients_per_pixel_gulbrandsen``, ``coefficients_per_pixel_gulbrandsen_table``, ``coefficients_per_pixel_nk_table``,
 ``coefficients_per_pixel_model``,
 ``direct_fresnel``, ``direct_fresnel_table``, ``lut_coordinates``,
-``ltc_coordinates``, ``rect_light_specular``, ``linear_rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
+``ltc_coordinates``, ``rect_light_specular``, ``rect_light_punctual``, ``linear_rect_light_specular``, ``linear_model_curve``, ``linear_weights``, ``linear_split_sum``,
 ``linear_direct``.
 
 * **(η, κ) per pixel** (Belcour 2020, "Coefficients"): c0 = F(0°) in closed form, c1 = F(90°) − c0 (F(90°) = 1 but
@@ -65,6 +65,7 @@ __all__ = [
     "ltc_coordinates",
     "lut_coordinates",
     "linear_rect_light_specular",
+    "rect_light_punctual",
     "rect_light_specular",
     "sanitize_gulbrandsen",
     "sanitize_nk",
@@ -292,16 +293,18 @@ def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
     return ltc_grid(constants.ltc_size).texture_coordinates(sanitize_unit(n_dot_v, 1.0), sanitize_unit(roughness, 0.5))
 
 
-def _rect_light(ltc_table, normal, view, position, corners, roughness, constants):
-    """(LTC integral (…), V·H* (…), N·V (…), roughness (…)) as ``fresnelLtcRectVector`` and ``fresnelLtcVdotH`` compute
-    them (:func:`preintegrate.ltc.rect_light_half_cosine`)."""
+def _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants):
+    """(LTC integral (…), V·H* (…), table texels (…, C)) as ``fresnelLtcRectVector`` and ``fresnelLtcVdotH`` compute
+    them (:func:`preintegrate.ltc.rect_light_half_cosine`), the integral toward the lobe's limit with E =
+    ``albedo_of(n_dot_v, roughness)``, which returns (E (…), the table's texels)."""
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
     sine = np.linalg.norm(np.cross(normal, view), axis=-1)
     roughness = sanitize_unit(roughness, 0.5)
+    albedo, texels = albedo_of(n_dot_v, roughness)
     stored = ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine)
-    integral, v_dot_h = rect_light_half_cosine(stored, normal, view, position, corners)
-    return integral, v_dot_h, n_dot_v, roughness
+    integral, v_dot_h = rect_light_half_cosine(stored, normal, view, position, corners, roughness, albedo)
+    return integral, v_dot_h, texels
 
 
 def rect_light_specular(
@@ -310,17 +313,32 @@ def rect_light_specular(
     """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
     with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times
     E mix(F(V·H*), F̄ / E, w): F̄ = Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K), E = b̄0,
-    F the direct-light curves at the light's representative half vector, w the integral — bilinear fetches as a GPU
-    makes them."""
+    F the direct-light curves at the light's representative half vector, w the integral, itself taken toward the lobe's
+    punctual limit with E — bilinear fetches as a GPU makes them."""
     constants = shader_constants() if constants is None else constants
-    integral, v_dot_h, n_dot_v, roughness = _rect_light(
-        ltc_table, normal, view, position, corners, roughness, constants
-    )
-    terms = _table_texels("basis_table", basis_table, n_dot_v, roughness, constants)
+
+    def albedo_of(n_dot_v, roughness):
+        terms = _table_texels("basis_table", basis_table, n_dot_v, roughness, constants)
+        return terms[..., 0], terms
+
+    integral, v_dot_h, terms = _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants)
     coefficients = as_float_array("coefficients", coefficients)
     average = np.einsum("...ck,...k->...c", coefficients, terms)
-    punctual = terms[..., :1] * direct_fresnel(coefficients, v_dot_h[..., None], constants)
+    punctual = terms[..., :1] * rect_light_punctual(basis_table, coefficients, v_dot_h, constants)
     return rect_light_fresnel(integral, average, punctual)
+
+
+def rect_light_punctual(basis_table, coefficients, v_dot_h, constants=None) -> np.ndarray:
+    """(…, 3) F(V·H*) of ``fresnelBasisRectLight`` for coefficients (…, 3, K): the split sum at (V·H*, r = 0) of
+    ``basis_table`` where its grid holds the mirror (:attr:`preintegrate.lut.LutGrid.holds_mirror`: there the split
+    sum is the curve itself), bilinear as a GPU reads it; else the direct-light polynomial (:func:`direct_fresnel`)."""
+    constants = shader_constants() if constants is None else constants
+    coefficients = as_float_array("coefficients", coefficients)
+    v_dot_h = as_float_array("v_dot_h", v_dot_h)
+    if not constants.grid.holds_mirror:
+        return direct_fresnel(coefficients, v_dot_h[..., None], constants)
+    mirror = _table_texels("basis_table", basis_table, v_dot_h, np.zeros_like(v_dot_h), constants)
+    return np.einsum("...ck,...k->...c", coefficients, mirror)
 
 
 def linear_rect_light_specular(
@@ -329,10 +347,12 @@ def linear_rect_light_specular(
     """(…, 3) ``fresnelLinearRectLight``: as :func:`rect_light_specular` for a linear model's weights (…, 3, 3), with
     its exact split sum and curve (E the Schlick table's B)."""
     constants = shader_constants() if constants is None else constants
-    integral, v_dot_h, n_dot_v, roughness = _rect_light(
-        ltc_table, normal, view, position, corners, roughness, constants
-    )
-    texels = _table_texels("schlick_table", schlick_table, n_dot_v, roughness, constants)
+
+    def albedo_of(n_dot_v, roughness):
+        texels = _table_texels("schlick_table", schlick_table, n_dot_v, roughness, constants)
+        return texels[..., 2], texels
+
+    integral, v_dot_h, texels = _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants)
     weights = as_float_array("weights", weights)
     average = weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), texels, multiple_scattering=False)
     punctual = texels[..., 2:3] * linear_direct(weights, v_dot_h)

@@ -57,6 +57,29 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
     )
 
 
+def test_a_scene_whose_rows_start_above_the_mirror_takes_the_rect_lights_fresnel_from_the_polynomial(built):
+    """The scene's rows start at r = 0.15, so its table has no mirror row: its ``fresnelBasisRectLight`` evaluates the
+    direct-light polynomial at V·H* (the default build's reads the table's r = 0 row), and so does the mirror."""
+    from handoff.shaders import direct_fresnel, rect_light_punctual, shader_includes
+
+    plan, out = built
+    constants = shader_constants(Basis.read(out / "scene_basis.json"), plan.grid)
+    assert not constants.grid.holds_mirror
+    text = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
+    body = text[text.index("vec3 fresnelBasisRectLight(") :]
+    assert "fresnelBasisDirect(VdotH, cR, cG, cB)" in body[: body.index("\n}")]
+    default = dict(shader_includes())["fresnel_basis.glsl"]
+    body = default[default.index("vec3 fresnelBasisRectLight(") :]
+    assert "fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB)" in body[: body.index("\n}")]
+    coefficients, v_dot_h = np.full((5, 3, 4), 0.2), np.linspace(0.0, 1.0, 5)
+    (table_path,) = [path for path in out.glob("*.exr") if "basis" in path.name]
+    table = read_lut(table_path)[0]
+    np.testing.assert_array_equal(
+        rect_light_punctual(table, coefficients, v_dot_h, constants),
+        direct_fresnel(coefficients, v_dot_h[:, None], constants),
+    )
+
+
 def test_glsl_per_pixel_on_mesa_llvmpipe_matches_the_mirrors_of_the_scene_basis(built):
     """The per-pixel calls of the default build's include test (their inputs' edges and bad values included),
     against the mirrors with the scene basis' constants on the scene's grid."""
