@@ -551,7 +551,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
     if fits:
         from preintegrate.ltc import fit_ltc
 
-        candidates = {"this project (mean axis, L2)": ltc_table}
+        candidates = {"this project's table, the LTC alone (mean axis, L2)": ltc_table}
         if not isinstance(public, str):
             candidates["public fit (three.js LTC_MAT_1)"] = public[0]
         candidates[FINER] = fit_ltc(ltc_grid(128)).inverse
@@ -573,7 +573,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
             "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
             "over the LTC's density at the light's representative direction, and the same with the ratio at most 1 "
-            "(it only takes off what the LTC holds beyond the lobe; its shader's cost: cost section); the next adds "
+            "(it only takes off what the LTC holds beyond the lobe: what ships, `fresnelBasisRectLight`); the next adds "
             "to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
@@ -581,7 +581,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             f"at each of the set's own (μo, r), no table between them, to the lobe over {FIT_LIGHTS} seeded training "
             "lights 0.02 to 10 wide (item 2: what area lights need rather than the lobe's distribution; "
             "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
-            "such fits could at best reach. None is shipped:",
+            "such fits could at best reach. Only the shipped table and that bounded limit are shipped:",
             "",
             *lobe_study(nodes, candidates),
         ]

@@ -297,8 +297,8 @@ def render_rect_light(
     cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRectVector``), its Fresnel three ways: the exact
     curve's (the LTC integral, taken toward the lobe's punctual limit, × E mix(F(V·H*), F̄ / E, w) with the exact F
     and F̄: what the LTC and that factorisation alone cost), the basis' (``fresnelBasisRectLight``,
-    :func:`handoff.shaders.rect_light_specular`) and Schlick's F0 s + b on the LTC's own integral
-    (``fresnelSchlickRectLight``); and that integral itself (``ltc``, one channel)."""
+    :func:`handoff.shaders.rect_light_specular`) and Schlick's F0 s + b (``fresnelSchlickRectLight``), all three on
+    the same integral; and the LTC's own integral (``ltc``, one channel)."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
     check_choice("visibility", visibility, list(VISIBILITIES))
     normals, mask = sphere_geometry(size)
@@ -321,7 +321,7 @@ def render_rect_light(
     images = {
         "exact": radiance * rect_light_fresnel(toward, exact, schlick[..., 2:3] * material.curve(v_dot_h)),
         "basis": radiance * basis,
-        "schlick": radiance * integral[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
+        "schlick": radiance * toward[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
     }
     for image in images.values():
         image[~mask] = 0.0

@@ -612,13 +612,14 @@ float3 fresnelLtcClippedVector(float4 t, float3 w[4])
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit where the LTC holds more than
-// the lobe there: I (w + (1 - w) min(f(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit).
-// f is the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
-// representative direction L (unit, the shading frame); f the vector form factor in the cosine's space, back = |det|
-// M f. With q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and pi f(L) = a2 / d^2
-// mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so f / D = a2 det^2 q^2 back.z / (2 d^2 smith E f.z): every factor
-// O(1) or of the light's size, none squared, for float32. d = sin^2(theta_h) + a2 cos^2(theta_h) from H's components
-// (1 - cos^2 cancels in float32 for a sharp lobe). a2 = r^4, at least the fit's own floor (ALPHA_FLOOR^2).
+// the lobe there: I (w + (1 - w) min(g(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit),
+// g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
+// representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
+// back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
+// pi g(L) = a2 / d^2 mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so g / D = a2 det^2 q^2 back.z / (2 d^2 smith E
+// f.z), where no factor is a power of the light's size (float32 holds a tiny light). d = sin^2(theta_h) +
+// a2 cos^2(theta_h) from H's components (1 - cos^2 cancels in float32 for a sharp lobe); a2 = r^4, at least the
+// fit's own floor (ALPHA_FLOOR^2).
 float fresnelLtcTowardLobe(float integral, float3 f, float3 back, float det, float3 L, float3 view, float r, float albedo)
 {
     float NdotV = view.z;
@@ -697,11 +698,13 @@ float3 fresnelBasisRectLight(Texture2D<float4> ltcLut, Texture2D<float4> lut, Sa
     return light.w * lerp(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
-// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
+// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1), on the same
+// integral as fresnelBasisRectLight's (E the table's B), so that the two differ by their Fresnel alone.
 float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 f0)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, linearClamp, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
+    float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z).w * (f0 * t.x + float3(t.y));
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum

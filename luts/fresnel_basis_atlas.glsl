@@ -615,13 +615,14 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit where the LTC holds more than
-// the lobe there: I (w + (1 - w) min(f(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit).
-// f is the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
-// representative direction L (unit, the shading frame); f the vector form factor in the cosine's space, back = |det|
-// M f. With q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and pi f(L) = a2 / d^2
-// mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so f / D = a2 det^2 q^2 back.z / (2 d^2 smith E f.z): every factor
-// O(1) or of the light's size, none squared, for float32. d = sin^2(theta_h) + a2 cos^2(theta_h) from H's components
-// (1 - cos^2 cancels in float32 for a sharp lobe). a2 = r^4, at least the fit's own floor (ALPHA_FLOOR^2).
+// the lobe there: I (w + (1 - w) min(g(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit),
+// g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
+// representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
+// back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
+// pi g(L) = a2 / d^2 mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so g / D = a2 det^2 q^2 back.z / (2 d^2 smith E
+// f.z), where no factor is a power of the light's size (float32 holds a tiny light). d = sin^2(theta_h) +
+// a2 cos^2(theta_h) from H's components (1 - cos^2 cancels in float32 for a sharp lobe); a2 = r^4, at least the
+// fit's own floor (ALPHA_FLOOR^2).
 float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L, vec3 view, float r, float albedo)
 {
     float NdotV = view.z;
@@ -700,11 +701,13 @@ vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3
     return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
 }
 
-// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1).
+// Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1), on the same
+// integral as fresnelBasisRectLight's (E the table's B), so that the two differ by their Fresnel alone.
 vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 f0)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    return fresnelLtcRect(ltcLut, N, V, P, corners, r) * fresnelSchlickSplitSum(schlickLut, NdotV, r, f0);
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
+    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z).w * (f0 * t.x + vec3(t.y));
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum

@@ -24,7 +24,7 @@ from handoff.shaders import (
     shader_includes,
 )
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
-from preintegrate.ltc import ltc_grid, rect_light_integral
+from preintegrate.ltc import ltc_grid, rect_light_half_cosine, rect_light_integral
 from preintegrate.lut import LutGrid
 from tests.conftest import gl_draw, wgpu_compute, wgpu_device, wgpu_texture_views
 
@@ -67,10 +67,14 @@ def _as_read(a, b, light=LIGHT, step=1.0):
     return normal, roughness, view, n_dot_v, np.linalg.norm(np.cross(normal, view), axis=-1), corners
 
 
-def _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners):
-    """``fresnelLtcRect``'s float64 mirror: the table read at (N·V, r) through |N × V|, integrated over the light."""
+def _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners, albedo=None):
+    """``fresnelLtcRect``'s float64 mirror: the table read at (N·V, r) through |N × V|, integrated over the light;
+    with ``albedo`` E, ``fresnelLtcRectVector``'s for E (taken toward the lobe's punctual limit)."""
     stored = ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
-    return rect_light_integral(stored, normal, view, np.zeros((len(normal), 3)), corners)
+    if albedo is None:
+        return rect_light_integral(stored, normal, view, np.zeros((len(normal), 3)), corners)
+    position = np.zeros((len(normal), 3))
+    return rect_light_half_cosine(stored, normal, view, position, corners, np.clip(roughness, 0, 1), albedo)[0]
 
 
 def _expected(a, b, ltc, basis, schlick):
@@ -80,7 +84,8 @@ def _expected(a, b, ltc, basis, schlick):
     specular = rect_light_specular(ltc, basis, normal, view, position, corners, roughness, coefficients)
     integral = _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners)
     s = LutGrid(schlick.shape[1], schlick.shape[0]).lookup(schlick, n_dot_v, np.clip(roughness, 0, 1))
-    schlick_specular = integral[:, None] * (F0[None] * s[:, :1] + s[:, 1:2])
+    toward = _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners, albedo=s[:, 2])
+    schlick_specular = toward[:, None] * (F0[None] * s[:, :1] + s[:, 1:2])
     uv = ltc_coordinates(n_dot_v, roughness)
     uv[:64] = np.nan  # views along the normal: fresnelLtcUV's √(1 − N·V) is float32's N·V rounding (see above)
     weights = np.broadcast_to(WEIGHTS, (len(a), 3, 3))

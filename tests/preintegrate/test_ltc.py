@@ -92,22 +92,28 @@ def test_polygon_vector_is_the_mean_direction_over_the_quad():
             assert abs(got[axis] - want) <= bound, (quad, axis, got, want)
 
 
+def _small_light(rng, size, lift):
+    """(direction, quad (4, 3)): a square ``size`` wide at distance 2 toward a random direction whose z is at least
+    ``lift`` before normalising, facing the origin and wound counter-clockwise seen from it."""
+    direction = rng.normal(size=3)
+    direction[2] = abs(direction[2]) + lift
+    direction /= np.linalg.norm(direction)
+    e1 = np.cross(direction, [0.3, 0.5, 0.8])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(direction, e1)
+    quad = 2.0 * direction + size * np.array([-e1 - e2, e1 - e2, e1 + e2, -e1 + e2])
+    if np.dot(np.cross(quad[1] - quad[0], quad[3] - quad[0]), -direction) < 0:
+        quad = quad[::-1]
+    return direction, quad
+
+
 def test_rect_light_direction_is_the_light_for_a_small_one():
     """A small light's representative direction is its own direction (to its angular size), for any LTC."""
     rng = np.random.default_rng(8)
     normal, view = np.array([0.0, 0.0, 1.0]), np.array([0.6, 0.0, 0.8])
     for stored in ([1.0, 0.0, 0.0, 1.0], [4.0, -0.3, 0.2, 1.5], [0.8, 0.5, -0.4, 0.9]):
         for _ in range(8):
-            direction = rng.normal(size=3)
-            direction[2] = abs(direction[2]) + 0.2
-            direction /= np.linalg.norm(direction)
-            e1 = np.cross(direction, [0.3, 0.5, 0.8])
-            e1 /= np.linalg.norm(e1)
-            e2 = np.cross(direction, e1)
-            size = 1e-3
-            quad = 2.0 * direction + size * np.array([-e1 - e2, e1 - e2, e1 + e2, -e1 + e2])
-            if np.dot(np.cross(quad[1] - quad[0], quad[3] - quad[0]), -direction) < 0:
-                quad = quad[::-1]
+            direction, quad = _small_light(rng, 1e-3, 0.2)
             integral, got = rect_light_direction(np.array(stored), normal, view, np.zeros(3), quad)
             local = shading_frame(normal, view) @ direction
             assert integral > 0.0 and np.linalg.norm(got - local) < 2e-3, (stored, got, local)
@@ -135,15 +141,7 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
         albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
         stored = ltc_grid(64).lookup(table, mu_o, roughness)
         for _ in range(24):
-            direction = rng.normal(size=3)
-            direction[2] = abs(direction[2]) + 0.05
-            direction /= np.linalg.norm(direction)
-            e1 = np.cross(direction, [0.3, 0.5, 0.8])
-            e1 /= np.linalg.norm(e1)
-            e2 = np.cross(direction, e1)
-            quad = 2.0 * direction + 0.01 * np.array([-e1 - e2, e1 - e2, e1 + e2, -e1 + e2])
-            if np.dot(np.cross(quad[1] - quad[0], quad[3] - quad[0]), -direction) < 0:
-                quad = quad[::-1]
+            _, quad = _small_light(rng, 0.01, 0.05)
             plain = rect_light_integral(stored, normal, view, np.zeros(3), quad)
             got, _ = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)
             assert got <= plain
