@@ -267,6 +267,16 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
     return chosen
 
 
+#: The lobe study's tables with M's four entries free: fitted in L2, in chi-square, and the per-texel choice.
+FREE_TABLES = ("free axis, L2", "free axis, chi-square", "per texel: mean axis or free chi-square")
+
+
+def with_the_limit(table: str) -> str:
+    """The lobe study's row for another table taken toward the lobe's limit as the shipped one is
+    (:data:`LOBE_LIMIT_LOWER`)."""
+    return f"{table}, toward the limit as shipped (not shipped)"
+
+
 #: The lobe study's row for the shipped method on a finer grid (issue 41 item 2: "a finer ... table near grazing").
 FINER = "this project's fit, 128² (twice as fine, not shipped)"
 
@@ -331,11 +341,14 @@ RADIANCE_FIT = "fitted to lights' radiance at the set's (μo, r) (no table)"
 RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual limit"
 
 
-def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = True) -> list[str]:
+def lobe_study(
+    nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = True, corrected: tuple[str, ...] = ()
+) -> list[str]:
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
     the light, the reference's), median / p90 / max by the light's placement and by its width (a table of any size,
     on :func:`preintegrate.ltc.ltc_grid`'s axes); the first table toward the lobe's punctual limit (:data:`LOBE_LIMIT`,
-    :data:`LOBE_LIMIT_LOWER`) and with a second lobe (:data:`TWO_LOBES`); with
+    :data:`LOBE_LIMIT_LOWER`; the tables named in ``corrected`` too, :func:`with_the_limit`) and with a second lobe
+    (:data:`TWO_LOBES`); with
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
     normal = np.array([0.0, 0.0, 1.0])
@@ -371,6 +384,10 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
                     approximations[LOBE_LIMIT_LOWER] = rect_light_half_cosine(
                         first, normal, view, np.zeros(3), corners, roughness, albedo
                     )[0]
+                    for name in corrected:
+                        approximations[with_the_limit(name)] = rect_light_half_cosine(
+                            stored[name], normal, view, np.zeros(3), corners, roughness, albedo
+                        )[0]
                     cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
                     approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
                     if radiance_fits:
@@ -391,6 +408,7 @@ def lobe_study(nodes: int, tables: dict[str, np.ndarray], radiance_fits: bool = 
         *tables,
         LOBE_LIMIT,
         LOBE_LIMIT_LOWER,
+        *(with_the_limit(name) for name in corrected),
         TWO_LOBES,
         *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ()),
     ]
@@ -555,11 +573,10 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
         if not isinstance(public, str):
             candidates["public fit (three.js LTC_MAT_1)"] = public[0]
         candidates[FINER] = fit_ltc(ltc_grid(128)).inverse
-        candidates["free axis, L2"] = fit_ltc(ltc, axis="free").inverse
-        candidates["free axis, chi-square"] = fit_ltc(ltc, axis="free", weighting="chi-square").inverse
-        candidates["per texel: mean axis or free chi-square"] = per_texel_choice(
-            ltc_table, candidates["free axis, chi-square"]
-        )
+        free_l2, free_chi_square, per_texel = FREE_TABLES
+        candidates[free_l2] = fit_ltc(ltc, axis="free").inverse
+        candidates[free_chi_square] = fit_ltc(ltc, axis="free", weighting="chi-square").inverse
+        candidates[per_texel] = per_texel_choice(ltc_table, candidates[free_chi_square])
         lines += [
             "",
             "## The lobe alone (item 2)",
@@ -573,7 +590,8 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
             "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
             "over the LTC's density at the light's representative direction, and the same with the ratio at most 1 "
-            "(it only takes off what the LTC holds beyond the lobe: what ships, `fresnelBasisRectLight`); the next adds "
+            "(it only takes off what the LTC holds beyond the lobe: what ships, `fresnelBasisRectLight`); the next three "
+            "take the free-axis and per-texel tables the same way; the next adds "
             "to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
@@ -583,7 +601,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
             "such fits could at best reach. Only the shipped table and that bounded limit are shipped:",
             "",
-            *lobe_study(nodes, candidates),
+            *lobe_study(nodes, candidates, corrected=FREE_TABLES),
         ]
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]
