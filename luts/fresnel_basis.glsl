@@ -703,8 +703,8 @@ vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3
 vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 f0)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z).w * (f0 * t.x + vec3(t.y));
+    float albedo = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0).z;
+    return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, albedo).w * fresnelSchlickSplitSum(schlickLut, NdotV, r, f0);
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum

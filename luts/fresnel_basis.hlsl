@@ -703,8 +703,8 @@ float3 fresnelBasisRectLight(Texture2D<float4> ltcLut, Texture2D<float4> lut, Sa
 float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 f0)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
-    float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
-    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z).w * (f0 * t.x + float3(t.y));
+    float albedo = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0).z;
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, albedo).w * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum

@@ -699,8 +699,8 @@ fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, lut: texture_2d<f32>, linearCl
 fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, f0: vec3f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
-    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z).w * (f0 * t.x + vec3f(t.y));
+    let albedo: f32 = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0).z;
+    return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, albedo).w * fresnelSchlickSplitSum(schlickLut, linearClamp, NdotV, r, f0);
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
