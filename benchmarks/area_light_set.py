@@ -14,8 +14,8 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 
 * **split sum** (the include before issue 41): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
 * **punctual blend** (the include's ``fresnelBasisRectLight``): the LTC integral, taken toward the lobe's own
-  punctual limit where the LTC holds more than the lobe at the light (preintegrate.ltc.rect_light_half_cosine with
-  the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative direction (the vector
+  punctual limit (the lobe over the LTC's density at the light, at most preintegrate.ltc.LOBE_RATIO_MAX:
+  preintegrate.ltc.rect_light_half_cosine with the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative direction (the vector
   form factor of the transformed polygon taken back through M, preintegrate.ltc.rect_light_direction), F from the
   same coefficients (the basis table's mirror row, handoff.shaders.rect_light_punctual), w the integral itself (the
   share of the lobe the light covers): a small light tends to the punctual limit F(V·H), a light covering the lobe
@@ -30,8 +30,8 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and candidate fits made here (the shipped method on a finer table; M's four
-entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, and as shipped,
-:data:`LOBE_LIMIT_LOWER`) and the LTC fitted to training lights' radiance at the set's own views and roughnesses
+entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER` and
+as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`) and the LTC fitted to training lights' radiance at the set's own views and roughnesses
 (:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
 (benchmarks.shader_cost's pass) against issue 41's baseline (:data:`BASELINE_REVISION`'s include, from git).
 
@@ -59,6 +59,7 @@ from handoff.exr import read_lut
 from handoff.shaders import rect_light_punctual
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
+    LOBE_RATIO_MAX,
     fit_points,
     lobe_density_ratio,
     ltc_grid,
@@ -273,7 +274,7 @@ FREE_TABLES = ("free axis, L2", "free axis, chi-square", "per texel: mean axis o
 
 def with_the_limit(table: str) -> str:
     """The lobe study's row for another table taken toward the lobe's limit as the shipped one is
-    (:data:`LOBE_LIMIT_LOWER`)."""
+    (:data:`LOBE_LIMIT_SHIPPED`)."""
     return f"{table}, toward the limit as shipped (not shipped)"
 
 
@@ -287,15 +288,79 @@ LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
 #: The same where it lowers the integral only, min(f̂(L*) / D(L*), 1): where the LTC is denser than the lobe at L*
 #: (across the horizon, beside the lobe) it takes the excess off; where it is thinner (the mirror direction at grazing
 #: views, where the LTC is off pointwise and right in the integral) it leaves the integral as it is.
-LOBE_LIMIT_LOWER = "this project as shipped: toward the lobe's punctual limit where that lowers the integral"
+LOBE_LIMIT_LOWER = "toward the lobe's punctual limit where that lowers the integral (shipped before)"
+#: What ships (preintegrate.ltc.rect_light_half_cosine): the ratio at most LOBE_RATIO_MAX (:func:`ratio_bound`).
+LOBE_LIMIT_SHIPPED = f"this project as shipped: the ratio at most {LOBE_RATIO_MAX:g}"
 
 
-def lobe_limit_integral(stored, view, corners, alpha: float, albedo: float) -> np.ndarray:
+def lobe_limit_integral(stored, view, corners, alpha: float, albedo: float, bound: float = np.inf) -> np.ndarray:
     """(…) the LTC integral of ``stored`` (4,) over the quads ``corners`` (…, 4, 3) seen from the origin with normal z
-    and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit with the ratio unbounded
-    (:data:`LOBE_LIMIT`; the shipped path bounds it by 1: preintegrate.ltc.rect_light_half_cosine)."""
+    and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit with the ratio at most ``bound``
+    (:data:`LOBE_LIMIT`, unbounded; :data:`LOBE_LIMIT_LOWER`, 1; what ships, LOBE_RATIO_MAX:
+    preintegrate.ltc.rect_light_half_cosine)."""
     integral, direction = rect_light_direction(stored, np.array([0.0, 0.0, 1.0]), view, np.zeros(3), corners)
-    return toward_lobe_limit(integral, lobe_density_ratio(stored, direction, view[2], alpha, albedo, sine=view[0]))
+    ratio = lobe_density_ratio(stored, direction, view[2], alpha, albedo, sine=view[0])
+    return toward_lobe_limit(integral, np.minimum(ratio, bound))
+
+
+#: The candidates for the bound on the lobe's ratio (preintegrate.ltc.LOBE_RATIO_MAX), measured on training lights
+#: (:func:`training_lights`, 0.02 to 10 wide) at views and roughnesses not the set's.
+RATIO_BOUNDS = (1.0, 1.1, 1.2, 1.25, 1.3, 1.35, 1.4, 1.5, 2.0, np.inf)
+CHOICE_VIEWS, CHOICE_ROUGHNESS, CHOICE_LIGHTS = (0.9, 0.5, 0.2, 0.1), (0.25, 0.45, 0.65, 0.85), 64
+
+
+def ratio_bound(nodes: int) -> list[str]:
+    """Markdown lines: the lobe's error (F = 1) with the shipped table over the training lights, taken toward the
+    lobe's limit with each bound on the ratio; the criterion: the lowest median whose worst stays within 1.25 × that
+    of the bound 1 (which only lowers the integral)."""
+    normal = np.array([0.0, 0.0, 1.0])
+    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
+    table = read_lut(shipped_path(LTC_LUT))[0]
+    lights = np.array(training_lights(CHOICE_LIGHTS, (np.log(0.02), np.log(10.0))))
+    parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": []}
+    for mu_o in CHOICE_VIEWS:
+        sine = np.sqrt(1.0 - mu_o * mu_o)
+        view = np.array([sine, 0.0, mu_o])
+        for roughness in CHOICE_ROUGHNESS:
+            alpha = roughness**2
+            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
+            lobes = np.array(
+                [rect_light_reference(normal, view, np.zeros(3), c, alpha, ones, nodes)[0] for c in lights]
+            )
+            integral, direction = rect_light_direction(stored, normal, view, np.zeros(3), lights)
+            lit = lobes > 1e-3
+            parts["integral"].append(integral[lit])
+            parts["ratio"].append(lobe_density_ratio(stored, direction[lit], mu_o, alpha, albedo, sine=sine))
+            parts["lobe"].append(lobes[lit])
+            parts["albedo"].append(np.full(np.sum(lit), albedo))
+    integral, ratio, lobe, albedo = (np.concatenate(parts[name]) for name in parts)
+    errors = {
+        bound: np.abs(toward_lobe_limit(integral, np.minimum(ratio, bound)) * albedo - lobe) / lobe
+        for bound in RATIO_BOUNDS
+    }
+    allowed = [bound for bound, e in errors.items() if e.max() <= 1.25 * errors[1.0].max()]
+    chosen = min(allowed, key=lambda bound: np.median(errors[bound]))
+    lines = [
+        f"The bound on the lobe's ratio, on {CHOICE_LIGHTS} seeded training lights 0.02 to 10 wide "
+        f"(`training_lights`, not this set's) at N·V {list(CHOICE_VIEWS)} and r {list(CHOICE_ROUGHNESS)}: the "
+        f"shipped table's integral × mix(min(f̂(L*) / D(L*), bound), 1, √I) against the lobe (F = 1) over the "
+        f"{len(lobe)} values with the lobe above 1e-3, median / p90 / max. The bound chosen has the lowest median "
+        "whose worst stays within 1.25 × that of the bound 1 (which only takes off what the LTC holds beyond the "
+        "lobe); a bound above 1 raises the integral where the LTC holds less than the lobe, most for small lights, "
+        "and also multiplies float32's rounding of the integral (tests/luts/test_shaders_area.py).",
+        "",
+        "| bound on f̂(L*) / D(L*) | training lights |",
+        "|---|---|",
+        *(
+            f"| {bound:g}{' (chosen)' if bound == chosen else ''}{' (shipped)' if bound == LOBE_RATIO_MAX else ''}"
+            f" | {_statistics(e)} |"
+            for bound, e in errors.items()
+        ),
+    ]
+    if chosen != LOBE_RATIO_MAX:
+        lines += ["", f"The criterion now picks {chosen:g}; preintegrate.ltc ships {LOBE_RATIO_MAX:g}."]
+    return lines
 
 
 #: The radiance fit's lights and floor: the LTC's four entries fitted at one (μo, r) to the lobe over
@@ -347,7 +412,7 @@ def lobe_study(
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
     the light, the reference's), median / p90 / max by the light's placement and by its width (a table of any size,
     on :func:`preintegrate.ltc.ltc_grid`'s axes); the first table toward the lobe's punctual limit (:data:`LOBE_LIMIT`,
-    :data:`LOBE_LIMIT_LOWER`; the tables named in ``corrected`` too, :func:`with_the_limit`) and with a second lobe
+    :data:`LOBE_LIMIT_LOWER`, :data:`LOBE_LIMIT_SHIPPED`; the tables named in ``corrected`` too, :func:`with_the_limit`) and with a second lobe
     (:data:`TWO_LOBES`); with
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
@@ -381,7 +446,8 @@ def lobe_study(
                         for name, texel in stored.items()
                     }
                     approximations[LOBE_LIMIT] = lobe_limit_integral(first, view, corners, alpha, albedo)
-                    approximations[LOBE_LIMIT_LOWER] = rect_light_half_cosine(
+                    approximations[LOBE_LIMIT_LOWER] = lobe_limit_integral(first, view, corners, alpha, albedo, 1.0)
+                    approximations[LOBE_LIMIT_SHIPPED] = rect_light_half_cosine(
                         first, normal, view, np.zeros(3), corners, roughness, albedo
                     )[0]
                     for name in corrected:
@@ -408,6 +474,7 @@ def lobe_study(
         *tables,
         LOBE_LIMIT,
         LOBE_LIMIT_LOWER,
+        LOBE_LIMIT_SHIPPED,
         *(with_the_limit(name) for name in corrected),
         TWO_LOBES,
         *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ()),
@@ -589,8 +656,11 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "each texel whichever of the shipped and the chi-square table holds the lobe better over 24 seeded "
             "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
             "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
-            "over the LTC's density at the light's representative direction, and the same with the ratio at most 1 "
-            "(it only takes off what the LTC holds beyond the lobe: what ships, `fresnelBasisRectLight`); the next three "
+            "over the LTC's density at the light's representative direction, the same with the ratio at most 1 "
+            "(it only takes off what the LTC holds beyond the lobe: shipped before), and what ships "
+            f"(`fresnelBasisRectLight`), the ratio at most {LOBE_RATIO_MAX:g} (it also raises the integral where the "
+            "LTC holds less than the lobe, most for small lights; the bound's choice follows the tables); the next "
+            "three "
             "take the free-axis and per-texel tables the same way; the next adds "
             "to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
@@ -602,6 +672,8 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "such fits could at best reach. Only the shipped table and that bounded limit are shipped:",
             "",
             *lobe_study(nodes, candidates, corrected=FREE_TABLES),
+            "",
+            *ratio_bound(nodes),
         ]
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]

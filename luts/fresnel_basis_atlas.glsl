@@ -62,6 +62,7 @@ const vec3 FRESNEL_LINEAR_AVERAGES = vec3(0.952380952, 0.0476190476, 0.007936507
 const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
+const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.3;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
 const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
 const vec3 FRESNEL_CURVE_TABLE = vec3(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 const vec4 FRESNEL_ATLAS_BASIS = vec4(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
@@ -614,8 +615,9 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// The LTC integral I of a rectangular light taken toward the lobe's own punctual limit where the LTC holds more than
-// the lobe there: I (w + (1 - w) min(g(L) / D(L), 1)), w = sqrt(I) (issue 41; preintegrate.ltc.toward_lobe_limit),
+// The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), FRESNEL_LTC_LOBE_RATIO_MAX)), w = sqrt(I) (issue 41;
+// preintegrate.ltc.toward_lobe_limit: the bound also bounds what the ratio multiplies of float32's rounding of I),
 // g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
 // representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
 // back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
@@ -634,9 +636,9 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     float q = dot(f, f) / max(dot(back, back), 1e-30);
     float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     float density = 2.0 * d * d * smith * albedo * f.z;
-    float lower = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(lobe, density), 1e-30) : 1.0;
+    float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / FRESNEL_LTC_LOBE_RATIO_MAX), 1e-30) : 1.0;
     float w = sqrt(min(integral, 1.0));
-    return integral * (w + (1.0 - w) * lower);
+    return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the

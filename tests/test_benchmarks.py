@@ -215,13 +215,14 @@ def test_materialx_library_runs_small():
 @pytest.mark.slow
 def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit():
     """The lobe study (F = 1) on the shipped LTC table with a coarse reference: the punctual-limit, two-lobe and
-    radiance-fit rows are there and, as at 96² nodes, the punctual limit (unbounded, and as shipped, where it only
-    lowers the integral) and the two lobes are lower at the median than the table alone (measured 12.3 %, 13.2 % and
-    13.6 % against 18.9 % at 16² nodes)."""
+    radiance-fit rows are there and, as at 96² nodes, the punctual limit (unbounded, lowering only, and as shipped)
+    and the two lobes are lower at the median than the table alone, and what ships is no higher than the lowering-only
+    form (measured at 16² nodes: 12.3 %, 13.2 % and 12.7 % for the limit, 13.6 % for the two lobes, against 18.9 %)."""
     from basis.storage import shipped_path
     from benchmarks.area_light_set import (
         LOBE_LIMIT,
         LOBE_LIMIT_LOWER,
+        LOBE_LIMIT_SHIPPED,
         RADIANCE_FIT,
         RADIANCE_FIT_LIMIT,
         TWO_LOBES,
@@ -232,12 +233,23 @@ def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit(
 
     lines = lobe_study(16, {"shipped": read_lut(shipped_path(LTC_LUT))[0]})
     rows = [line.split("|") for line in lines if line.count("%") > 3]
-    assert len(rows) == 12, lines  # six by placement, then six by width
-    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:6]}
-    assert set(medians) == {"shipped", LOBE_LIMIT, LOBE_LIMIT_LOWER, TWO_LOBES, RADIANCE_FIT, RADIANCE_FIT_LIMIT}, lines
-    assert medians[LOBE_LIMIT] < 0.8 * medians["shipped"], medians
-    assert medians[TWO_LOBES] < 0.8 * medians["shipped"], medians
-    assert medians[LOBE_LIMIT_LOWER] < 0.8 * medians["shipped"], medians
+    assert len(rows) == 14, lines  # seven by placement, then seven by width
+    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:7]}
+    names = {"shipped", LOBE_LIMIT, LOBE_LIMIT_LOWER, LOBE_LIMIT_SHIPPED, TWO_LOBES, RADIANCE_FIT, RADIANCE_FIT_LIMIT}
+    assert set(medians) == names, lines
+    for name in (LOBE_LIMIT, TWO_LOBES, LOBE_LIMIT_LOWER, LOBE_LIMIT_SHIPPED):
+        assert medians[name] < 0.8 * medians["shipped"], (name, medians)
+    assert medians[LOBE_LIMIT_SHIPPED] <= medians[LOBE_LIMIT_LOWER], medians
+
+
+def test_the_ratio_bound_is_the_criterions_choice():
+    """The shipped bound on the lobe's ratio is the one the benchmark's criterion picks on the training lights (96²
+    nodes, as the report)."""
+    from benchmarks.area_light_set import ratio_bound
+
+    lines = ratio_bound(96)
+    assert not any("now picks" in line for line in lines), lines
+    assert sum("(chosen) (shipped)" in line for line in lines) == 1, lines
 
 
 def test_area_light_set_runs_small():

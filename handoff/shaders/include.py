@@ -30,6 +30,7 @@ from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, coefficient_table_ax
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
+from preintegrate.ltc import LOBE_RATIO_MAX
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
@@ -524,6 +525,11 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LUT_COLUMNS", grid.column_mapping, "scale, offset"),
         _constant("FRESNEL_LUT_ROWS", grid.row_mapping, "lo, hi, scale, offset"),
         _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
+        _constant(
+            "FRESNEL_LTC_LOBE_RATIO_MAX",
+            LOBE_RATIO_MAX,
+            "the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)",
+        ),
         axes_constant,
         curve_table_constant,
         *atlas_constants,

@@ -259,7 +259,8 @@ def test_glsl_ltc_integral_of_tiny_and_far_lights_on_llvmpipe():
     for the tiny light, whose integral is at most 3e-6 here, and 8.7e-7 for the far one; the edges' p × q had cost
     the tiny light 3.8e-3, where p × (q − p) keeps 6.7e-5), nothing NaN or inf. The same for the integral taken
     toward the lobe's punctual limit (``fresnelLtcRectVector`` with E = 0.8), whose ratio of the lobe to the LTC's
-    density float32 must hold for a light this small (measured 6.7e-5 and 7.1e-7, as the LTC's own)."""
+    density float32 must hold for a light this small, and which multiplies the integral's rounding by up to
+    LOBE_RATIO_MAX (measured 7.1e-5 and 9.1e-7; a bound of 2 would give 1.05e-4)."""
     ltc = _tables()[0]
     a, b = _inputs()
     for light in (LIGHT * [1e-3, 1e-3, 1.0], LIGHT * [100.0, 100.0, 500.0]):

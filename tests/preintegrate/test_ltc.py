@@ -8,6 +8,7 @@ import pytest
 
 from basis.validation import ParameterError
 from preintegrate.ltc import (
+    LOBE_RATIO_MAX,
     fit_ltc,
     ltc_density,
     ltc_grid,
@@ -121,10 +122,11 @@ def test_rect_light_direction_is_the_light_for_a_small_one():
 
 def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     """Lights 0.01 wide at distance 2 in 24 random directions over the hemisphere, for four (N·V, r), with the shipped
-    LTC table: where the LTC holds more than the lobe at the light (the integral taken toward the lobe's limit changes),
-    the result × E is within 5 % of the lobe's own integral over the light (the reference: the exact GGX BRDF by
-    Gauss-Legendre over the light's area, tests/references/area_light.py; measured at most 3.6 %, where the LTC alone
-    was off by up to 763 %); nowhere is it above the LTC's own integral."""
+    LTC table, against the lobe's own integral over the light (the reference: the exact GGX BRDF by Gauss-Legendre
+    over the light's area, tests/references/area_light.py). Where the LTC holds more than the lobe at the light (the
+    integral lowered), the result × E is within 5 % of it (measured at most 3.4 %, where the LTC alone was off by up
+    to 1099 %); where it holds less (raised, by at most LOBE_RATIO_MAX), no light is further from it than the LTC
+    alone and the median error is at most 0.6 × the LTC's (measured 23.2 % against 40.9 %)."""
     from basis.storage import shipped_path
     from handoff.exr import read_lut
     from handoff.shipped import LTC_LUT
@@ -134,7 +136,8 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(5)
     normal = np.array([0.0, 0.0, 1.0])
-    changed = 0
+    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
+    lowered, raised = 0, []
     for mu_o, roughness in ((0.9, 0.3), (0.5, 0.5), (0.2, 0.4), (0.6, 0.8)):
         view = np.array([np.sqrt(1.0 - mu_o**2), 0.0, mu_o])
         alpha = roughness**2
@@ -144,13 +147,19 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
             _, quad = _small_light(rng, 0.01, 0.05)
             plain = rect_light_integral(stored, normal, view, np.zeros(3), quad)
             got, _ = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)
-            assert got <= plain
-            if got < plain * (1.0 - 1e-9):
-                changed += 1
-                ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
-                lobe = rect_light_reference(normal, view, np.zeros(3), quad, alpha, ones, 24)[0]
+            assert got <= LOBE_RATIO_MAX * plain * (1.0 + 1e-12)
+            if abs(got - plain) <= 1e-9 * plain:
+                continue
+            lobe = rect_light_reference(normal, view, np.zeros(3), quad, alpha, ones, 24)[0]
+            if got < plain:
+                lowered += 1
                 assert abs(got * albedo - lobe) <= 0.05 * lobe, (mu_o, roughness, got * albedo, lobe, plain * albedo)
-    assert changed >= 20, changed
+            else:
+                raised.append((abs(got * albedo - lobe) / lobe, abs(plain * albedo - lobe) / lobe))
+    raised = np.array(raised)
+    assert lowered >= 20 and len(raised) >= 20, (lowered, len(raised))
+    assert np.all(raised[:, 0] <= raised[:, 1]), raised
+    assert np.median(raised[:, 0]) <= 0.6 * np.median(raised[:, 1]), np.median(raised, axis=0)
 
 
 def test_rect_light_half_cosine_takes_roughness_and_albedo_together():
