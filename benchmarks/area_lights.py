@@ -215,8 +215,8 @@ def main(argv=None) -> int:
         "Fbar_exact| over the table's view angles at that roughness; 'at the lit pixels' the same difference as the "
         "area light carries it (its Fresnel part divided by the LTC integral): the target is at most the former. "
         "The last columns: the LTC's shape error with the other tables under the same light. Every table's integral "
-        "(three.js's too) is taken toward the lobe's punctual limit where it holds more than the lobe, as the include "
-        "takes the shipped one's (`fresnelLtcRectVector`, report/area_light_set.md).",
+        "(three.js's too) is taken toward the lobe's punctual limit as the include takes the shipped one's "
+        "(`fresnelLtcRectVector`, report/area_light_set.md).",
         "",
         "| material | r | LTC shape | basis Fresnel | Schlick Fresnel | basis dFbar at the lit pixels | own split-sum "
         "error |" + "".join(f" LTC shape, {name} |" for name in others),
