@@ -261,9 +261,14 @@ def frame_times(
     rounds: int,
     variants: dict[str, str] | None = None,
     includes: dict[str, str] | None = None,
+    texel: str = "f4",
 ) -> tuple[dict[str, float], str]:
     """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants; a
-    variant named in ``includes`` compiled with that include) and the renderer's name."""
+    variant named in ``includes`` compiled with that include) and the renderer's name; every table and map uploaded
+    as ``texel`` (moderngl's dtype: ``"f4"`` 32-bit floats, as the include asks; ``"f2"`` half floats, to see what
+    filtering 32-bit texels costs)."""
+    if texel not in ("f4", "f2"):
+        raise ValueError(f"texel must be 'f4' or 'f2', not {texel!r}")
     variants = ALL_VARIANTS if variants is None else variants
     includes = {} if includes is None else includes
     import moderngl
@@ -282,7 +287,7 @@ def frame_times(
         for unit, table in enumerate(textures):
             table = rgba_upload(table)
             texture = context.texture(
-                table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, "f4").tobytes(), dtype="f4"
+                table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, texel).tobytes(), dtype=texel
             )
             texture.repeat_x = texture.repeat_y = False
             texture.use(unit)

@@ -32,6 +32,7 @@ def test_every_benchmark_is_listed_here():
         "commands",
         "fuzz",
         "gpu_compiler",
+        "gpu_timings",
         "linear_models",
         "lut_edges",
         "materialx_library",
@@ -107,6 +108,31 @@ def test_quadrature_against_monte_carlo_runs_small():
 
 
 @pytest.mark.slow
+def test_gpu_timings_run_small(tmp_path):
+    """The frame-time benchmark on llvmpipe at 64 × 36, one round, with issue 41's baseline include from a file (as on
+    a machine without the history): every shader-cost pass and every area-light pass draws, each ratio to its own
+    baseline; a file that is not there is a usage error, not a traceback."""
+    from benchmarks.area_light_set import baseline_include
+    from benchmarks.shader_cost import ALL_VARIANTS
+
+    include = tmp_path / "baseline.glsl"
+    include.write_text(baseline_include(), encoding="utf-8")
+    out = tmp_path / "timings.md"
+    completed = _run(
+        "benchmarks.gpu_timings",
+        *("--width", "64", "--height", "36", "--frames", "1", "--rounds", "1"),
+        *("--baseline-include", str(include), "--out", str(out)),
+    )
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    text = out.read_text(encoding="utf-8")
+    rows = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
+    assert len(rows) == 2 + len(ALL_VARIANTS) + 4, rows  # two headers, the shader-cost passes, the area-light ones
+    assert "| schlick | " in text and text.count(" | 1.00 |") >= 2, text
+    assert "| punctual blend | " in text
+    missing = _run("benchmarks.gpu_timings", "--baseline-include", str(tmp_path / "absent.glsl"))
+    assert missing.returncode == 2 and "absent.glsl" in missing.stderr and "Traceback" not in missing.stderr
+
+
 def test_shader_cost_runs_small():
     """The shader-cost benchmark on llvmpipe at 64 × 36, one round: every variant compiles and draws."""
     completed = _run("benchmarks.shader_cost", "--width", "64", "--height", "36", "--frames", "1", "--rounds", "1")

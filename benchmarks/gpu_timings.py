@@ -1,0 +1,99 @@
+"""Absolute frame times of the shader passes on whatever GPU the EGL context finds (the one measurement ACO's static
+estimate and llvmpipe cannot give).
+
+The passes are the shader-cost benchmark's (:data:`benchmarks.shader_cost.ALL_VARIANTS`: Schlick, the basis with
+uniform coefficients, the per-pixel solves and tables, the atlas) and the area-light benchmark's
+(:data:`benchmarks.area_light_set.COST_VARIANTS`, with issue 41's baseline: the split sum as the include of
+:data:`benchmarks.area_light_set.BASELINE_REVISION` had it), each a full-screen pass timed by
+:func:`benchmarks.shader_cost.frame_times` (variants alternated round by round, the median per frame). Each table gives
+milliseconds per frame and the ratio to its own baseline (Schlick's pass; issue 41's baseline pass), both from one run.
+
+The baseline include comes from git (:func:`benchmarks.area_light_set.baseline_include`) or, on a machine with the
+working tree but not its history, from ``--baseline-include FILE`` (the same text, written beforehand with
+``git show ce2dc28:luts/fresnel_basis.glsl``).
+
+Run: ``.venv/bin/python -m benchmarks.gpu_timings [--width W --height H --frames N --rounds R]
+[--baseline-include FILE] [--out FILE]`` (the report, on a GPU: ``--out report/gpu_timings.md``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from benchmarks.area_light_set import BASELINE, COST_VARIANTS, baseline_include
+from benchmarks.output import machine, publish
+from benchmarks.shader_cost import frame_times
+
+
+def gl_version() -> str:
+    """The EGL context's ``GL_VERSION`` (the driver's version, on NVIDIA's)."""
+    import moderngl
+
+    context = moderngl.create_standalone_context(backend="egl")
+    try:
+        return context.info["GL_VERSION"]
+    finally:
+        context.release()
+
+
+def timings(width: int, height: int, frames: int, rounds: int, baseline: str) -> list[str]:
+    """Markdown lines: the two tables (shader-cost passes against Schlick's, with 32-bit and with half-float tables;
+    area-light passes against issue 41's baseline), ``baseline`` the baseline include's text."""
+    shading, renderer = frame_times(width, height, frames, rounds)
+    half, _ = frame_times(width, height, frames, rounds, texel="f2")
+    area_variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
+    area, _ = frame_times(width, height, frames, rounds, area_variants, {BASELINE: baseline})
+    lines = [
+        f"Renderer: {renderer}, OpenGL {gl_version()}, on {machine()}; {width} x {height}, the median of {rounds} "
+        f"rounds of {frames} frames, variants alternated; milliseconds per frame and the ratio to the table's first "
+        "row, each table from one run. 'half-float tables': the same passes with every table and map uploaded as "
+        "16-bit floats (which the include's accuracy does not allow: README), to see what filtering 32-bit texels "
+        "costs. Command: `python -m benchmarks.gpu_timings`.",
+        "",
+        "| shader-cost pass (benchmarks.shader_cost) | ms per frame | × Schlick | half-float tables: ms | × Schlick |",
+        "|---|---|---|---|---|",
+        *(
+            f"| {name} | {1e3 * time:.3f} | {time / shading['schlick']:.2f} | {1e3 * half[name]:.3f} | "
+            f"{half[name] / half['schlick']:.2f} |"
+            for name, time in shading.items()
+        ),
+        "",
+        "| area-light pass (benchmarks.area_light_set) | ms per frame | × issue 41's baseline |",
+        "|---|---|---|",
+        *(f"| {name} | {1e3 * time:.3f} | {time / area[BASELINE]:.2f} |" for name, time in area.items()),
+    ]
+    return lines
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--width", type=int, default=3840)
+    parser.add_argument("--height", type=int, default=2160)
+    parser.add_argument("--frames", type=int, default=16, help="frames per variant per round (default 16)")
+    parser.add_argument("--rounds", type=int, default=9, help="rounds alternating the variants (default 9)")
+    parser.add_argument(
+        "--baseline-include", type=Path, default=None, help="issue 41's baseline include (default: from git)"
+    )
+    parser.add_argument("--out", default=None, help="Markdown file (default: print)")
+    arguments = parser.parse_args(argv)
+    for name in ("width", "height", "frames", "rounds"):
+        if getattr(arguments, name) < 1:
+            parser.error(f"--{name} must be at least 1")
+    if arguments.baseline_include is not None:
+        try:
+            baseline = arguments.baseline_include.read_text(encoding="utf-8")
+        except OSError as error:
+            parser.error(f"--baseline-include: {error}")
+    else:
+        try:
+            baseline = baseline_include()
+        except RuntimeError as error:
+            parser.error(f"{error}; pass --baseline-include FILE")
+    lines = timings(arguments.width, arguments.height, arguments.frames, arguments.rounds, baseline)
+    publish("\n".join(["# Frame times on a GPU", "", *lines]) + "\n", arguments.out)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
