@@ -15,11 +15,11 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 * **split sum** (the include before issue 41): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
 * **punctual blend** (the include's ``fresnelBasisRectLight``): the LTC integral, taken toward the lobe's own
   punctual limit (the lobe over the LTC's density at the light, at most preintegrate.ltc.LOBE_RATIO_MAX:
-  preintegrate.ltc.rect_light_half_cosine with the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the light's representative direction (the vector
-  form factor of the transformed polygon taken back through M, preintegrate.ltc.rect_light_direction), F from the
-  same coefficients (the basis table's mirror row, handoff.shaders.rect_light_punctual), w the integral itself (the
-  share of the lobe the light covers): a small light tends to the punctual limit F(V·H), a light covering the lobe
-  to the split sum;
+  preintegrate.ltc.rect_light_half_cosine with the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the
+  light's representative direction (the vector form factor of the transformed polygon taken back through M,
+  preintegrate.ltc.rect_light_direction), F from the same coefficients (the basis table's mirror row,
+  handoff.shaders.rect_light_punctual), w the integral itself (the share of the lobe the light covers): a small
+  light tends to the punctual limit F(V·H), a light covering the lobe to the split sum;
 * each with the exact curve in place of the basis (their LTC-and-factorisation part), and the public fit (three.js's
   ``LTC_MAT_1``) under both;
 * **three.js**: its LTC_MAT_1 integral, the quad clipped in the cosine's space only (:func:`cosine_space_integral`;
@@ -31,8 +31,8 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and candidate fits made here (the shipped method on a finer table; M's four
 entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER` and
-as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`) and the LTC fitted to training lights' radiance at the set's own views and roughnesses
-(:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
+as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`) and the LTC fitted to training
+lights' radiance at the set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
 (benchmarks.shader_cost's pass) against issue 41's baseline (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
@@ -412,8 +412,8 @@ def lobe_study(
     """Markdown lines: each LTC table's shape error alone on the set (F = 1: its integral × E against the lobe over
     the light, the reference's), median / p90 / max by the light's placement and by its width (a table of any size,
     on :func:`preintegrate.ltc.ltc_grid`'s axes); the first table toward the lobe's punctual limit (:data:`LOBE_LIMIT`,
-    :data:`LOBE_LIMIT_LOWER`, :data:`LOBE_LIMIT_SHIPPED`; the tables named in ``corrected`` too, :func:`with_the_limit`) and with a second lobe
-    (:data:`TWO_LOBES`); with
+    :data:`LOBE_LIMIT_LOWER`, :data:`LOBE_LIMIT_SHIPPED`; the tables named in ``corrected`` too,
+    :func:`with_the_limit`) and with a second lobe (:data:`TWO_LOBES`); with
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
     normal = np.array([0.0, 0.0, 1.0])
