@@ -38,24 +38,29 @@ def gl_version() -> str:
 
 
 def timings(width: int, height: int, frames: int, rounds: int, baseline: str) -> list[str]:
-    """Markdown lines: the two tables (shader-cost passes against Schlick's, with 32-bit and with half-float tables;
-    area-light passes against issue 41's baseline), ``baseline`` the baseline include's text."""
+    """Markdown lines: the two tables (shader-cost passes against Schlick's, with 32-bit textures, with 8-bit material
+    maps and with half floats; area-light passes against issue 41's baseline), ``baseline`` the baseline include's
+    text."""
     shading, renderer = frame_times(width, height, frames, rounds)
+    painted, _ = frame_times(width, height, frames, rounds, maps="f1")
     half, _ = frame_times(width, height, frames, rounds, texel="f2")
     area_variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
     area, _ = frame_times(width, height, frames, rounds, area_variants, {BASELINE: baseline})
     lines = [
         f"Renderer: {renderer}, OpenGL {gl_version()}, on {machine()}; {width} x {height}, the median of {rounds} "
         f"rounds of {frames} frames, variants alternated; milliseconds per frame and the ratio to the table's first "
-        "row, each table from one run. 'half-float tables': the same passes with every table and map uploaded as "
-        "16-bit floats (which the include's accuracy does not allow: README), to see what filtering 32-bit texels "
-        "costs. Command: `python -m benchmarks.gpu_timings`.",
+        "row, each table from one run. The shader-cost passes three times: every table and material map in 32-bit "
+        "floats (as benchmarks.shader_cost uploads them); the material maps in 8 bits (as an engine ships painted "
+        "maps), the tables in 32-bit floats (as the include asks); and everything in 16-bit floats (which the "
+        "tables' accuracy does not allow: README), to see what filtering 32-bit texels costs. "
+        "Command: `python -m benchmarks.gpu_timings`.",
         "",
-        "| shader-cost pass (benchmarks.shader_cost) | ms per frame | × Schlick | half-float tables: ms | × Schlick |",
-        "|---|---|---|---|---|",
+        "| shader-cost pass (benchmarks.shader_cost) | 32-bit: ms | × Schlick | 8-bit maps: ms | × Schlick "
+        "| half floats: ms | × Schlick |",
+        "|---|---|---|---|---|---|---|",
         *(
-            f"| {name} | {1e3 * time:.3f} | {time / shading['schlick']:.2f} | {1e3 * half[name]:.3f} | "
-            f"{half[name] / half['schlick']:.2f} |"
+            f"| {name} | {1e3 * time:.3f} | {time / shading['schlick']:.2f} | {1e3 * painted[name]:.3f} | "
+            f"{painted[name] / painted['schlick']:.2f} | {1e3 * half[name]:.3f} | {half[name] / half['schlick']:.2f} |"
             for name, time in shading.items()
         ),
         "",

@@ -254,6 +254,10 @@ def rgba_upload(table: np.ndarray) -> np.ndarray:
     return np.concatenate([table, np.zeros(table.shape[:-1] + (1,), table.dtype)], axis=-1)
 
 
+#: The texture units of :func:`frame_times` that hold material maps (mapA, mapB, mapC), the rest tables.
+MAP_UNITS = (2, 3, 5)
+
+
 def frame_times(
     width: int,
     height: int,
@@ -262,13 +266,18 @@ def frame_times(
     variants: dict[str, str] | None = None,
     includes: dict[str, str] | None = None,
     texel: str = "f4",
+    maps: str | None = None,
 ) -> tuple[dict[str, float], str]:
     """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants; a
-    variant named in ``includes`` compiled with that include) and the renderer's name; every table and map uploaded
-    as ``texel`` (moderngl's dtype: ``"f4"`` 32-bit floats, as the include asks; ``"f2"`` half floats, to see what
-    filtering 32-bit texels costs)."""
+    variant named in ``includes`` compiled with that include) and the renderer's name; every table uploaded as
+    ``texel`` (moderngl's dtype: ``"f4"`` 32-bit floats, as the include asks; ``"f2"`` half floats, to see what
+    filtering 32-bit texels costs) and the material maps as ``maps`` (the same by default; ``"f1"`` 8-bit unsigned
+    normalised, as an engine ships painted maps)."""
     if texel not in ("f4", "f2"):
         raise ValueError(f"texel must be 'f4' or 'f2', not {texel!r}")
+    maps = texel if maps is None else maps
+    if maps not in ("f4", "f2", "f1"):
+        raise ValueError(f"maps must be 'f4', 'f2' or 'f1', not {maps!r}")
     variants = ALL_VARIANTS if variants is None else variants
     includes = {} if includes is None else includes
     import moderngl
@@ -276,19 +285,19 @@ def frame_times(
     context = moderngl.create_standalone_context(backend="egl")
     try:
         rng = np.random.default_rng(3)
-        maps = [rng.uniform(0.05, 0.95, (256, 256, 4)).astype("f4") for _ in range(3)]
+        painted = [rng.uniform(0.05, 0.95, (256, 256, 4)) for _ in range(3)]
         textures = [
             *shipped_tables(),
-            *maps[:2],
+            *painted[:2],
             curve_table(default_basis(), shader_constants()),
-            maps[2],
+            painted[2],
             *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT, f"{ATLAS_STEM}.exr")),
         ]
         for unit, table in enumerate(textures):
             table = rgba_upload(table)
-            texture = context.texture(
-                table.shape[1::-1], table.shape[2], np.ascontiguousarray(table, texel).tobytes(), dtype=texel
-            )
+            dtype = maps if unit in MAP_UNITS else texel
+            data = np.round(255.0 * table).astype("u1") if dtype == "f1" else np.ascontiguousarray(table, dtype)
+            texture = context.texture(table.shape[1::-1], table.shape[2], data.tobytes(), dtype=dtype)
             texture.repeat_x = texture.repeat_y = False
             texture.use(unit)
         target = context.texture((width, height), 4, dtype="f2")
