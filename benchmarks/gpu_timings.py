@@ -39,29 +39,34 @@ def gl_version() -> str:
 
 def timings(width: int, height: int, frames: int, rounds: int, baseline: str) -> list[str]:
     """Markdown lines: the two tables (shader-cost passes against Schlick's, with 32-bit textures, with 8-bit material
-    maps and with half floats; area-light passes against issue 41's baseline), ``baseline`` the baseline include's
-    text."""
+    maps, noise and smooth, and with half floats; area-light passes against issue 41's baseline), ``baseline`` the
+    baseline include's text."""
     shading, renderer = frame_times(width, height, frames, rounds)
     painted, _ = frame_times(width, height, frames, rounds, maps="f1")
+    smooth, _ = frame_times(width, height, frames, rounds, maps="f1", smooth=True)
     half, _ = frame_times(width, height, frames, rounds, texel="f2")
+    columns = (shading, painted, smooth, half)
     area_variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
     area, _ = frame_times(width, height, frames, rounds, area_variants, {BASELINE: baseline})
     lines = [
         f"Renderer: {renderer}, OpenGL {gl_version()}, on {machine()}; {width} x {height}, the median of {rounds} "
         f"rounds of {frames} frames, variants alternated; milliseconds per frame and the ratio to the table's first "
-        "row, each table from one run. The shader-cost passes three times: every table and material map in 32-bit "
-        "floats (as benchmarks.shader_cost uploads them); the material maps in 8 bits (as an engine ships painted "
-        "maps), the tables in 32-bit floats (as the include asks); and everything in 16-bit floats (which the "
-        "tables' accuracy does not allow: README), to see what filtering 32-bit texels costs. "
-        "Command: `python -m benchmarks.gpu_timings`.",
+        "row, each table from one run. The shader-cost passes four times: every table and material map in 32-bit "
+        "floats, each map texel an independent random value (as benchmarks.shader_cost uploads them: neighbouring "
+        "texels are different materials, so the per-pixel tables are read incoherently); the material maps in 8 bits "
+        "(as an engine ships painted maps), the tables in 32-bit floats (as the include asks); the same with smooth "
+        "maps (random values on a 9 × 9 grid interpolated linearly: regions that blend, as painted maps mostly are); "
+        "and everything in 16-bit floats with the noise maps (which the tables' accuracy does not allow: README), to "
+        "see what filtering 32-bit texels costs. Command: `python -m benchmarks.gpu_timings`.",
         "",
         "| shader-cost pass (benchmarks.shader_cost) | 32-bit: ms | × Schlick | 8-bit maps: ms | × Schlick "
-        "| half floats: ms | × Schlick |",
-        "|---|---|---|---|---|---|---|",
+        "| 8-bit smooth maps: ms | × Schlick | half floats: ms | × Schlick |",
+        "|---|---|---|---|---|---|---|---|---|",
         *(
-            f"| {name} | {1e3 * time:.3f} | {time / shading['schlick']:.2f} | {1e3 * painted[name]:.3f} | "
-            f"{painted[name] / painted['schlick']:.2f} | {1e3 * half[name]:.3f} | {half[name] / half['schlick']:.2f} |"
-            for name, time in shading.items()
+            f"| {name} | "
+            + " | ".join(f"{1e3 * times[name]:.3f} | {times[name] / times['schlick']:.2f}" for times in columns)
+            + " |"
+            for name in shading
         ),
         "",
         "| area-light pass (benchmarks.area_light_set) | ms per frame | × issue 41's baseline |",

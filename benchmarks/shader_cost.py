@@ -254,6 +254,14 @@ def rgba_upload(table: np.ndarray) -> np.ndarray:
     return np.concatenate([table, np.zeros(table.shape[:-1] + (1,), table.dtype)], axis=-1)
 
 
+def smooth_map(rng, size: int = 256, cells: int = 8) -> np.ndarray:
+    """(size, size, 4) random values in [0.05, 0.95] on a (cells + 1)² grid, interpolated linearly between them."""
+    grid = rng.uniform(0.05, 0.95, (cells + 1, cells + 1, 4))
+    at = np.linspace(0.0, cells, size)
+    rows = np.stack([[np.interp(at, np.arange(cells + 1), grid[:, j, c]) for j in range(cells + 1)] for c in range(4)])
+    return np.stack([[np.interp(at, np.arange(cells + 1), rows[c, :, i]) for i in range(size)] for c in range(4)], -1)
+
+
 #: The texture units of :func:`frame_times` that hold material maps (mapA, mapB, mapC), the rest tables.
 MAP_UNITS = (2, 3, 5)
 
@@ -267,12 +275,15 @@ def frame_times(
     includes: dict[str, str] | None = None,
     texel: str = "f4",
     maps: str | None = None,
+    smooth: bool = False,
 ) -> tuple[dict[str, float], str]:
     """Median seconds per frame of each variant (default: :data:`ALL_VARIANTS`; rounds alternate the variants; a
     variant named in ``includes`` compiled with that include) and the renderer's name; every table uploaded as
     ``texel`` (moderngl's dtype: ``"f4"`` 32-bit floats, as the include asks; ``"f2"`` half floats, to see what
     filtering 32-bit texels costs) and the material maps as ``maps`` (the same by default; ``"f1"`` 8-bit unsigned
-    normalised, as an engine ships painted maps)."""
+    normalised, as an engine ships painted maps); the maps' texels independent random values (every neighbour a
+    different material, the per-pixel tables read incoherently), or with ``smooth`` random values on a 9 × 9 grid
+    interpolated linearly (regions that blend, as painted maps mostly are)."""
     if texel not in ("f4", "f2"):
         raise ValueError(f"texel must be 'f4' or 'f2', not {texel!r}")
     maps = texel if maps is None else maps
@@ -285,7 +296,7 @@ def frame_times(
     context = moderngl.create_standalone_context(backend="egl")
     try:
         rng = np.random.default_rng(3)
-        painted = [rng.uniform(0.05, 0.95, (256, 256, 4)) for _ in range(3)]
+        painted = [smooth_map(rng) if smooth else rng.uniform(0.05, 0.95, (256, 256, 4)) for _ in range(3)]
         textures = [
             *shipped_tables(),
             *painted[:2],
