@@ -133,6 +133,22 @@ def test_gpu_timings_run_small(tmp_path):
     assert missing.returncode == 2 and "absent.glsl" in missing.stderr and "Traceback" not in missing.stderr
 
 
+def test_smooth_map_interpolates_its_grid():
+    """The smooth material map holds its 9 × 9 random values at the grid's points (every 255/8 texels) and is linear
+    between them along each axis (bilinear inside a cell: its second differences vanish within a cell's rows)."""
+    import numpy as np
+
+    from benchmarks.shader_cost import smooth_map
+
+    grid = np.random.default_rng(4).uniform(0.05, 0.95, (9, 9, 4))
+    values = smooth_map(np.random.default_rng(4), size=257, cells=8)
+    assert values.shape == (257, 257, 4)
+    np.testing.assert_allclose(values[::32, ::32], grid, atol=1e-12)
+    inside = values[1:31, 33:63]  # within one cell: linear along each axis
+    np.testing.assert_allclose(np.diff(inside, 2, axis=0), 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.diff(inside, 2, axis=1), 0.0, atol=1e-12)
+
+
 def test_shader_cost_runs_small():
     """The shader-cost benchmark on llvmpipe at 64 × 36, one round: every variant compiles and draws."""
     completed = _run("benchmarks.shader_cost", "--width", "64", "--height", "36", "--frames", "1", "--rounds", "1")
