@@ -6,7 +6,9 @@ uniform coefficients, the per-pixel solves and tables, the atlas) and the area-l
 (:data:`benchmarks.area_light_set.COST_VARIANTS`, with issue 41's baseline: the split sum as the include of
 :data:`benchmarks.area_light_set.BASELINE_REVISION` had it), each a full-screen pass timed by
 :func:`benchmarks.shader_cost.frame_times` (variants alternated round by round, the median per frame). Each table gives
-milliseconds per frame and the ratio to its own baseline (Schlick's pass; issue 41's baseline pass), both from one run.
+milliseconds per frame and the ratio to its own baseline (Schlick's pass; issue 41's baseline pass), each column from
+one run; the shader-cost passes with four uploads (32-bit textures and noise maps, as that benchmark's; 8-bit maps,
+noise and smooth, with 32-bit tables, as an engine ships them; half floats, a diagnostic).
 
 The baseline include comes from git (:func:`benchmarks.area_light_set.baseline_include`) or, on a machine with the
 working tree but not its history, from ``--baseline-include FILE`` (the same text, written beforehand with
