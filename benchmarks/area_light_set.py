@@ -156,17 +156,17 @@ TWO_LOBES = "this project + a cosine about the normal (two lobes, not shipped)"
 #: The cost section's pass without the LTC integral: the split sum alone.
 LTC_SHARE = "split sum without the LTC integral"
 
-#: The area light's forms in benchmarks.shader_cost's pass (a sphere seen per pixel; mapC stands in for the LTC table:
-#: the cost does not depend on its values): the split sum (``fresnelLtcRect`` × F̄) and the include's
+#: The area light's forms in benchmarks.shader_cost's pass (a sphere seen per pixel, the shipped LTC table in
+#: ``ltcLut``): the split sum (``fresnelLtcRect`` × F̄) and the include's
 #: ``fresnelBasisRectLight``; :data:`BASELINE` compiles the first with the include of :data:`BASELINE_REVISION`.
 COST_VARIANTS = {
     "split sum": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
                                               vec3(-1.0, 2.0, 3.0));
-    Fbar = fresnelLtcRect(mapC, N, V, N, corners, roughness) * fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
+    Fbar = fresnelLtcRect(ltcLut, N, V, N, corners, roughness) * fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",
     "punctual blend": """vec3 corners[4] = vec3[4](vec3(-1.0, 2.0, 1.0), vec3(1.0, 2.0, 1.0), vec3(1.0, 2.0, 3.0),
                                                    vec3(-1.0, 2.0, 3.0));
-    Fbar = fresnelBasisRectLight(mapC, basisLut, N, V, N, corners, roughness, cR, cG, cB);
+    Fbar = fresnelBasisRectLight(ltcLut, basisLut, N, V, N, corners, roughness, cR, cG, cB);
     F = vec3(0.0);""",
     LTC_SHARE: """Fbar = fresnelBasisSplitSum(basisLut, NdotV, roughness, cR, cG, cB);
     F = vec3(0.0);""",

@@ -76,7 +76,7 @@ from handoff.shaders import (
     unwarped_cosine,
     warped_cosine,
 )
-from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT, shipped_tables
+from handoff.shipped import COEFFICIENT_LUT, CURVE_LUT, LTC_LUT, shipped_tables
 from handoff.tables import ATLAS_STEM
 from preintegrate.lut import LutGrid, lut_lookup, lut_texel_weights
 
@@ -91,7 +91,7 @@ ARTIST_R_MAX = 0.9
 VERTEX = "#version 330\nin vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }\n"
 COMMON = """
 uniform sampler2D basisLut; uniform sampler2D schlickLut; uniform sampler2D mapA; uniform sampler2D mapB;
-uniform sampler2D mapC; uniform sampler2D coefficientLut; uniform sampler2D curveTable;
+uniform sampler2D mapC; uniform sampler2D coefficientLut; uniform sampler2D curveTable; uniform sampler2D ltcLut;
 uniform vec2 size; uniform vec4 cR; uniform vec4 cG; uniform vec4 cB; uniform float roughness;
 out vec4 colour;
 const vec3 EYE = vec3(0.0, 0.0, 4.0), LIGHT = vec3(1.5, 2.0, 3.0);  // per-pixel V and L: nothing folds to a constant
@@ -262,7 +262,20 @@ def smooth_map(rng, size: int = 256, cells: int = 8) -> np.ndarray:
     return np.stack([[np.interp(at, np.arange(cells + 1), rows[c, :, i]) for i in range(size)] for c in range(4)], -1)
 
 
-#: The texture units of :func:`frame_times` that hold material maps (mapA, mapB, mapC), the rest tables.
+#: The samplers of :func:`frame_times`' passes and their texture units (unit 8 holds the atlas; ltcLut, the shipped
+#: LTC table, is read by the area-light passes of benchmarks.area_light_set).
+TEXTURE_UNITS = {
+    "basisLut": 0,
+    "schlickLut": 1,
+    "mapA": 2,
+    "mapB": 3,
+    "curveLut": 4,
+    "mapC": 5,
+    "coefficientLut": 6,
+    "curveTable": 7,
+    "ltcLut": 9,
+}
+#: The texture units that hold material maps (mapA, mapB, mapC), the rest tables.
 MAP_UNITS = (2, 3, 5)
 
 
@@ -302,7 +315,7 @@ def frame_times(
             *painted[:2],
             curve_table(default_basis(), shader_constants()),
             painted[2],
-            *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT, f"{ATLAS_STEM}.exr")),
+            *(read_lut(shipped_path(name))[0] for name in (COEFFICIENT_LUT, CURVE_LUT, f"{ATLAS_STEM}.exr", LTC_LUT)),
         ]
         for unit, table in enumerate(textures):
             table = rgba_upload(table)
@@ -321,8 +334,7 @@ def frame_times(
                 vertex_shader=VERTEX,
                 fragment_shader=fragment_source(variant, atlas=name in IN_ATLAS, include=includes.get(name)),
             )
-            units = ("basisLut", "schlickLut", "mapA", "mapB", "curveLut", "mapC", "coefficientLut", "curveTable")
-            for index, uniform in enumerate(units):
+            for uniform, index in TEXTURE_UNITS.items():
                 if uniform in program:  # an atlas pass reads its three tables from the atlas, unit 8
                     atlased = name in IN_ATLAS and uniform in ("basisLut", "coefficientLut", "curveTable")
                     program[uniform] = 8 if atlased else index
