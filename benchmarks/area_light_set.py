@@ -56,7 +56,7 @@ from basis.training.holdout import FIGURE_2
 from benchmarks.npm import NpmError, npm_unpacked
 from benchmarks.output import publish
 from handoff.exr import read_lut
-from handoff.shaders import rect_light_punctual
+from handoff.shaders import rect_light_punctual, shader_includes
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     LOBE_RATIO_MAX,
@@ -194,17 +194,48 @@ def baseline_include() -> str:
     return result.stdout
 
 
+#: Diagnostics of the shipped form's cost (not shipped): its pass with F(V·H*) from the direct-light polynomial in
+#: place of the basis table's mirror row (a second fetch of a 32-bit table), and without the lobe's limit (the
+#: integral the LTC's own): each the include with that one call changed (:func:`cost_passes`).
+POLYNOMIAL_PUNCTUAL = "punctual blend, F(V·H*) from the direct-light polynomial (not shipped)"
+WITHOUT_LOBE_LIMIT = "punctual blend, the LTC's own integral (not shipped)"
+_SHIPPED_CALLS = {
+    POLYNOMIAL_PUNCTUAL: (
+        "fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB);",
+        "fresnelBasisDirect(VdotH, cR, cG, cB);",
+    ),
+    WITHOUT_LOBE_LIMIT: (
+        "fresnelLtcRectVector(ltcLut, N, V, P, corners, r, b.x);",
+        "fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0);",
+    ),
+}
+
+
+def cost_passes(baseline: str) -> tuple[dict[str, str], dict[str, str]]:
+    """(variants, includes) of the area-light cost passes for benchmarks.shader_cost.frame_times: :data:`BASELINE`
+    with ``baseline`` (its include's text), :data:`COST_VARIANTS` with the shipped include, and the diagnostics
+    (:data:`POLYNOMIAL_PUNCTUAL`, :data:`WITHOUT_LOBE_LIMIT`) with the shipped include so changed."""
+    shipped = dict(shader_includes())["fresnel_basis.glsl"]
+    includes = {BASELINE: baseline}
+    for name, (call, replacement) in _SHIPPED_CALLS.items():
+        if shipped.count(call) != 1:
+            raise RuntimeError(f"the include no longer calls {call!r} once: {name} cannot be built")
+        includes[name] = shipped.replace(call, replacement)
+    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
+    variants.update({name: COST_VARIANTS["punctual blend"] for name in _SHIPPED_CALLS})
+    return variants, includes
+
+
 def cost() -> list[str]:
-    """Markdown lines: each form's area-light pass in ACO's estimate (RDNA 2) and on llvmpipe, × :data:`BASELINE`'s
-    (the split sum as the include of :data:`BASELINE_REVISION` had it)."""
+    """Markdown lines: each form's area-light pass (:func:`cost_passes`) in ACO's estimate (RDNA 2) and on llvmpipe,
+    × :data:`BASELINE`'s (the split sum as the include of :data:`BASELINE_REVISION` had it)."""
     from benchmarks.gpu_compiler import compiler_estimates
     from benchmarks.shader_cost import fragment_source, frame_times
 
     try:
-        includes = {BASELINE: baseline_include()}
+        variants, includes = cost_passes(baseline_include())
     except RuntimeError as error:
-        return [f"Not measured: issue 41's baseline include could not be read ({error})."]
-    variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
+        return [f"Not measured: {error}."]
     lines = [
         "| form | ACO instructions | × baseline, ACO (inverse throughput) | × baseline, llvmpipe |",
         "|---|---|---|---|",
@@ -226,7 +257,9 @@ def cost() -> list[str]:
         *lines,
         "",
         f"'{LTC_SHARE}' is the pass less the LTC: the split sum's ratio less its is what the LTC integral costs, "
-        "and about what a second polygon integral (a second lobe) would add. "
+        "and about what a second polygon integral (a second lobe) would add. The last two rows change one call of the "
+        "shipped include each (`cost_passes`): what reading F(V·H*) from the basis table's mirror row saves against "
+        "the polynomial, and what the lobe's limit costs. "
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
     ]
 

@@ -3,8 +3,8 @@ estimate and llvmpipe cannot give).
 
 The passes are the shader-cost benchmark's (:data:`benchmarks.shader_cost.ALL_VARIANTS`: Schlick, the basis with
 uniform coefficients, the per-pixel solves and tables, the atlas) and the area-light benchmark's
-(:data:`benchmarks.area_light_set.COST_VARIANTS`, with issue 41's baseline: the split sum as the include of
-:data:`benchmarks.area_light_set.BASELINE_REVISION` had it), each a full-screen pass timed by
+(:func:`benchmarks.area_light_set.cost_passes`, with issue 41's baseline: the split sum as the include of
+:data:`benchmarks.area_light_set.BASELINE_REVISION` had it, and the shipped form's diagnostics), each a full-screen pass timed by
 :func:`benchmarks.shader_cost.frame_times` (variants alternated round by round, the median per frame). Each table gives
 milliseconds per frame and the ratio to its own baseline (Schlick's pass; issue 41's baseline pass), each column from
 one run; the shader-cost passes with four uploads (32-bit textures and noise maps, as that benchmark's; 8-bit maps,
@@ -23,7 +23,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from benchmarks.area_light_set import BASELINE, COST_VARIANTS, baseline_include
+from benchmarks.area_light_set import BASELINE, baseline_include, cost_passes
 from benchmarks.output import machine, publish
 from benchmarks.shader_cost import frame_times
 
@@ -48,8 +48,7 @@ def timings(width: int, height: int, frames: int, rounds: int, baseline: str) ->
     smooth, _ = frame_times(width, height, frames, rounds, maps="f1", smooth=True)
     half, _ = frame_times(width, height, frames, rounds, texel="f2")
     columns = (shading, painted, smooth, half)
-    area_variants = {BASELINE: COST_VARIANTS["split sum"], **COST_VARIANTS}
-    area, _ = frame_times(width, height, frames, rounds, area_variants, {BASELINE: baseline})
+    area, _ = frame_times(width, height, frames, rounds, *cost_passes(baseline))
     lines = [
         f"Renderer: {renderer}, OpenGL {gl_version()}, on {machine()}; {width} x {height}, the median of {rounds} "
         f"rounds of {frames} frames, variants alternated; milliseconds per frame and the ratio to the table's first "

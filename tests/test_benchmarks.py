@@ -126,7 +126,7 @@ def test_gpu_timings_run_small(tmp_path):
     assert completed.returncode == 0, completed.stderr[-2000:]
     text = out.read_text(encoding="utf-8")
     rows = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
-    assert len(rows) == 2 + len(ALL_VARIANTS) + 4, rows  # two headers, the shader-cost passes, the area-light ones
+    assert len(rows) == 2 + len(ALL_VARIANTS) + 6, rows  # two headers, the shader-cost passes, the area-light ones
     assert "| schlick | " in text and text.count(" | 1.00 |") >= 2, text
     assert "| punctual blend | " in text
     missing = _run("benchmarks.gpu_timings", "--baseline-include", str(tmp_path / "absent.glsl"))
@@ -292,6 +292,19 @@ def test_the_ratio_bound_is_the_criterions_choice():
     lines = ratio_bound(96)
     assert not any("now picks" in line for line in lines), lines
     assert sum("(chosen) (shipped)" in line for line in lines) == 1, lines
+
+
+def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
+    """Each diagnostic pass of the area-light cost differs from the shipped include in the one line that makes it."""
+    from benchmarks.area_light_set import BASELINE, POLYNOMIAL_PUNCTUAL, WITHOUT_LOBE_LIMIT, cost_passes
+    from handoff.shaders import shader_includes
+
+    variants, includes = cost_passes("// the baseline")
+    shipped = dict(shader_includes())["fresnel_basis.glsl"].splitlines()
+    assert includes[BASELINE] == "// the baseline" and set(includes) <= set(variants)
+    for name, now in ((POLYNOMIAL_PUNCTUAL, "fresnelBasisDirect(VdotH"), (WITHOUT_LOBE_LIMIT, "corners, r, 0.0)")):
+        changed = [b for a, b in zip(shipped, includes[name].splitlines()) if a != b]
+        assert len(changed) == 1 and now in changed[0], (name, changed)
 
 
 def test_area_light_set_runs_small():
