@@ -32,8 +32,9 @@ A third section measures the factorisation alone (with the exact lobe over the l
 for this project's table, the public fit and candidate fits made here (the shipped method on a finer table; M's four
 entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER` and
 as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`) and the LTC fitted to training
-lights' radiance at the set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in ACO's estimate and on llvmpipe
-(benchmarks.shader_cost's pass) against issue 41's baseline (:data:`BASELINE_REVISION`'s include, from git).
+lights' radiance at the set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in
+ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
+(:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
 [--out FILE]`` (the
@@ -124,6 +125,18 @@ def _corners(theta: float, phi: float, width: float) -> np.ndarray:
     if np.dot(np.cross(corners[1] - corners[0], corners[3] - corners[0]), facing) < 0.0:
         corners = corners[::-1]
     return corners
+
+
+def lobe_albedo(mu_o: float, alpha: float) -> float:
+    """E(μo, α): the GGX lobe's directional albedo with F = 1, by the reference's quadrature."""
+    return reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+
+
+def lobe_over(view, alpha: float, lights, nodes: int) -> np.ndarray:
+    """(L,) the GGX lobe with F = 1 over each of ``lights`` (L, 4, 3), seen from the origin with normal z and ``view``
+    (the reference, tests/references/area_light.py, ``nodes``² nodes)."""
+    normal, ones = np.array([0.0, 0.0, 1.0]), lambda x: np.ones(np.shape(x) + (1,))
+    return np.array([rect_light_reference(normal, view, np.zeros(3), c, alpha, ones, nodes)[0] for c in lights])
 
 
 def cosine_space_integral(stored, normal, view, corners) -> float:
@@ -283,16 +296,14 @@ def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, no
     Σ |log((I E + 1e-3) / (lobe + 1e-3))|, the lobe by the reference with ``nodes``² nodes."""
     ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
     training = training_lights(lights)
-    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     mu_rows, alphas = fit_points(ltc)
     chosen = np.array(first, dtype=float)
     for row, mu_o in enumerate(mu_rows):
         view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
         for column, alpha in enumerate(alphas):
-            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            albedo = lobe_albedo(mu_o, alpha)
             scores = [0.0, 0.0]
-            for corners in training:
-                lobe = rect_light_reference(normal, view, np.zeros(3), corners, alpha, ones, nodes)[0]
+            for corners, lobe in zip(training, lobe_over(view, alpha, training, nodes)):
                 for k, table in enumerate((first, second)):
                     integral = rect_light_integral(table[row, column], normal, view, np.zeros(3), corners)
                     scores[k] += abs(np.log((integral * albedo + 1e-3) / (lobe + 1e-3)))
@@ -347,7 +358,6 @@ def ratio_bound(nodes: int) -> list[str]:
     lobe's limit with each bound on the ratio; the criterion: the lowest median whose worst stays within 1.25 × that
     of the bound 1 (which only lowers the integral)."""
     normal = np.array([0.0, 0.0, 1.0])
-    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     table = read_lut(shipped_path(LTC_LUT))[0]
     lights = np.array(training_lights(CHOICE_LIGHTS, (np.log(0.02), np.log(10.0))))
     parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": []}
@@ -356,11 +366,9 @@ def ratio_bound(nodes: int) -> list[str]:
         view = np.array([sine, 0.0, mu_o])
         for roughness in CHOICE_ROUGHNESS:
             alpha = roughness**2
-            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            albedo = lobe_albedo(mu_o, alpha)
             stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
-            lobes = np.array(
-                [rect_light_reference(normal, view, np.zeros(3), c, alpha, ones, nodes)[0] for c in lights]
-            )
+            lobes = lobe_over(view, alpha, lights, nodes)
             integral, direction = rect_light_direction(stored, normal, view, np.zeros(3), lights)
             lit = lobes > 1e-3
             parts["integral"].append(integral[lit])
@@ -450,28 +458,25 @@ def lobe_study(
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
     normal = np.array([0.0, 0.0, 1.0])
-    ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     training = training_lights(FIT_LIGHTS, (np.log(0.02), np.log(10.0))) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
     for mu_o in VIEWS:
         view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
         for roughness in ROUGHNESS:
             alpha = roughness**2
-            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            albedo = lobe_albedo(mu_o, alpha)
             stored = {name: ltc_grid(len(table)).lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
             name_first, first = next(iter(stored.items()))
             weights = two_lobe_weights(first, mu_o, alpha, albedo)
             fitted = {}
             if radiance_fits:
-                lobes = np.array(
-                    [rect_light_reference(normal, view, np.zeros(3), c, alpha, ones, nodes)[0] for c in training]
-                )
+                lobes = lobe_over(view, alpha, training, nodes)
                 for name, limit in ((RADIANCE_FIT, False), (RADIANCE_FIT_LIMIT, True)):
                     fitted[name] = radiance_fit(first, view, np.array(training), alpha, albedo, lobes, limit)
             for placement, (theta, phi) in _placements(mu_o).items():
                 for width in WIDTHS:
                     corners = _corners(theta, phi, width)
-                    lobe = rect_light_reference(normal, view, np.zeros(3), corners, alpha, ones, nodes)[0]
+                    lobe = lobe_over(view, alpha, [corners], nodes)[0]
                     if lobe <= 1e-3:
                         continue
                     approximations = {
@@ -547,8 +552,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                 magnitude = ltc.lookup(public[1], mu_o, roughness)
             terms = grid.lookup(basis_table, mu_o, roughness)
             albedo = terms[0]
-            ones = lambda x: np.ones((x.size, 1))  # noqa: E731
-            exact_albedo = reference_albedo_grid(ones, np.array([mu_o]), np.array([alpha]))[0, 0]
+            exact_albedo = lobe_albedo(mu_o, alpha)
             for name, (eta, kappa) in materials.items():
                 curve = lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])  # noqa: E731
                 coefficients = coefficients_from_nk(eta, kappa)
