@@ -4,8 +4,9 @@ estimate and llvmpipe cannot give).
 The passes are the shader-cost benchmark's (:data:`benchmarks.shader_cost.ALL_VARIANTS`: Schlick, the basis with
 uniform coefficients, the per-pixel solves and tables, the atlas) and the area-light benchmark's
 (:func:`benchmarks.area_light_set.cost_passes`, with issue 41's baseline: the split sum as the include of
-:data:`benchmarks.area_light_set.BASELINE_REVISION` had it, and the shipped form's diagnostics), each a full-screen pass timed by
-:func:`benchmarks.shader_cost.frame_times` (variants alternated round by round, the median per frame). Each table gives
+:data:`benchmarks.area_light_set.BASELINE_REVISION` had it, and the shipped form's diagnostics), each a full-screen
+pass timed by :func:`benchmarks.shader_cost.frame_times` (variants alternated round by round, the median per frame).
+Each table gives
 milliseconds per frame and the ratio to its own baseline (Schlick's pass; issue 41's baseline pass), each column from
 one run; the shader-cost passes with four uploads (32-bit textures and noise maps, as that benchmark's; 8-bit maps,
 noise and smooth, with 32-bit tables, as an engine ships them; half floats, a diagnostic).

@@ -257,9 +257,11 @@ def rgba_upload(table: np.ndarray) -> np.ndarray:
 def smooth_map(rng, size: int = 256, cells: int = 8) -> np.ndarray:
     """(size, size, 4) random values in [0.05, 0.95] on a (cells + 1)² grid, interpolated linearly between them."""
     grid = rng.uniform(0.05, 0.95, (cells + 1, cells + 1, 4))
-    at = np.linspace(0.0, cells, size)
-    rows = np.stack([[np.interp(at, np.arange(cells + 1), grid[:, j, c]) for j in range(cells + 1)] for c in range(4)])
-    return np.stack([[np.interp(at, np.arange(cells + 1), rows[c, :, i]) for i in range(size)] for c in range(4)], -1)
+    # the linear interpolation's weights along one axis, (size, cells + 1): bilinear is the same along both
+    weights = np.stack(
+        [np.interp(np.linspace(0.0, cells, size), np.arange(cells + 1), e) for e in np.eye(cells + 1)], 1
+    )
+    return np.einsum("ia,abc,jb->ijc", weights, grid, weights)
 
 
 #: The samplers of :func:`frame_times`' passes and their texture units (unit 8 holds the atlas; ltcLut, the shipped
@@ -275,8 +277,8 @@ TEXTURE_UNITS = {
     "curveTable": 7,
     "ltcLut": 9,
 }
-#: The texture units that hold material maps (mapA, mapB, mapC), the rest tables.
-MAP_UNITS = (2, 3, 5)
+#: The texture units that hold material maps, the rest tables.
+MAP_UNITS = tuple(TEXTURE_UNITS[name] for name in ("mapA", "mapB", "mapC"))
 
 
 def frame_times(
