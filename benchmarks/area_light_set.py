@@ -29,8 +29,8 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 "Fresnel part": |approach − the same with the exact curve| / reference.
 
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
-for this project's table, the public fit and candidate fits made here (the shipped method on a finer table; M's four
-entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER` and
+for this project's table, the public fit and candidate fits made here (the mean-axis fit alone and on a finer table;
+M's four entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER` and
 as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`) and the LTC fitted to training
 lights' radiance at the set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in
 ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
@@ -61,7 +61,6 @@ from handoff.shaders import rect_light_punctual, shader_includes
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
 from preintegrate.ltc import (
     LOBE_RATIO_MAX,
-    fit_points,
     lobe_density_ratio,
     ltc_grid,
     ltc_inverse,
@@ -75,6 +74,8 @@ from preintegrate.ltc import (
     target_lobe,
     toward_lobe_limit,
 )
+from preintegrate.ltc_choice import CHOICE_LIGHTS as CHOICE_LIGHTS_SHIPPED
+from preintegrate.ltc_choice import facing_rectangle, training_lights
 from preintegrate.lut import LutGrid
 from tests.references.area_light import rect_light_reference
 from tests.references.fresnel import fresnel_complex
@@ -110,21 +111,6 @@ def _placements(mu_o: float) -> dict[str, tuple[float, float]]:
         "near horizon": (1.4, np.pi),
         "across horizon": (0.5 * np.pi, np.pi + 0.3),
     }
-
-
-def _corners(theta: float, phi: float, width: float) -> np.ndarray:
-    """(4, 3) a width × width/2 rectangle at DISTANCE in direction (θ, φ), facing the origin, wound so that
-    (c1 − c0) × (c3 − c0) points at it."""
-    centre = DISTANCE * np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
-    facing = -centre / DISTANCE
-    u = np.cross(facing, [0.0, 0.0, 1.0] if abs(facing[2]) < 0.99 else [1.0, 0.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(facing, u)
-    a, b = 0.5 * width * u, 0.25 * width * v
-    corners = np.array([centre - a - b, centre + a - b, centre + a + b, centre - a + b])
-    if np.dot(np.cross(corners[1] - corners[0], corners[3] - corners[0]), facing) < 0.0:
-        corners = corners[::-1]
-    return corners
 
 
 def lobe_albedo(mu_o: float, alpha: float) -> float:
@@ -277,43 +263,13 @@ def cost() -> list[str]:
     ]
 
 
-def training_lights(count: int, log_widths: tuple[float, float] = (-2.3, 1.8)) -> list[np.ndarray]:
-    """``count`` seeded training lights, (4, 3) corners each: widths log-uniform between e^``log_widths`` (by default
-    0.1 to 6) at distance 2, directions over the hemisphere and just below it (not the set's)."""
-    rng = np.random.default_rng(123)
-    smallest, largest = log_widths
-    return [
-        _corners(
-            np.arccos(rng.uniform(-0.15, 1.0)), rng.uniform(0.0, 2.0 * np.pi), np.exp(rng.uniform(smallest, largest))
-        )
-        for _ in range(count)
-    ]
-
-
-def per_texel_choice(first: np.ndarray, second: np.ndarray, lights: int = 24, nodes: int = 24) -> np.ndarray:
-    """(64, 64, 4): at each texel the table (of two) whose LTC holds the lobe over ``lights`` seeded training lights
-    better (widths 0.1 to 6 at distance 2, directions over the hemisphere and just below it, not the set's), by
-    Σ |log((I E + 1e-3) / (lobe + 1e-3))|, the lobe by the reference with ``nodes``² nodes."""
-    ltc, normal = ltc_grid(64), np.array([0.0, 0.0, 1.0])
-    training = training_lights(lights)
-    mu_rows, alphas = fit_points(ltc)
-    chosen = np.array(first, dtype=float)
-    for row, mu_o in enumerate(mu_rows):
-        view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
-        for column, alpha in enumerate(alphas):
-            albedo = lobe_albedo(mu_o, alpha)
-            scores = [0.0, 0.0]
-            for corners, lobe in zip(training, lobe_over(view, alpha, training, nodes)):
-                for k, table in enumerate((first, second)):
-                    integral = rect_light_integral(table[row, column], normal, view, np.zeros(3), corners)
-                    scores[k] += abs(np.log((integral * albedo + 1e-3) / (lobe + 1e-3)))
-            if scores[1] < scores[0]:
-                chosen[row, column] = second[row, column]
-    return chosen
-
-
-#: The lobe study's tables with M's four entries free: fitted in L2, in chi-square, and the per-texel choice.
-FREE_TABLES = ("free axis, L2", "free axis, chi-square", "per texel: mean axis or free chi-square")
+#: The lobe study's own fits (preintegrate.ltc.fit_ltc): the mean-axis L2 fit alone (the public fit's method, shipped
+#: before issue 41's per-texel table) and M's four entries free, fitted in L2 and in chi-square (the shipped table takes
+#: per texel the mean-axis or the chi-square one: preintegrate.ltc_choice).
+MEAN_AXIS = "the mean-axis L2 fit alone (the public fit's method; shipped before)"
+FREE_TABLES = ("free axis, L2", "free axis, chi-square")
+#: The lobe study's first row: what ships, the LTC alone.
+SHIPPED_TABLE = "this project's table (per texel the mean-axis or the free chi-square fit), the LTC alone"
 
 
 def with_the_limit(table: str) -> str:
@@ -322,17 +278,17 @@ def with_the_limit(table: str) -> str:
     return f"{table}, toward the limit as shipped (not shipped)"
 
 
-#: The lobe study's row for the shipped method on a finer grid (issue 41 item 2: "a finer ... table near grazing").
-FINER = "this project's fit, 128² (twice as fine, not shipped)"
+#: The lobe study's row for the mean-axis fit on a finer grid (issue 41 item 2: "a finer ... table near grazing").
+FINER = "the mean-axis fit, 128² (twice as fine, not shipped)"
 
 #: The lobe study's row for the shipped table taken toward the lobe's own punctual limit, as item 1 takes its Fresnel:
 #: the integral × mix(f̂(L*) / D(L*), 1, √I), f̂ the exact lobe normalised by E (preintegrate.ltc.target_lobe), D the
 #: LTC's density, both at the light's representative direction L*, I the LTC integral.
-LOBE_LIMIT = "this project, toward the lobe's punctual limit (not shipped)"
+LOBE_LIMIT = "this project, toward the lobe's punctual limit, the ratio unbounded (not shipped)"
 #: The same where it lowers the integral only, min(f̂(L*) / D(L*), 1): where the LTC is denser than the lobe at L*
 #: (across the horizon, beside the lobe) it takes the excess off; where it is thinner (the mirror direction at grazing
 #: views, where the LTC is off pointwise and right in the integral) it leaves the integral as it is.
-LOBE_LIMIT_LOWER = "toward the lobe's punctual limit where that lowers the integral (shipped before)"
+LOBE_LIMIT_LOWER = "toward the lobe's punctual limit where that lowers the integral (the ratio at most 1)"
 #: What ships (preintegrate.ltc.rect_light_half_cosine): the ratio at most LOBE_RATIO_MAX (:func:`ratio_bound`).
 LOBE_LIMIT_SHIPPED = f"this project as shipped: the ratio at most {LOBE_RATIO_MAX:g}"
 
@@ -359,7 +315,7 @@ def ratio_bound(nodes: int) -> list[str]:
     of the bound 1 (which only lowers the integral)."""
     normal = np.array([0.0, 0.0, 1.0])
     table = read_lut(shipped_path(LTC_LUT))[0]
-    lights = np.array(training_lights(CHOICE_LIGHTS, (np.log(0.02), np.log(10.0))))
+    lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": []}
     for mu_o in CHOICE_VIEWS:
         sine = np.sqrt(1.0 - mu_o * mu_o)
@@ -380,16 +336,17 @@ def ratio_bound(nodes: int) -> list[str]:
         bound: np.abs(toward_lobe_limit(integral, np.minimum(ratio, bound)) * albedo - lobe) / lobe
         for bound in RATIO_BOUNDS
     }
-    allowed = [bound for bound, e in errors.items() if e.max() <= 1.25 * errors[1.0].max()]
+    allowed = [bound for bound, e in errors.items() if np.isfinite(bound) and e.max() <= 1.25 * errors[1.0].max()]
     chosen = min(allowed, key=lambda bound: np.median(errors[bound]))
     lines = [
         f"The bound on the lobe's ratio, on {CHOICE_LIGHTS} seeded training lights 0.02 to 10 wide "
         f"(`training_lights`, not this set's) at N·V {list(CHOICE_VIEWS)} and r {list(CHOICE_ROUGHNESS)}: the "
         f"shipped table's integral × mix(min(f̂(L*) / D(L*), bound), 1, √I) against the lobe (F = 1) over the "
-        f"{len(lobe)} values with the lobe above 1e-3, median / p90 / max. The bound chosen has the lowest median "
-        "whose worst stays within 1.25 × that of the bound 1 (which only takes off what the LTC holds beyond the "
-        "lobe); a bound above 1 raises the integral where the LTC holds less than the lobe, most for small lights, "
-        "and also multiplies float32's rounding of the integral (tests/luts/test_shaders_area.py).",
+        f"{len(lobe)} values with the lobe above 1e-3, median / p90 / max. The bound chosen is finite (it multiplies "
+        "float32's rounding of the integral: unbounded, a tiny light's value is off by 1.2e-2, "
+        "tests/luts/test_shaders_area.py) and has the lowest median whose worst stays within 1.25 × that of the "
+        "bound 1 (which only takes off what the LTC holds beyond the lobe); a bound above 1 raises the integral "
+        "where the LTC holds less than the lobe, most for small lights.",
         "",
         "| bound on f̂(L*) / D(L*) | training lights |",
         "|---|---|",
@@ -458,7 +415,7 @@ def lobe_study(
     ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
     (:func:`radiance_fit`), alone and with the limit."""
     normal = np.array([0.0, 0.0, 1.0])
-    training = training_lights(FIT_LIGHTS, (np.log(0.02), np.log(10.0))) if radiance_fits else []
+    training = training_lights(FIT_LIGHTS, (0.02, 10.0)) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
     for mu_o in VIEWS:
         view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
@@ -475,7 +432,7 @@ def lobe_study(
                     fitted[name] = radiance_fit(first, view, np.array(training), alpha, albedo, lobes, limit)
             for placement, (theta, phi) in _placements(mu_o).items():
                 for width in WIDTHS:
-                    corners = _corners(theta, phi, width)
+                    corners = facing_rectangle(theta, phi, width, DISTANCE)
                     lobe = lobe_over(view, alpha, [corners], nodes)[0]
                     if lobe <= 1e-3:
                         continue
@@ -561,7 +518,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                 kind = "dielectric" if name in ("glass", "water") else "conductor"
                 for placement, (theta, phi) in _placements(mu_o).items():
                     for width in WIDTHS:
-                        corners = _corners(theta, phi, width)
+                        corners = facing_rectangle(theta, phi, width, DISTANCE)
                         reference = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, nodes)
                         check = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, 2 * nodes)
                         lit = reference > 1e-3
@@ -673,33 +630,32 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
     if fits:
         from preintegrate.ltc import fit_ltc
 
-        candidates = {"this project's table, the LTC alone (mean axis, L2)": ltc_table}
+        candidates = {SHIPPED_TABLE: ltc_table}
         if not isinstance(public, str):
             candidates["public fit (three.js LTC_MAT_1)"] = public[0]
+        candidates[MEAN_AXIS] = fit_ltc(ltc).inverse
         candidates[FINER] = fit_ltc(ltc_grid(128)).inverse
-        free_l2, free_chi_square, per_texel = FREE_TABLES
+        free_l2, free_chi_square = FREE_TABLES
         candidates[free_l2] = fit_ltc(ltc, axis="free").inverse
         candidates[free_chi_square] = fit_ltc(ltc, axis="free", weighting="chi-square").inverse
-        candidates[per_texel] = per_texel_choice(ltc_table, candidates[free_chi_square])
         lines += [
             "",
             "## The lobe alone (item 2)",
             "",
             "Each LTC table's shape error with F = 1 (its integral × E against the lobe over the light, both "
-            "clipped to the surface's horizon), median / p90 / max, by the light's placement and then by its width; "
-            "the shipped fit on a table twice as fine, 128² (the same axes, √(1 − μo) rows: finer toward grazing "
-            "views), and the free-axis fits are made here (`preintegrate.ltc.fit_ltc`, about 25 s each); the next row "
-            "takes at "
-            "each texel whichever of the shipped and the chi-square table holds the lobe better over 24 seeded "
-            "training lights (not this set's; about 4 min); the next takes the shipped table toward the lobe's own "
-            "punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact lobe "
-            "over the LTC's density at the light's representative direction, the same with the ratio at most 1 "
-            "(it only takes off what the LTC holds beyond the lobe: shipped before), and what ships "
-            f"(`fresnelBasisRectLight`), the ratio at most {LOBE_RATIO_MAX:g} (it also raises the integral where the "
-            "LTC holds less than the lobe, most for small lights; the bound's choice follows the tables); the next "
-            "three "
-            "take the free-axis and per-texel tables the same way; the next adds "
-            "to the shipped table a clamped cosine "
+            "clipped to the surface's horizon), median / p90 / max, by the light's placement and then by its width. "
+            "The shipped table takes at each texel the mean-axis L2 fit (the public fit's method) or the fit with "
+            "M's four entries free in chi-square, whichever holds the lobe better over "
+            f"{CHOICE_LIGHTS_SHIPPED} seeded training lights 0.1 to 6 wide (not this set's; "
+            "`preintegrate.ltc_choice`); the mean-axis fit alone, on a table twice as fine (128², the same axes, "
+            "√(1 − μo) rows: finer toward grazing views), and the free fits alone are made here "
+            "(`preintegrate.ltc.fit_ltc`, 10 to 40 s each). The next rows take the shipped table toward the lobe's "
+            "own punctual limit as item 1 takes its Fresnel: the integral × mix(f̂(L*) / D(L*), 1, √I), the exact "
+            "lobe over the LTC's density at the light's representative direction, with the ratio unbounded, at most "
+            "1 (it only takes off what the LTC holds beyond the lobe) and at most "
+            f"{LOBE_RATIO_MAX:g}, what ships (`fresnelBasisRectLight`; it also raises the integral where the LTC "
+            "holds less than the lobe, most for small lights; the bound's choice follows the tables); the next three "
+            "take the mean-axis and free fits the same way; the next adds to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
             "the last two fit the LTC's four entries "
@@ -708,7 +664,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
             "such fits could at best reach. Only the shipped table and that bounded limit are shipped:",
             "",
-            *lobe_study(nodes, candidates, corrected=FREE_TABLES),
+            *lobe_study(nodes, candidates, corrected=(MEAN_AXIS, *FREE_TABLES)),
             "",
             *ratio_bound(nodes),
         ]

@@ -51,7 +51,7 @@ from basis.validation import check_choice, check_positive_int, check_range
 from handoff.shaders import direct_fresnel, rect_light_specular
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine, rect_light_integral
+from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -298,7 +298,7 @@ def render_rect_light(
     curve's (the LTC integral, taken toward the lobe's punctual limit, × E mix(F(V·H*), F̄ / E, w) with the exact F
     and F̄: what the LTC and that factorisation alone cost), the basis' (``fresnelBasisRectLight``,
     :func:`handoff.shaders.rect_light_specular`) and Schlick's F0 s + b (``fresnelSchlickRectLight``), all three on
-    the same integral; and the LTC's own integral (``ltc``, one channel)."""
+    the same integral; and that integral, the one their Fresnel factors multiply (``ltc``, one channel)."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
     check_choice("visibility", visibility, list(VISIBILITIES))
     normals, mask = sphere_geometry(size)
@@ -307,7 +307,6 @@ def render_rect_light(
     sine = np.linalg.norm(np.cross(normals, view), axis=-1)
     grid = ltc_grid(ltc_lut.shape[0], visibility)
     stored = grid.lookup(ltc_lut, mu_o, roughness, sine)
-    integral = np.where(mask, rect_light_integral(stored, normals, view, normals, corners), 0.0)
     schlick = lut_lookup(schlick_lut, mu_o, roughness)
     toward, v_dot_h = rect_light_half_cosine(stored, normals, view, normals, corners, roughness, schlick[..., 2])
     nodes = texel_centres(256)
@@ -325,7 +324,7 @@ def render_rect_light(
     }
     for image in images.values():
         image[~mask] = 0.0
-    images["ltc"] = integral
+    images["ltc"] = np.where(mask, toward, 0.0)
     return images
 
 

@@ -36,7 +36,8 @@ from preintegrate.channels import (
     schlick_table_channels,
 )
 from preintegrate.ggx import VISIBILITIES
-from preintegrate.ltc import LTC_CHANNELS, LtcFit, fit_ltc, ltc_grid
+from preintegrate.ltc import LTC_CHANNELS, LtcFit, ltc_grid
+from preintegrate.ltc_choice import fit_area_ltc
 from preintegrate.lut import LutGrid, build_table
 from preintegrate.multiple_scattering import AVERAGE_NODES, average_albedo
 from preintegrate.quadrature import DEFAULT_ORDER
@@ -409,8 +410,9 @@ def kept_ltc_grid(out, visibility: str) -> LutGrid | None:
 
 
 def ltc_build_table(grid: LutGrid | None = None, progress: Callable[[int, int], None] | None = None) -> Table:
-    """The area lights' LTC table (:mod:`preintegrate.ltc`) as a :class:`Table` named after :data:`LTC_LUT`."""
-    return ltc_table(fit_ltc(grid, progress))
+    """The area lights' LTC table (:func:`preintegrate.ltc_choice.fit_area_ltc`) as a :class:`Table` named after
+    :data:`LTC_LUT`."""
+    return ltc_table(fit_area_ltc(grid, progress))
 
 
 def ltc_table(fit: LtcFit, command: str = "fresnel-lut build --ltc") -> Table:

@@ -62,7 +62,7 @@ const FRESNEL_LINEAR_AVERAGES: vec3f = vec3f(0.952380952, 0.0476190476, 0.007936
 const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offset
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
-const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 1.3;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
+const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 2.0;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
 const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667927662, 0.334452112, -0.9921875, 0.99609375);  // x scale, x offset, s scale, s offset of the table's texels
 const FRESNEL_CURVE_TABLE: vec3f = vec3f(0.999511241, 0.000244379277, 0.5);  // scale, offset of mu, v of the row
 
@@ -507,7 +507,7 @@ fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f
 
 // Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
 // not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
-// vector, where p x q would cancel: a light 1e-3 wide two units away within 6.7e-5 of its largest value, not 3.8e-3,
+// vector, where p x q would cancel: a light 1e-3 wide two units away within 1e-4 of its largest value, not 3.8e-3,
 // tests/luts/test_shaders_area.py); 0 where p x q is.
 fn fresnelLtcEdge(p: vec3f, q: vec3f) -> vec3f
 {

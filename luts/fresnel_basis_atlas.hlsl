@@ -62,7 +62,7 @@ static const float3 FRESNEL_LINEAR_AVERAGES = float3(0.952380952, 0.0476190476, 
 static const float2 FRESNEL_LUT_COLUMNS = float2(0.9921875, 0.00390625);  // scale, offset
 static const float4 FRESNEL_LUT_ROWS = float4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 static const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
-static const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.3;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
+static const float FRESNEL_LTC_LOBE_RATIO_MAX = 2.0;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
 static const float4 FRESNEL_COEFFICIENT_AXES = float4(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
 static const float3 FRESNEL_CURVE_TABLE = float3(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 static const float4 FRESNEL_ATLAS_BASIS = float4(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
@@ -514,7 +514,7 @@ float2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
 
 // Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
 // not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
-// vector, where p x q would cancel: a light 1e-3 wide two units away within 6.7e-5 of its largest value, not 3.8e-3,
+// vector, where p x q would cancel: a light 1e-3 wide two units away within 1e-4 of its largest value, not 3.8e-3,
 // tests/luts/test_shaders_area.py); 0 where p x q is.
 float3 fresnelLtcEdge(float3 p, float3 q)
 {

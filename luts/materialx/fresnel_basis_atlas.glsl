@@ -62,7 +62,7 @@ const vec3 FRESNEL_LINEAR_AVERAGES = vec3(0.952380952, 0.0476190476, 0.007936507
 const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
-const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.3;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
+const float FRESNEL_LTC_LOBE_RATIO_MAX = 2.0;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
 const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
 const vec3 FRESNEL_CURVE_TABLE = vec3(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 const vec4 FRESNEL_ATLAS_BASIS = vec4(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
@@ -514,7 +514,7 @@ vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
 
 // Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
 // not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
-// vector, where p x q would cancel: a light 1e-3 wide two units away within 6.7e-5 of its largest value, not 3.8e-3,
+// vector, where p x q would cancel: a light 1e-3 wide two units away within 1e-4 of its largest value, not 3.8e-3,
 // tests/luts/test_shaders_area.py); 0 where p x q is.
 vec3 fresnelLtcEdge(vec3 p, vec3 q)
 {

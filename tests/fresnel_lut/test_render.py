@@ -215,10 +215,10 @@ def test_an_interrupted_render_leaves_the_folder_as_it_was(beryllium_study, tmp_
 def test_rect_light_against_the_area_reference(scene, roughness):
     """A sphere under the soft box: LTC x the exact curve's F̄ against the exact BRDF and curve integrated over the
     light's area (tests/references/area_light.py, 64² nodes), summed |difference| over the sphere as a share of the
-    lit energy: measured 2.4% for gold at r = 0.3, 9.9% for Figure 2 at r = 0.5 (2.5% and 10.3% with the LTC's own
-    integral, before it was taken toward the lobe's punctual limit), whose edge tint makes F vary
-    most across the light (the LTC's shape and the split of F from the lobe, Heitz 2016 §4.4, together); the
-    basis' Fresnel part is its own split-sum error (|ΔF̄| at the lit pixels at most the table's) and below
+    lit energy: measured 0.78% for gold at r = 0.3, 1.4% for Figure 2 at r = 0.5, whose edge tint makes F vary most
+    across the light (the LTC's shape and the split of F from the lobe, Heitz 2016 §4.4, together; 2.4% and 9.9% with
+    the mean-axis table alone, before the per-texel choice, preintegrate.ltc_choice); the basis' Fresnel part is its
+    own split-sum error (|ΔF̄| at the lit pixels, over the integral it multiplies, at most the table's) and below
     Schlick's."""
     from basis.storage import shipped_path
     from fresnel_lut.render import RECT_LIGHT, render_rect_light, sphere_geometry
@@ -243,7 +243,7 @@ def test_rect_light_against_the_area_reference(scene, roughness):
     )
     reference[~mask] = 0.0
     shape = np.sum(np.abs(images["exact"] - reference)) / np.sum(reference)
-    assert shape <= {"gold": 0.03, "figure2": 0.12}[scene], shape
+    assert shape <= {"gold": 0.01, "figure2": 0.02}[scene], shape
     lit = images["ltc"] > 1e-4
     at_pixels = np.max(np.abs(images["basis"] - images["exact"])[lit] / images["ltc"][lit][:, None])
     mu = np.linspace(0.0, 1.0, 129)[1:]
