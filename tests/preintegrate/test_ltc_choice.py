@@ -137,3 +137,26 @@ def test_the_shipped_table_holds_lights_it_was_not_chosen_on_better_than_the_mea
         shipped_errors,
         mean_errors,
     )
+
+
+def test_the_shipped_table_does_not_glow_at_grazing_views():
+    """The free fit's flaw the choice avoids: at grazing views (N·V 0.05, 0.1) of a glossy lobe (r 0.2 to 0.4), lights
+    1 and 3 wide on the viewer's side, where the lobe has almost nothing, against the reference (48² nodes): the
+    shipped table's LTC integral × E exceeds the lobe by at most 0.005 (measured 0.0019), where the free chi-square
+    fit alone exceeds it by up to 0.17 (a rim on glossy silhouettes: benchmarks.area_lights). At N·V 0.2 and r 0.4
+    the choice took the free fit, which exceeds it there by 0.052."""
+    shipped = read_lut(shipped_path(LTC_LUT))[0]
+    grid = ltc_grid(64)
+    worst = 0.0
+    for roughness in (0.2, 0.3, 0.4):
+        for mu_o in (0.05, 0.1):
+            view, alpha = _view(mu_o), roughness**2
+            albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+            stored = grid.lookup(shipped, mu_o, roughness, view[0])
+            for theta in (0.6, 1.0, 1.3):
+                for width in (1.0, 3.0):
+                    corners = facing_rectangle(theta, 0.0, width, 2.0)
+                    integral = rect_light_integral(stored, NORMAL, view, ORIGIN, corners) * albedo
+                    lobe = rect_light_reference(NORMAL, view, ORIGIN, corners, alpha, _ones, 48)[0]
+                    worst = max(worst, float(integral - lobe))
+    assert worst <= 0.005, worst
