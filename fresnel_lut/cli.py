@@ -158,7 +158,11 @@ def command_build(arguments) -> int:
     started = time.perf_counter()
     progress = Progress(f"integrating {size}x{size} texels", "texels")
     if arguments.model is None:
-        ltc_progress = Progress(f"fitting {ltc.width}x{ltc.height} LTC texels", "rows") if ltc is not None else None
+        ltc_progress = (
+            Progress(f"fitting {ltc.width}x{ltc.height} LTC texels (two fits, then the choice)", "rows")
+            if ltc is not None
+            else None
+        )
         paths = write_default_build(
             out,
             basis,

@@ -396,9 +396,10 @@ def fit_albedo(grid: LutGrid) -> np.ndarray:
     )[..., 0]
 
 
-#: The LTC's axis: the lobe's mean direction (the shipped table, as the public fit), or M's four entries free.
+#: The LTC's axis: the lobe's mean direction (the public fit's), or M's four entries free (the shipped table takes one
+#: or the other per texel: preintegrate.ltc_choice).
 AXES = ("mean", "free")
-#: The fit's norm: L2 of the density (the shipped table, as the public fit), or chi-square (issue 41's study).
+#: The fit's norm: L2 of the density (the public fit's), or chi-square (issue 41: the free fit the shipped table takes).
 WEIGHTINGS = ("l2", "chi-square")
 
 

@@ -112,9 +112,17 @@ def lobe_over_lights(mu_o: float, alpha, lights, nodes: int = CHOICE_NODES) -> n
     return np.einsum("alq,lq->al", lobe, solid)
 
 
-def free_texels(first: np.ndarray, second: np.ndarray, grid: LutGrid, lights, nodes: int = CHOICE_NODES) -> np.ndarray:
+def free_texels(
+    first: np.ndarray,
+    second: np.ndarray,
+    grid: LutGrid,
+    lights,
+    nodes: int = CHOICE_NODES,
+    progress: Callable[[int, int], None] | None = None,
+) -> np.ndarray:
     """(size, size) bool: where the stored table ``second`` holds the lobe over ``lights`` better than ``first``
-    (module docstring's score; ties keep ``first``), both (size, size, 4) on the LTC ``grid``."""
+    (module docstring's score; ties keep ``first``), both (size, size, 4) on the LTC ``grid``; ``progress`` (rows
+    done, rows)."""
     grid = checked_ltc_grid(grid)
     tables = [as_float_array("first", first), as_float_array("second", second)]
     if any(table.shape != (grid.height, grid.width, 4) for table in tables):
@@ -144,18 +152,23 @@ def free_texels(first: np.ndarray, second: np.ndarray, grid: LutGrid, lights, no
             for table in tables
         ]
         chosen[row] = scores[1] < scores[0]
+        if progress is not None:
+            progress(row + 1, grid.height)
     return chosen
 
 
-def per_texel_fit(mean: LtcFit, free: LtcFit, lights=None) -> LtcFit:
+def per_texel_fit(
+    mean: LtcFit, free: LtcFit, lights=None, progress: Callable[[int, int], None] | None = None
+) -> LtcFit:
     """Per texel ``mean`` (the mean-axis L2 fit) or ``free`` (the free chi-square fit) of the same grid, whichever
     :func:`free_texels` prefers over ``lights`` (default :func:`training_lights`), at roughness at least
-    :data:`CHOICE_ROUGHNESS_MIN`."""
+    :data:`CHOICE_ROUGHNESS_MIN`; ``progress`` as :func:`free_texels`'."""
     if not (isinstance(mean, LtcFit) and isinstance(free, LtcFit)) or mean.grid != free.grid:
         raise ParameterError("mean and free must be LtcFit of the same grid")
     lights = training_lights() if lights is None else lights
     roughness = np.sqrt(fit_points(mean.grid)[1])
-    chosen = free_texels(mean.inverse, free.inverse, mean.grid, lights) & (roughness >= CHOICE_ROUGHNESS_MIN)
+    chosen = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress)
+    chosen &= roughness >= CHOICE_ROUGHNESS_MIN
     pick = chosen[..., None]
     return LtcFit(
         mean.grid,
@@ -171,16 +184,14 @@ def fit_area_ltc(
 ) -> LtcFit:
     """The shipped LTC table (module docstring): the mean-axis L2 and free chi-square fits of ``grid`` (default
     64 × 64; :func:`preintegrate.ltc.fit_ltc`, ``workers`` threads, the same bits for any number), then
-    :func:`per_texel_fit`; ``progress`` (done, total) over both fits and the choice."""
+    :func:`per_texel_fit`; ``progress`` (done, total) over both fits' rows and the choice's."""
     grid = ltc_grid() if grid is None else checked_ltc_grid(grid)
-    steps = grid.height + 1
+    steps = grid.height + 1  # a fit's progress counts its rows and its lobe error
+    total = 2 * steps + grid.height
 
     def stage(offset: int):
-        return None if progress is None else lambda done, _total: progress(offset + done, 2 * steps + 1)
+        return None if progress is None else lambda done, _total: progress(offset + done, total)
 
     mean = fit_ltc(grid, stage(0), workers)
     free = fit_ltc(grid, stage(steps), workers, axis="free", weighting="chi-square")
-    fit = per_texel_fit(mean, free)
-    if progress is not None:
-        progress(2 * steps + 1, 2 * steps + 1)
-    return fit
+    return per_texel_fit(mean, free, progress=stage(2 * steps))
