@@ -514,7 +514,7 @@ vec2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
 
 // Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
 // not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
-// vector, where p x q would cancel: a light 1e-3 wide two units away within 1e-4 of its largest value, not 3.8e-3,
+// vector, where p x q would cancel: a light 1e-3 wide two units away within 6.7e-5 of its largest value, not 3.8e-3,
 // tests/luts/test_shaders_area.py); 0 where p x q is.
 vec3 fresnelLtcEdge(vec3 p, vec3 q)
 {
