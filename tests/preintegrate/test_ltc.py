@@ -125,8 +125,9 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     LTC table, against the lobe's own integral over the light (the reference: the exact GGX BRDF by Gauss-Legendre
     over the light's area, tests/references/area_light.py). Where the LTC holds more than the lobe at the light (the
     integral lowered), the result × E is within 1 % of it plus the LTC's own value × √I, the share the blend keeps
-    (measured at most 7.3 %, all of it that share, where the LTC alone was off by up to 1520 %); where it holds less (raised, by at most LOBE_RATIO_MAX), no light is further from it than the LTC
-    alone and the median error is at most 0.6 × the LTC's (measured 23.2 % against 40.9 %)."""
+    (measured at most 7.3 %, all of it that share, where the LTC alone was off by up to 1520 %); where it holds less
+    (raised, by at most LOBE_RATIO_MAX), no light is further from it than the LTC alone and the median error is at
+    most 0.1 × the LTC's (measured 0.04 % against 28.1 %, over 66 lights)."""
     from basis.storage import shipped_path
     from handoff.exr import read_lut
     from handoff.shipped import LTC_LUT
@@ -160,7 +161,7 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     raised = np.array(raised)
     assert lowered >= 20 and len(raised) >= 20, (lowered, len(raised))
     assert np.all(raised[:, 0] <= raised[:, 1]), raised
-    assert np.median(raised[:, 0]) <= 0.6 * np.median(raised[:, 1]), np.median(raised, axis=0)
+    assert np.median(raised[:, 0]) <= 0.1 * np.median(raised[:, 1]), np.median(raised, axis=0)
 
 
 def test_rect_light_half_cosine_takes_roughness_and_albedo_together():
