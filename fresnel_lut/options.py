@@ -109,7 +109,10 @@ def make_parser() -> argparse.ArgumentParser:
     build.add_argument(
         "--ltc",
         action="store_true",
-        help="also fit the area lights' LTC table ggx_ltc (64 x 64 by default, two fits and a choice per texel, about 45 s; make luts does)",
+        help=(
+            "also fit the area lights' LTC table ggx_ltc (64 x 64 by default: two fits and a choice per texel, about "
+            "30 s; make luts does)"
+        ),
     )
     build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
     build.add_argument(

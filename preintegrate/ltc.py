@@ -1,11 +1,10 @@
 """Linearly transformed cosines (LTC) fitted to this project's GGX, and the polygon integral that lights with them.
 
-Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``, ``checked_ltc_grid``, ``fit_points``,
-``fit_albedo``, ``LtcFit``, ``fit_ltc``,
-``ltc_inverse``, ``ltc_density``, ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``,
-``polygon_integral``, ``polygon_vector``, ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``,
-``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``,
-``LOBE_RATIO_MAX``, ``shading_frame``.
+Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``,
+``checked_ltc_grid``, ``fit_points``, ``fit_albedo``, ``LtcFit``, ``fit_ltc``, ``ltc_inverse``, ``ltc_density``,
+``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
+``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``rect_light_half_cosine``,
+``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``LOBE_RATIO_MAX``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
