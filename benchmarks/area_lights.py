@@ -36,7 +36,7 @@ from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sp
 from handoff.exr import read_lut
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.ltc import fit_ltc, fit_points, ltc_grid, stored_lobe_error
+from preintegrate.ltc import fit_ltc, ltc_grid, stored_lobe_error
 from preintegrate.ltc_choice import (
     CHOICE_NODES,
     CHOICE_ROUGHNESS_MIN,
@@ -73,7 +73,7 @@ def choice_convergence(mean, free) -> str:
     lights = training_lights()
     chosen, finer = (free_texels(mean.inverse, free.inverse, mean.grid, lights, nodes) for nodes in CHOICE_NODES_PAIR)
     changed = chosen != finer
-    roughness = np.sqrt(fit_points(mean.grid)[1])
+    roughness = mean.grid.roughness
     where = f"all at r ≤ {roughness[np.nonzero(changed.any(axis=0))[0]].max():.3f}" if changed.any() else "none"
     return (
         f"With {CHOICE_NODES_PAIR[1]}² nodes over each training light instead of {CHOICE_NODES_PAIR[0]}², the choice "

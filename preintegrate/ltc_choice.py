@@ -166,7 +166,7 @@ def per_texel_fit(
     if not (isinstance(mean, LtcFit) and isinstance(free, LtcFit)) or mean.grid != free.grid:
         raise ParameterError("mean and free must be LtcFit of the same grid")
     lights = training_lights() if lights is None else lights
-    roughness = np.sqrt(fit_points(mean.grid)[1])
+    roughness = mean.grid.roughness
     chosen = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress)
     chosen &= roughness >= CHOICE_ROUGHNESS_MIN
     pick = chosen[..., None]

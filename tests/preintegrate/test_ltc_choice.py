@@ -8,7 +8,7 @@ from basis.storage import shipped_path
 from basis.validation import ParameterError
 from handoff.exr import read_lut
 from handoff.shipped import LTC_LUT
-from preintegrate.ltc import fit_ltc, fit_points, ltc_grid, rect_light_integral
+from preintegrate.ltc import fit_ltc, ltc_grid, rect_light_integral
 from preintegrate.ltc_choice import (
     CHOICE_NODES,
     CHOICE_ROUGHNESS_MIN,
@@ -92,7 +92,7 @@ def test_the_choice_keeps_ties_and_takes_the_table_that_holds_the_lobe():
     assert np.all(free_texels(cosine, fitted.inverse, grid, lights))
     free = fit_ltc(grid, workers=1, axis="free", weighting="chi-square")
     combined = per_texel_fit(fitted, free)
-    rough = np.sqrt(fit_points(grid)[1]) >= CHOICE_ROUGHNESS_MIN
+    rough = grid.roughness >= CHOICE_ROUGHNESS_MIN
     chosen = free_texels(fitted.inverse, free.inverse, grid, lights) & rough
     assert np.any(chosen) and not np.all(chosen[:, rough]), chosen
     assert not np.any(combined.inverse[:, ~rough] != fitted.inverse[:, ~rough])
