@@ -17,8 +17,9 @@ report: ``--out report/area_lights.md``, which also writes ``report/area_lights.
    through the include's factorisation, E mix(F(V·H*), F̄ / E, w), :func:`fresnel_lut.render.render_rect_light`
    against the reference: the exact BRDF and curve over the light's area, ``tests/references/area_light.py``,
    Gauss-Legendre), the **basis' Fresnel** (``fresnelBasisRectLight`` against that) and **Schlick's** (LTC × Schlick
-   against that). Target: the basis' Fresnel part no larger than its own split-sum error for the material
-   (max |F̄_basis − F̄_exact| over the table at that roughness, the same quantity ΔF̄ read at the lit pixels).
+   against that). Target: the basis' Fresnel part at the lit pixels (over the LTC integral: w ΔF̄ + (1 − w) E ΔF(V·H*),
+   issue 41's blend) no larger than the larger of its own errors for the material: the split sum's
+   (max |F̄_basis − F̄_exact| over the table at that roughness) and the direct light's (max E |F_basis − F_exact|).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from basis.storage import shipped_path, write_together
 from benchmarks.area_light_set import three_tables
 from fresnel_lut.render import DEFAULT_SCENES, RECT_LIGHT, render_rect_light, sphere_geometry, to_srgb8, tone_map
 from handoff.exr import read_lut
+from handoff.shaders import rect_light_punctual
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ggx import roughness_to_alpha
 from preintegrate.ltc import fit_ltc, ltc_grid, stored_lobe_error
@@ -109,7 +111,8 @@ def _reference(material, roughness: float, size: int, nodes: int) -> np.ndarray:
 
 
 def light_rows(size: int, nodes: int, others: dict[str, np.ndarray]):
-    """Per material: (name, r, {error source: (max, mean) dE}, basis ΔF̄ at the lit pixels, own split-sum error);
+    """Per material: (name, r, {error source: (max, mean) dE}, basis ΔF̄ at the lit pixels, own split-sum error,
+    own direct-light error E F);
     the LTC-shape error also with each of ``others`` (other LTC tables under the same light)."""
     ltc, basis, schlick = (read_lut(shipped_path(name))[0] for name in (LTC_LUT, BASIS_LUT, SCHLICK_LUT))
     rows, pictures = [], []
@@ -142,9 +145,15 @@ def light_rows(size: int, nodes: int, others: dict[str, np.ndarray]):
         at_pixels = float(np.max(np.abs(images["basis"] - images["exact"])[seen] / (RADIANCE * integral[seen])))
         mu = np.linspace(0.0, 1.0, 129)[1:]
         exact = directional_albedo(material.curve, mu, roughness_to_alpha(roughness), workers=1)
-        own = float(np.max(np.abs(lut_lookup(basis, mu, roughness) @ material.coefficients.T - exact)))
+        terms = lut_lookup(basis, mu, roughness)
+        own = float(np.max(np.abs(terms @ material.coefficients.T - exact)))
+        # the blend's other factor, E F(V·H*), as the include reads F (the basis table's mirror row), at any V·H
+        cosine = np.linspace(0.0, 1.0, 1025)
+        coefficients = np.broadcast_to(material.coefficients, cosine.shape + material.coefficients.shape)
+        direct = rect_light_punctual(basis, coefficients, cosine) - material.curve(cosine)
+        own_direct = float(terms[:, 0].max() * np.max(np.abs(direct)))
         errors = {name: (m[lit].max(), m[lit].mean()) for name, m in maps.items()}
-        rows.append((material.name, roughness, errors, at_pixels, own))
+        rows.append((material.name, roughness, errors, at_pixels, own, own_direct))
         pictures.append((material.name, roughness, shown, maps))
     return rows, pictures
 
@@ -249,23 +258,27 @@ def main(argv=None) -> int:
         "",
         "dE2000 over the lit pixels (where the reference, or the LTC integral of any table compared, exceeds 1e-4), "
         "max / mean. 'own split-sum error' is max |Fbar_basis - "
-        "Fbar_exact| over the table's view angles at that roughness; 'at the lit pixels' the same difference as the "
-        "area light carries it (its Fresnel part divided by the LTC integral): the target is at most the former. "
+        "Fbar_exact| over the table's view angles at that roughness; 'own direct-light error' max E |F_basis - "
+        "F_exact| over every V.H, F as the include reads it (the basis table's mirror row) and E the table's largest "
+        "at that roughness; 'at the lit pixels' the Fresnel part as the area light carries it (divided by the LTC "
+        "integral): w dFbar + (1 - w) E dF(V.H*), issue 41's blend of the split sum with the punctual limit, w the "
+        "share of the lobe the light covers, so its target is at most the larger of the two own errors (issue 24's "
+        "was the split sum's alone, from before the blend). "
         "The last columns: the LTC's shape error with the other tables under the same light. Every table's integral "
         "(three.js's too) is taken toward the lobe's punctual limit as the include takes the shipped one's "
         "(`fresnelLtcRectVector`, report/area_light_set.md).",
         "",
-        "| material | r | LTC shape | basis Fresnel | Schlick Fresnel | basis dFbar at the lit pixels | own split-sum "
-        "error |" + "".join(f" LTC shape, {name} |" for name in others),
-        "|---|---|---|---|---|---|---|" + "---|" * len(others),
+        "| material | r | LTC shape | basis Fresnel | Schlick Fresnel | basis dF at the lit pixels | own split-sum "
+        "error | own direct-light error |" + "".join(f" LTC shape, {name} |" for name in others),
+        "|---|---|---|---|---|---|---|---|" + "---|" * len(others),
     ]
     rows, pictures = light_rows(arguments.size, arguments.nodes, others)
-    for name, roughness, errors, at_pixels, own in rows:
+    for name, roughness, errors, at_pixels, own, own_direct in rows:
         cells = " | ".join(
             f"{errors[k][0]:.2f} / {errors[k][1]:.3f}" for k in ("LTC shape", "basis Fresnel", "Schlick Fresnel")
         )
         extra = "".join(f" {errors[k][0]:.2f} / {errors[k][1]:.3f} |" for k in others)
-        lines.append(f"| {name} | {roughness:.2f} | {cells} | {at_pixels:.2e} | {own:.2e} |{extra}")
+        lines.append(f"| {name} | {roughness:.2f} | {cells} | {at_pixels:.2e} | {own:.2e} | {own_direct:.2e} |{extra}")
     if "free-axis fit" in others:
         lines += [
             "",
