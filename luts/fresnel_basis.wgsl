@@ -62,7 +62,10 @@ const FRESNEL_LINEAR_AVERAGES: vec3f = vec3f(0.952380952, 0.0476190476, 0.007936
 const FRESNEL_LUT_COLUMNS: vec2f = vec2f(0.9921875, 0.00390625);  // scale, offset
 const FRESNEL_LUT_ROWS: vec4f = vec4f(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
-const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 2.0;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
+// How far the lobe over the LTC's density raises a rect light's integral I: at most max(R0, min(K sqrt(solid angle), S / I)) (preintegrate.ltc.lobe_ratio_bound).
+const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 1.5;  // R0, any light
+const FRESNEL_LTC_LOBE_RATIO_PER_SIZE: f32 = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
+const FRESNEL_LTC_LOBE_SHARE_RAISED: f32 = 0.03;  // S, the share of the lobe it may raise I to
 const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.667927662, 0.334452112, -0.9921875, 0.99609375);  // x scale, x offset, s scale, s offset of the table's texels
 const FRESNEL_CURVE_TABLE: vec3f = vec3f(0.999511241, 0.000244379277, 0.5);  // scale, offset of mu, v of the row
 
@@ -609,8 +612,10 @@ fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), FRESNEL_LTC_LOBE_RATIO_MAX)), w = sqrt(I) (issue 41;
-// preintegrate.ltc.toward_lobe_limit: the bound also bounds what the ratio multiplies of float32's rounding of I),
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = sqrt(I), R = max(R0, min(K sqrt(omega), S / I)) (issue
+// 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
+// rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
+// pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
 // g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
 // representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
 // back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
@@ -627,9 +632,11 @@ fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f
     let mu: f32 = max(L.z, 0.0);
     let smith: f32 = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
     let q: f32 = dot(f, f) / max(dot(back, back), 1e-30);
+    let size: f32 = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
+    let bound: f32 = max(FRESNEL_LTC_LOBE_RATIO_MAX, min(FRESNEL_LTC_LOBE_RATIO_PER_SIZE * size, FRESNEL_LTC_LOBE_SHARE_RAISED / max(integral, 1e-30)));
     let lobe: f32 = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     let density: f32 = 2.0 * d * d * smith * albedo * f.z;
-    let ratio: f32 = select(1.0, lobe / max(max(density, lobe / FRESNEL_LTC_LOBE_RATIO_MAX), 1e-30), (albedo > 0.0 && f.z > 0.0));
+    let ratio: f32 = select(1.0, lobe / max(max(density, lobe / bound), 1e-30), (albedo > 0.0 && f.z > 0.0));
     let w: f32 = sqrt(min(integral, 1.0));
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }

@@ -4,7 +4,8 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``checked_ltc_grid``, ``fit_points``, ``fit_albedo``, ``LtcFit``, ``fit_ltc``, ``ltc_inverse``, ``ltc_density``,
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``rect_light_half_cosine``,
-``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``LOBE_RATIO_MAX``, ``shading_frame``.
+``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``, ``lobe_ratio_bound``,
+``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -43,9 +44,10 @@ factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_directio
 the lobe the light covers: a small light tends to the punctual F(V·H), one that covers the lobe to the split sum
 (issue 41). The lobe itself does the same: ∫_P D dω becomes I (w + (1 − w) min(f̂(L*) / D(L*), R)), w = √I
 (:func:`toward_lobe_limit`, :func:`lobe_density_ratio`), which a small light takes to the lobe's own integral
-f̂(L*) Ω (where the ratio is within R) and a light covering the lobe leaves as it is. R = :data:`LOBE_RATIO_MAX`
-bounds what the lobe adds where the LTC holds less than it (the mirror direction at grazing views is off pointwise
-and right in the integral of a medium light) and what the ratio multiplies of float32's rounding of I.
+f̂(L*) Ω (where the ratio is within R) and a light covering the lobe leaves as it is. R (:func:`lobe_ratio_bound`:
+:data:`LOBE_RATIO_MAX`, more for a light that is not tiny while the raised value is a small share of the lobe) bounds
+what the lobe adds where the LTC holds less than it (the mirror direction at grazing views is off pointwise and right
+in the integral of a medium light) and what the ratio multiplies of float32's rounding of I.
 The LTC matrices do not depend on Fresnel, so one table of them serves every material.
 
 References
@@ -75,6 +77,8 @@ __all__ = [
     "ALPHA_FLOOR",
     "AXES",
     "LOBE_RATIO_MAX",
+    "LOBE_RATIO_PER_SIZE",
+    "LOBE_SHARE_RAISED",
     "LTC_CHANNELS",
     "MU_FLOOR",
     "WEIGHTINGS",
@@ -88,7 +92,9 @@ __all__ = [
     "lobe_error",
     "ltc_density",
     "ltc_inverse",
+    "ltc_solid_angle",
     "lobe_density_ratio",
+    "lobe_ratio_bound",
     "polygon_integral",
     "polygon_vector",
     "rect_light_direction",
@@ -573,10 +579,34 @@ def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.nd
     of the transformed quad's vector form factor (:func:`horizon_ltc_vector`, its mean direction in the cosine's space)
     taken back through M (the LTC of ``stored``); where the quad lies below the horizon, the normal."""
     vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
-    back = np.einsum("...ij,...j->...i", np.linalg.inv(ltc_inverse(stored)), vector)
+    return np.maximum(vector[..., 2], 0.0), _back_direction(stored, vector)
+
+
+def _taken_back(stored, vector) -> np.ndarray:
+    """(…, 3) M f: the cosine's-space ``vector`` f (…, 3) taken back through M, the LTC of ``stored`` (…, 4)."""
+    return np.einsum("...ij,...j->...i", np.linalg.inv(ltc_inverse(stored)), vector)
+
+
+def _back_direction(stored, vector) -> np.ndarray:
+    """(…, 3) M f / |M f| (:func:`_taken_back`); the normal where f is 0 (the quad below the horizon)."""
+    back = _taken_back(stored, vector)
     length = np.linalg.norm(back, axis=-1, keepdims=True)
-    direction = np.where(length > 0.0, back / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
-    return np.maximum(vector[..., 2], 0.0), direction
+    return np.where(length > 0.0, back / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
+
+
+def ltc_solid_angle(stored, vector) -> np.ndarray:
+    """(…) Ω ≈ π |f|⁴ / (|det M⁻¹| |M f|³): the solid angle of a light whose transformed polygon has the vector form
+    factor ``vector`` f (…, 3) (:func:`horizon_ltc_vector`), the LTC of ``stored`` (…, 4), as the LTC's own Jacobian at
+    its representative direction L = M f / |M f| gives it: ∫_P D dω ≈ D(L) Ω with D(L) = f_z |det M⁻¹| / (π |M⁻¹ L|³)
+    (Heitz 2016 eq. 1-3) and f_z the integral, so Ω = π |M⁻¹ L|³ / |det M⁻¹| with |M⁻¹ L| = |f| / |M f|; exact as the
+    light shrinks, and no difference of nearly equal terms (the shaders' ``fresnelLtcTowardLobe`` takes √Ω as
+    √π |det| q |back|^½, q = |f|² / |back|², back = |det| M f). 0 where f is."""
+    vector = as_float_array("vector", vector)
+    back = np.linalg.norm(_taken_back(stored, vector), axis=-1)
+    determinant = np.abs(np.linalg.det(ltc_inverse(stored)))
+    length = np.linalg.norm(vector, axis=-1)
+    denominator = determinant * back**3
+    return np.where(denominator > 0.0, np.pi * length**4 / np.where(denominator > 0.0, denominator, 1.0), 0.0)
 
 
 def lobe_density_ratio(
@@ -590,14 +620,32 @@ def lobe_density_ratio(
     return np.where(density > 0.0, lobe / np.where(density > 0.0, density, 1.0), 1.0)
 
 
-#: The most the lobe-to-LTC density ratio raises a rectangular light's integral (:func:`toward_lobe_limit`): of the
-#: finite bounds, the one on seeded training lights 0.02 to 10 wide (:func:`preintegrate.ltc_choice.training_lights`,
-#: not the benchmark's set) whose lobe error has the lowest median with the worst within 1.25 × that of the ratio at
-#: most 1 (``python -m benchmarks.area_light_set``, "The bound on the lobe's ratio"). Finite, because it also bounds
-#: what the ratio multiplies of float32's rounding of the integral, which is a difference of nearly equal edge terms
-#: where the LTC's density at the light is far below the lobe's (unbounded, a tiny light's value is off by 1.2e-2;
-#: tests/luts/test_shaders_area.py).
-LOBE_RATIO_MAX = 2.0
+#: The bound on how far the lobe-to-LTC density ratio raises a rectangular light's integral (:func:`toward_lobe_limit`)
+#: is R = max(R₀, min(K √Ω, S / I)) (:func:`lobe_ratio_bound`): R₀ = ``LOBE_RATIO_MAX`` for any light, more for a light
+#: that is not tiny (K = ``LOBE_RATIO_PER_SIZE`` per unit of √Ω, its angular size) as long as the raised value stays a
+#: small share of the lobe (S = ``LOBE_SHARE_RAISED``; the normalised lobe integrates to 1). The three are the
+#: candidates' (R₀, K, S) whose lobe error on seeded training lights 0.02 to 10 wide
+#: (:func:`preintegrate.ltc_choice.training_lights`, not the benchmark's set) has the lowest p90, then median, with the
+#: worst within 1.25 × that of the ratio at most 1 (``python -m benchmarks.area_light_set``, "The bound on the lobe's
+#: ratio"). Finite, and growing with √Ω, because the ratio multiplies float32's rounding of the integral, a difference
+#: of edge terms each about √Ω / (2π) times larger than it where the LTC's density at the light is far below the
+#: lobe's (unbounded, a light 2e-3 wide is off by 1.2e-2 of its largest value; K = 200 leaves a 2 × 1 light's
+#: specular 1.5e-5 off, over the 1e-5 float32 is held to: tests/luts/test_shaders_area.py). Ω is the light's solid
+#: angle as the LTC gives it (:func:`ltc_solid_angle`), which the shaders have at the cost of a few multiplies.
+LOBE_RATIO_MAX = 1.5
+LOBE_RATIO_PER_SIZE = 100.0
+LOBE_SHARE_RAISED = 0.03
+
+
+def lobe_ratio_bound(
+    integral, solid_angle, least=LOBE_RATIO_MAX, per_size=LOBE_RATIO_PER_SIZE, share=LOBE_SHARE_RAISED
+) -> np.ndarray:
+    """(…) max(R₀, min(K √Ω, S / I)): the most the lobe-to-LTC ratio may raise an LTC ``integral`` I over a light of
+    ``solid_angle`` Ω (:func:`ltc_solid_angle`); R₀ = ``least``, K = ``per_size``, S = ``share``, by default what
+    ships, :data:`LOBE_RATIO_MAX`, :data:`LOBE_RATIO_PER_SIZE` and :data:`LOBE_SHARE_RAISED` (see there)."""
+    integral = np.asarray(integral, dtype=np.float64)
+    size = per_size * np.sqrt(np.asarray(solid_angle, dtype=np.float64))
+    return np.maximum(least, np.minimum(size, share / np.maximum(integral, 1e-30)))
 
 
 def toward_lobe_limit(integral, ratio) -> np.ndarray:
@@ -605,7 +653,7 @@ def toward_lobe_limit(integral, ratio) -> np.ndarray:
     w = √min(I, 1): ``ratio`` the lobe over the LTC's density at the light's representative direction
     (:func:`lobe_density_ratio`). As a light shrinks, I × ratio tends to the lobe's own integral over it; as it covers
     the lobe, w → 1 keeps the LTC's; the normalised lobe integrates to 1, which bounds any light's share (issue 41;
-    the shaders take min(ratio, :data:`LOBE_RATIO_MAX`): :func:`rect_light_half_cosine`)."""
+    the shaders take min(ratio, :func:`lobe_ratio_bound`): :func:`rect_light_half_cosine`)."""
     integral = np.asarray(integral, dtype=np.float64)
     weight = np.sqrt(np.clip(integral, 0.0, 1.0))
     return np.minimum(integral * (weight + (1.0 - weight) * ratio), 1.0)
@@ -618,9 +666,10 @@ def rect_light_half_cosine(
     (:func:`rect_light_direction`), the view (|N × V|, 0, N·V) in the shading frame with N·V clamped to [0, 1] ((1, 0, 0)
     below the horizon), as the shaders' ``fresnelLtcView`` and ``fresnelLtcVdotH``. With the perceptual ``roughness`` r ∈ [0, 1] and the lobe's ``albedo`` E > 0
     (…), the integral is taken toward the lobe's punctual limit, :func:`toward_lobe_limit` with
-    min(:func:`lobe_density_ratio`, :data:`LOBE_RATIO_MAX`), α = max(r², :data:`ALPHA_FLOOR`): what the shaders'
+    min(:func:`lobe_density_ratio`, :func:`lobe_ratio_bound`), α = max(r², :data:`ALPHA_FLOOR`): what the shaders'
     ``fresnelLtcRectVector`` returns for albedo E."""
-    integral, direction = rect_light_direction(stored, normal, view, position, corners)
+    vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
+    integral, direction = np.maximum(vector[..., 2], 0.0), _back_direction(stored, vector)
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     cosine = np.sum(normal * view, axis=-1)
     n_dot_v = np.clip(cosine, 0.0, 1.0)
@@ -633,7 +682,8 @@ def rect_light_half_cosine(
         alpha = np.maximum(check_range("roughness", roughness, 0.0, 1.0) ** 2, ALPHA_FLOOR)
         albedo = check_range("albedo", albedo, 0.0, 1.0, low_open=True)
         ratio = lobe_density_ratio(stored, direction, n_dot_v, alpha, albedo, sine=sine)
-        integral = toward_lobe_limit(integral, np.minimum(ratio, LOBE_RATIO_MAX))
+        bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
+        integral = toward_lobe_limit(integral, np.minimum(ratio, bound))
     local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
     half = local_view + direction
     half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)

@@ -30,7 +30,7 @@ from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, coefficient_table_ax
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
-from preintegrate.ltc import LOBE_RATIO_MAX
+from preintegrate.ltc import LOBE_RATIO_MAX, LOBE_RATIO_PER_SIZE, LOBE_SHARE_RAISED
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
@@ -525,11 +525,15 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LUT_COLUMNS", grid.column_mapping, "scale, offset"),
         _constant("FRESNEL_LUT_ROWS", grid.row_mapping, "lo, hi, scale, offset"),
         _constant("FRESNEL_LTC_SIZE", c.ltc_size, "the LTC table's texels a side"),
+        "// How far the lobe over the LTC's density raises a rect light's integral I: at most max(R0, min(K sqrt(solid "
+        "angle), S / I)) (preintegrate.ltc.lobe_ratio_bound).",
+        _constant("FRESNEL_LTC_LOBE_RATIO_MAX", LOBE_RATIO_MAX, "R0, any light"),
         _constant(
-            "FRESNEL_LTC_LOBE_RATIO_MAX",
-            LOBE_RATIO_MAX,
-            "the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)",
+            "FRESNEL_LTC_LOBE_RATIO_PER_SIZE",
+            LOBE_RATIO_PER_SIZE * np.sqrt(np.pi),
+            "K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)",
         ),
+        _constant("FRESNEL_LTC_LOBE_SHARE_RAISED", LOBE_SHARE_RAISED, "S, the share of the lobe it may raise I to"),
         axes_constant,
         curve_table_constant,
         *atlas_constants,

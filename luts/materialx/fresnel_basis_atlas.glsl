@@ -62,7 +62,10 @@ const vec3 FRESNEL_LINEAR_AVERAGES = vec3(0.952380952, 0.0476190476, 0.007936507
 const vec2 FRESNEL_LUT_COLUMNS = vec2(0.9921875, 0.00390625);  // scale, offset
 const vec4 FRESNEL_LUT_ROWS = vec4(0.0, 1.0, 0.9921875, 0.00390625);  // lo, hi, scale, offset
 const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
-const float FRESNEL_LTC_LOBE_RATIO_MAX = 2.0;  // the most a rect light's integral is raised by the lobe over the LTC's density (preintegrate.ltc)
+// How far the lobe over the LTC's density raises a rect light's integral I: at most max(R0, min(K sqrt(solid angle), S / I)) (preintegrate.ltc.lobe_ratio_bound).
+const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.5;  // R0, any light
+const float FRESNEL_LTC_LOBE_RATIO_PER_SIZE = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
+const float FRESNEL_LTC_LOBE_SHARE_RAISED = 0.03;  // S, the share of the lobe it may raise I to
 const vec4 FRESNEL_COEFFICIENT_AXES = vec4(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
 const vec3 FRESNEL_CURVE_TABLE = vec3(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 const vec4 FRESNEL_ATLAS_BASIS = vec4(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
@@ -616,8 +619,10 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), FRESNEL_LTC_LOBE_RATIO_MAX)), w = sqrt(I) (issue 41;
-// preintegrate.ltc.toward_lobe_limit: the bound also bounds what the ratio multiplies of float32's rounding of I),
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = sqrt(I), R = max(R0, min(K sqrt(omega), S / I)) (issue
+// 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
+// rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
+// pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
 // g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
 // representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
 // back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
@@ -634,9 +639,11 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     float mu = max(L.z, 0.0);
     float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
     float q = dot(f, f) / max(dot(back, back), 1e-30);
+    float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
+    float bound = max(FRESNEL_LTC_LOBE_RATIO_MAX, min(FRESNEL_LTC_LOBE_RATIO_PER_SIZE * size, FRESNEL_LTC_LOBE_SHARE_RAISED / max(integral, 1e-30)));
     float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     float density = 2.0 * d * d * smith * albedo * f.z;
-    float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / FRESNEL_LTC_LOBE_RATIO_MAX), 1e-30) : 1.0;
+    float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / bound), 1e-30) : 1.0;
     float w = sqrt(min(integral, 1.0));
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
