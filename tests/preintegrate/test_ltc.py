@@ -126,6 +126,22 @@ def test_rect_light_direction_is_the_light_for_a_small_one():
             assert integral > 0.0 and np.linalg.norm(got - local) < 2e-3, (stored, got, local)
 
 
+def _shipped_texels(cases):
+    """(μo, r, the view (3,), α, E, the texel (4,)) for each (μo, r) of ``cases``: the shipped LTC table read there, E
+    the lobe's albedo by the reference's quadrature (tests/references/integration.py)."""
+    from basis.storage import shipped_path
+    from handoff.exr import read_lut
+    from handoff.shipped import LTC_LUT
+    from tests.references.integration import reference_albedo_grid
+
+    table = read_lut(shipped_path(LTC_LUT))[0]
+    for mu_o, roughness in cases:
+        alpha = roughness**2
+        albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
+        view = np.array([np.sqrt(1.0 - mu_o**2), 0.0, mu_o])
+        yield mu_o, roughness, view, alpha, albedo, ltc_grid(64).lookup(table, mu_o, roughness)
+
+
 def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     """Lights 0.01 wide at distance 2 in 24 random directions over the hemisphere, for four (N·V, r), with the shipped
     LTC table, against the lobe's own integral over the light (the reference: the exact GGX BRDF by Gauss-Legendre
@@ -135,22 +151,15 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
     (raised, by at most LOBE_RATIO_MAX: lights this small are not raised further, lobe_ratio_bound), no light is
     further from it than the LTC alone and the median error is at most 0.1 × the LTC's (measured 0.04 % against
     28.1 %, over 66 lights)."""
-    from basis.storage import shipped_path
-    from handoff.exr import read_lut
-    from handoff.shipped import LTC_LUT
     from tests.references.area_light import rect_light_reference
-    from tests.references.integration import reference_albedo_grid
 
-    table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(5)
     normal = np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     lowered, raised = 0, []
-    for mu_o, roughness in ((0.9, 0.3), (0.5, 0.5), (0.2, 0.4), (0.6, 0.8)):
-        view = np.array([np.sqrt(1.0 - mu_o**2), 0.0, mu_o])
-        alpha = roughness**2
-        albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
-        stored = ltc_grid(64).lookup(table, mu_o, roughness)
+    for mu_o, roughness, view, alpha, albedo, stored in _shipped_texels(
+        ((0.9, 0.3), (0.5, 0.5), (0.2, 0.4), (0.6, 0.8))
+    ):
         for _ in range(24):
             _, quad = _small_light(rng, 0.01, 0.05)
             plain = rect_light_integral(stored, normal, view, np.zeros(3), quad)
@@ -179,22 +188,15 @@ def test_toward_the_lobes_limit_a_light_that_is_not_tiny_is_raised_closer_to_the
     lobe's own integral over the light (tests/references/area_light.py) is never further from it than with the ratio
     at most LOBE_RATIO_MAX, and its median error at most 0.2 × that one's (measured 3.2 % against 60 %, the LTC alone
     73 %, over 62 lights); it stays within max(LOBE_RATIO_MAX I, LOBE_SHARE_RAISED)."""
-    from basis.storage import shipped_path
-    from handoff.exr import read_lut
-    from handoff.shipped import LTC_LUT
     from tests.references.area_light import rect_light_reference
-    from tests.references.integration import reference_albedo_grid
 
-    table = read_lut(shipped_path(LTC_LUT))[0]
     rng = np.random.default_rng(6)
     normal = np.array([0.0, 0.0, 1.0])
     ones = lambda x: np.ones(np.shape(x) + (1,))  # noqa: E731
     errors = []
-    for mu_o, roughness in ((0.9, 0.3), (0.5, 0.5), (0.2, 0.4), (0.1, 0.6)):
-        view = np.array([np.sqrt(1.0 - mu_o**2), 0.0, mu_o])
-        alpha = roughness**2
-        albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
-        stored = ltc_grid(64).lookup(table, mu_o, roughness)
+    for mu_o, roughness, view, alpha, albedo, stored in _shipped_texels(
+        ((0.9, 0.3), (0.5, 0.5), (0.2, 0.4), (0.1, 0.6))
+    ):
         for _ in range(48):
             _, quad = _small_light(rng, np.exp(rng.uniform(np.log(0.1), np.log(1.0))), 0.05)
             plain, direction = rect_light_direction(stored, normal, view, np.zeros(3), quad)
