@@ -269,6 +269,11 @@ def cost() -> list[str]:
     ]
 
 
+#: The factorisation alone at V·H* of the light's representative direction, as the include takes it from the LTC
+#: (preintegrate.ltc.rect_light_half_cosine), with the exact lobe: F(V·H*) alone and the include's blend.
+FACTOR_AT_STAR = "F at V·H* of the light's representative direction (the include's)"
+FACTOR_BLEND_AT_STAR = "the blend by the lobe's share at V·H* (the include's form)"
+
 #: The lobe study's own fits (preintegrate.ltc.fit_ltc): the mean-axis L2 fit alone (the public fit's method, shipped
 #: before issue 41's per-texel table) and M's four entries free, fitted in L2 and in chi-square (the shipped table takes
 #: per texel the mean-axis or the chi-square one: preintegrate.ltc_choice).
@@ -574,7 +579,12 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                         if not np.any(keep):
                             continue
                         # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
-                        # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers
+                        # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers; then
+                        # at V·H* of the light's representative direction as the include takes it (this table's)
+                        _, v_dot_h_star = rect_light_half_cosine(
+                            tables["this project"], normal, view, np.zeros(3), corners, roughness, albedo
+                        )
+                        at_star = curve(np.array([float(v_dot_h_star)]))[0]
                         lobe, v_dot_h_sum = rect_light_reference(
                             normal,
                             view,
@@ -594,6 +604,8 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                                 "their blend by the lobe's share",
                                 cover * split_exact / exact_albedo + (1 - cover) * at_mean,
                             ),
+                            (FACTOR_AT_STAR, at_star),
+                            (FACTOR_BLEND_AT_STAR, cover * split_exact / exact_albedo + (1 - cover) * at_star),
                         ):
                             factors.setdefault(form, {}).setdefault(kind, []).extend(
                                 (np.abs(value - over_light) / over_light)[keep]
@@ -664,7 +676,9 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
         "",
         "The Fresnel factor a rectangular light needs is F averaged over the light, weighted by the lobe "
         "(the reference over its F = 1 part); each form's relative error against it, with the exact curve and the "
-        "exact mean V·H over the light (the reference's), median / p90 / max:",
+        "exact mean V·H over the light (the reference's), median / p90 / max; the last two take V·H* of the light's "
+        "representative direction as the include does (the shipped table's) and the exact share of the lobe: what "
+        "the include's factorisation costs by itself, apart from its lobe:",
         "",
         "| form | conductors | dielectrics |",
         "|---|---|---|",
