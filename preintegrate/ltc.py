@@ -579,7 +579,7 @@ def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.nd
     of the transformed quad's vector form factor (:func:`horizon_ltc_vector`, its mean direction in the cosine's space)
     taken back through M (the LTC of ``stored``); where the quad lies below the horizon, the normal."""
     vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
-    return np.maximum(vector[..., 2], 0.0), _back_direction(stored, vector)
+    return np.maximum(vector[..., 2], 0.0), _unit_or_normal(_taken_back(stored, vector))
 
 
 def _taken_back(stored, vector) -> np.ndarray:
@@ -587,9 +587,9 @@ def _taken_back(stored, vector) -> np.ndarray:
     return np.einsum("...ij,...j->...i", np.linalg.inv(ltc_inverse(stored)), vector)
 
 
-def _back_direction(stored, vector) -> np.ndarray:
-    """(…, 3) M f / |M f| (:func:`_taken_back`); the normal where f is 0 (the quad below the horizon)."""
-    back = _taken_back(stored, vector)
+def _unit_or_normal(back) -> np.ndarray:
+    """(…, 3) M f / |M f| from ``back`` = M f (:func:`_taken_back`); the normal where f is 0 (the quad below the
+    horizon)."""
     length = np.linalg.norm(back, axis=-1, keepdims=True)
     return np.where(length > 0.0, back / np.where(length > 0.0, length, 1.0), [0.0, 0.0, 1.0])
 
@@ -602,10 +602,14 @@ def ltc_solid_angle(stored, vector) -> np.ndarray:
     light shrinks, and no difference of nearly equal terms (the shaders' ``fresnelLtcTowardLobe`` takes √Ω as
     √π |det| q |back|^½, q = |f|² / |back|², back = |det| M f). 0 where f is."""
     vector = as_float_array("vector", vector)
-    back = np.linalg.norm(_taken_back(stored, vector), axis=-1)
+    return _solid_angle(stored, vector, _taken_back(stored, vector))
+
+
+def _solid_angle(stored, vector, back) -> np.ndarray:
+    """:func:`ltc_solid_angle` from f = ``vector`` and ``back`` = M f (:func:`_taken_back`), where both are at hand."""
     determinant = np.abs(np.linalg.det(ltc_inverse(stored)))
+    denominator = determinant * np.linalg.norm(back, axis=-1) ** 3
     length = np.linalg.norm(vector, axis=-1)
-    denominator = determinant * back**3
     return np.where(denominator > 0.0, np.pi * length**4 / np.where(denominator > 0.0, denominator, 1.0), 0.0)
 
 
@@ -669,7 +673,8 @@ def rect_light_half_cosine(
     min(:func:`lobe_density_ratio`, :func:`lobe_ratio_bound`), α = max(r², :data:`ALPHA_FLOOR`): what the shaders'
     ``fresnelLtcRectVector`` returns for albedo E."""
     vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
-    integral, direction = np.maximum(vector[..., 2], 0.0), _back_direction(stored, vector)
+    back = _taken_back(stored, vector)
+    integral, direction = np.maximum(vector[..., 2], 0.0), _unit_or_normal(back)
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     cosine = np.sum(normal * view, axis=-1)
     n_dot_v = np.clip(cosine, 0.0, 1.0)
@@ -682,7 +687,7 @@ def rect_light_half_cosine(
         alpha = np.maximum(check_range("roughness", roughness, 0.0, 1.0) ** 2, ALPHA_FLOOR)
         albedo = check_range("albedo", albedo, 0.0, 1.0, low_open=True)
         ratio = lobe_density_ratio(stored, direction, n_dot_v, alpha, albedo, sine=sine)
-        bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
+        bound = lobe_ratio_bound(integral, _solid_angle(stored, vector, back))
         integral = toward_lobe_limit(integral, np.minimum(ratio, bound))
     local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
     half = local_view + direction

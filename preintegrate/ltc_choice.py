@@ -134,24 +134,14 @@ def free_texels(
     chosen = np.zeros((grid.height, grid.width), dtype=bool)
     for row, mu_o in enumerate(mu_rows):
         view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
-        lobe = lobe_over_lights(mu_o, alphas, lights, nodes)
-        scores = [
-            np.sum(
-                np.abs(
-                    np.log(
-                        (
-                            rect_light_integral(table[row][:, None], normal, view, origin, lights[None])
-                            * albedo[row][:, None]
-                            + _FLOOR
-                        )
-                        / (lobe + _FLOOR)
-                    )
-                ),
-                axis=1,
-            )
-            for table in tables
-        ]
-        chosen[row] = scores[1] < scores[0]
+        lobe = lobe_over_lights(mu_o, alphas, lights, nodes)  # (columns, lights)
+
+        def score(table):
+            integral = rect_light_integral(table[row][:, None], normal, view, origin, lights[None])
+            held = integral * albedo[row][:, None]
+            return np.sum(np.abs(np.log((held + _FLOOR) / (lobe + _FLOOR))), axis=1)
+
+        chosen[row] = score(tables[1]) < score(tables[0])
         if progress is not None:
             progress(row + 1, grid.height)
     return chosen
