@@ -561,82 +561,84 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             terms = grid.lookup(basis_table, mu_o, roughness)
             albedo = terms[0]
             exact_albedo = lobe_albedo(mu_o, alpha)
+            # what does not depend on the material, once per light: the lobe over it (F = 1, and its V·H summed) and
+            # each table's integral, alone and toward the lobe's limit with V·H* (three.js's as its code takes it)
+            lights = []
+            for theta, phi in _placements(mu_o).values():
+                for width in WIDTHS:
+                    corners = facing_rectangle(theta, phi, width, DISTANCE)
+                    lobe_and_v_dot_h = rect_light_reference(
+                        normal, view, np.zeros(3), corners, alpha, lambda x: np.stack([np.ones_like(x), x], -1), nodes
+                    )
+                    integrals = {
+                        table_name: (
+                            rect_light_integral(stored, normal, view, np.zeros(3), corners),
+                            *rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo),
+                        )
+                        for table_name, stored in tables.items()
+                    }
+                    if not isinstance(public, str):
+                        integrals["three.js"] = cosine_space_integral(tables["public fit"], normal, view, corners)
+                    lights.append((width, corners, lobe_and_v_dot_h, integrals))
             for name, (eta, kappa) in materials.items():
                 curve = lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])  # noqa: E731
                 coefficients = coefficients_from_nk(eta, kappa)
                 split_basis = coefficients @ terms
                 split_exact = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
                 kind = "dielectric" if name in ("glass", "water") else "conductor"
-                for placement, (theta, phi) in _placements(mu_o).items():
-                    for width in WIDTHS:
-                        corners = facing_rectangle(theta, phi, width, DISTANCE)
-                        reference = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, nodes)
-                        check = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, 2 * nodes)
-                        lit = reference > 1e-3
-                        converged = np.abs(check - reference) <= 1e-3 * np.abs(check)
-                        left_out += int(np.sum(lit & ~converged))
-                        keep = lit & converged
-                        if not np.any(keep):
-                            continue
-                        # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
-                        # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers; then
-                        # at V·H* of the light's representative direction as the include takes it (this table's)
-                        _, v_dot_h_star = rect_light_half_cosine(
-                            tables["this project"], normal, view, np.zeros(3), corners, roughness, albedo
+                for width, corners, (lobe, v_dot_h_sum), integrals in lights:
+                    reference = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, nodes)
+                    check = rect_light_reference(normal, view, np.zeros(3), corners, alpha, curve, 2 * nodes)
+                    lit = reference > 1e-3
+                    converged = np.abs(check - reference) <= 1e-3 * np.abs(check)
+                    left_out += int(np.sum(lit & ~converged))
+                    keep = lit & converged
+                    if not np.any(keep):
+                        continue
+                    # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
+                    # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers; then
+                    # at V·H* of the light's representative direction as the include takes it (this table's)
+                    at_star = curve(np.array([float(integrals["this project"][2])]))[0]
+                    over_light = reference / lobe
+                    at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]
+                    cover = min(lobe / exact_albedo, 1.0)
+                    for form, value in (
+                        ("split sum, F̄ / E", split_exact / exact_albedo),
+                        ("F at the light's mean V·H", at_mean),
+                        (
+                            "their blend by the lobe's share",
+                            cover * split_exact / exact_albedo + (1 - cover) * at_mean,
+                        ),
+                        (FACTOR_AT_STAR, at_star),
+                        (FACTOR_BLEND_AT_STAR, cover * split_exact / exact_albedo + (1 - cover) * at_star),
+                    ):
+                        factors.setdefault(form, {}).setdefault(kind, []).extend(
+                            (np.abs(value - over_light) / over_light)[keep]
                         )
-                        at_star = curve(np.array([float(v_dot_h_star)]))[0]
-                        lobe, v_dot_h_sum = rect_light_reference(
-                            normal,
-                            view,
-                            np.zeros(3),
-                            corners,
-                            alpha,
-                            lambda x: np.stack([np.ones_like(x), x], -1),
-                            nodes,
+                    approaches = {}
+                    for table_name in tables:
+                        integral, toward, v_dot_h = integrals[table_name]
+                        approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
+                        punctual_basis = albedo * rect_light_punctual(basis_table, coefficients, v_dot_h)
+                        punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
+                        approaches[f"punctual blend, {table_name}"] = (
+                            rect_light_fresnel(toward, split_basis, punctual_basis),
+                            rect_light_fresnel(toward, split_exact, punctual_exact),
                         )
-                        over_light = reference / lobe
-                        at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]
-                        cover = min(lobe / exact_albedo, 1.0)
-                        for form, value in (
-                            ("split sum, F̄ / E", split_exact / exact_albedo),
-                            ("F at the light's mean V·H", at_mean),
-                            (
-                                "their blend by the lobe's share",
-                                cover * split_exact / exact_albedo + (1 - cover) * at_mean,
-                            ),
-                            (FACTOR_AT_STAR, at_star),
-                            (FACTOR_BLEND_AT_STAR, cover * split_exact / exact_albedo + (1 - cover) * at_star),
-                        ):
-                            factors.setdefault(form, {}).setdefault(kind, []).extend(
-                                (np.abs(value - over_light) / over_light)[keep]
+                    if "three.js" in integrals:
+                        f0 = curve(np.array([1.0]))[0]
+                        integral = integrals["three.js"]
+                        schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
+                        approaches["three.js"] = (integral * schlick, integral * split_exact)
+                    size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
+                    for approach, (value, exact_fresnel) in approaches.items():
+                        entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
+                        entry[0].extend((np.abs(value - reference) / reference)[keep])
+                        entry[1].extend((np.abs(value - exact_fresnel) / reference)[keep])
+                        if approach.endswith("this project"):
+                            by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(
+                                (np.abs(value - reference) / reference)[keep]
                             )
-                        approaches = {}
-                        for table_name, stored in tables.items():
-                            integral = rect_light_integral(stored, normal, view, np.zeros(3), corners)
-                            approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
-                            integral, v_dot_h = rect_light_half_cosine(
-                                stored, normal, view, np.zeros(3), corners, roughness, albedo
-                            )
-                            punctual_basis = albedo * rect_light_punctual(basis_table, coefficients, v_dot_h)
-                            punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
-                            approaches[f"punctual blend, {table_name}"] = (
-                                rect_light_fresnel(integral, split_basis, punctual_basis),
-                                rect_light_fresnel(integral, split_exact, punctual_exact),
-                            )
-                        if not isinstance(public, str):
-                            f0 = curve(np.array([1.0]))[0]
-                            integral = cosine_space_integral(tables["public fit"], normal, view, corners)
-                            schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
-                            approaches["three.js"] = (integral * schlick, integral * split_exact)
-                        size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
-                        for approach, (value, exact_fresnel) in approaches.items():
-                            entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
-                            entry[0].extend((np.abs(value - reference) / reference)[keep])
-                            entry[1].extend((np.abs(value - exact_fresnel) / reference)[keep])
-                            if approach.endswith("this project"):
-                                by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(
-                                    (np.abs(value - reference) / reference)[keep]
-                                )
     lines = [
         "# Area lights from tiny to huge",
         "",

@@ -69,11 +69,11 @@ def three_table(version: str) -> np.ndarray | str:
     return tables if isinstance(tables, str) else tables[0]
 
 
-def choice_convergence(mean, free) -> str:
-    """A sentence: where the per-texel choice between the fits ``mean`` and ``free`` (preintegrate.ltc.LtcFit) changes
-    with twice its quadrature nodes over each training light (:func:`preintegrate.ltc_choice.free_texels`)."""
-    lights = training_lights()
-    chosen, finer = (free_texels(mean.inverse, free.inverse, mean.grid, lights, nodes) for nodes in CHOICE_NODES_PAIR)
+def choice_convergence(mean, free, chosen) -> str:
+    """A sentence: where the per-texel choice between the fits ``mean`` and ``free`` (preintegrate.ltc.LtcFit),
+    ``chosen`` with its own quadrature nodes over each training light (:func:`preintegrate.ltc_choice.free_texels`),
+    changes with twice the nodes."""
+    finer = free_texels(mean.inverse, free.inverse, mean.grid, training_lights(), CHOICE_NODES_PAIR[1])
     changed = chosen != finer
     roughness = mean.grid.roughness
     where = f"all at r ≤ {roughness[np.nonzero(changed.any(axis=0))[0]].max():.3f}" if changed.any() else "none"
@@ -207,10 +207,11 @@ def main(argv=None) -> int:
         fits[name] = fit_ltc(grid, **options)
         timings[name] = time.perf_counter() - started
     started = time.perf_counter()
-    fits["shipped"] = per_texel_fit(fits["mean"], fits["chi-square"])
+    preferred = free_texels(fits["mean"].inverse, fits["chi-square"].inverse, grid, training_lights(), CHOICE_NODES)
+    fits["shipped"] = per_texel_fit(fits["mean"], fits["chi-square"], preferred=preferred)
     timings["choice"] = time.perf_counter() - started
     free_share = float(np.mean(np.all(fits["shipped"].inverse == fits["chi-square"].inverse, axis=-1)))
-    convergence = choice_convergence(fits["mean"], fits["chi-square"])
+    convergence = choice_convergence(fits["mean"], fits["chi-square"], preferred)
     shipped = read_lut(shipped_path(LTC_LUT))[0]
     difference = (
         float(np.max(np.abs(fits["shipped"].inverse.astype(np.float32) - shipped)))

@@ -633,9 +633,10 @@ def lobe_density_ratio(
 #: worst within 1.25 × that of the ratio at most 1 (``python -m benchmarks.area_light_set``, "The bound on the lobe's
 #: ratio"). Finite, and growing with √Ω, because the ratio multiplies float32's rounding of the integral, a difference
 #: of edge terms each some 1 / √Ω times larger than it (a light's width over its distance against its solid angle),
-#: most where the LTC's density at the light is far below the lobe's (unbounded, a light 2e-3 wide is off by 1.2e-2 of its largest value; K = 200 leaves a 2 × 1 light's
-#: specular 1.5e-5 off, over the 1e-5 float32 is held to: tests/luts/test_shaders_area.py). Ω is the light's solid
-#: angle as the LTC gives it (:func:`ltc_solid_angle`), which the shaders have at the cost of a few multiplies.
+#: most where the LTC's density at the light is far below the lobe's (unbounded, a light 2e-3 wide is off by 1.2e-2
+#: of its largest value; K = 200 leaves a 2 × 1 light's specular 1.5e-5 off, over the 1e-5 float32 is held to:
+#: tests/luts/test_shaders_area.py). Ω is the light's solid angle as the LTC gives it (:func:`ltc_solid_angle`),
+#: which the shaders have at the cost of a few multiplies.
 LOBE_RATIO_MAX = 1.5
 LOBE_RATIO_PER_SIZE = 100.0
 LOBE_SHARE_RAISED = 0.03

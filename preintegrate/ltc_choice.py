@@ -148,17 +148,24 @@ def free_texels(
 
 
 def per_texel_fit(
-    mean: LtcFit, free: LtcFit, lights=None, progress: Callable[[int, int], None] | None = None
+    mean: LtcFit,
+    free: LtcFit,
+    lights=None,
+    progress: Callable[[int, int], None] | None = None,
+    preferred: np.ndarray | None = None,
 ) -> LtcFit:
     """Per texel ``mean`` (the mean-axis L2 fit) or ``free`` (the free chi-square fit) of the same grid, whichever
     :func:`free_texels` prefers over ``lights`` (default :func:`training_lights`), at roughness at least
-    :data:`CHOICE_ROUGHNESS_MIN`; ``progress`` as :func:`free_texels`'."""
+    :data:`CHOICE_ROUGHNESS_MIN`; ``progress`` as :func:`free_texels`'. ``preferred``: that preference where it is
+    already at hand (:func:`free_texels` of the two fits over the training lights), not computed again."""
     if not (isinstance(mean, LtcFit) and isinstance(free, LtcFit)) or mean.grid != free.grid:
         raise ParameterError("mean and free must be LtcFit of the same grid")
-    lights = training_lights() if lights is None else lights
-    roughness = mean.grid.roughness
-    chosen = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress)
-    chosen &= roughness >= CHOICE_ROUGHNESS_MIN
+    if preferred is None:
+        lights = training_lights() if lights is None else lights
+        preferred = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress)
+    elif np.shape(preferred) != (mean.grid.height, mean.grid.width):
+        raise ParameterError(f"preferred must be ({mean.grid.height}, {mean.grid.width}), got {np.shape(preferred)}")
+    chosen = np.asarray(preferred, dtype=bool) & (mean.grid.roughness >= CHOICE_ROUGHNESS_MIN)
     pick = chosen[..., None]
     return LtcFit(
         mean.grid,

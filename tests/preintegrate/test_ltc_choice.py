@@ -83,7 +83,8 @@ def test_training_lights_are_seeded_and_in_range():
 def test_the_choice_keeps_ties_and_takes_the_table_that_holds_the_lobe():
     """On a 6 × 6 grid: a table against itself keeps the first everywhere; the plain cosine (M = I, what no fit is)
     against the mean-axis fit gives way to it at every texel; the combined fit takes each texel from the table
-    chosen, the mean-axis fit's below CHOICE_ROUGHNESS_MIN."""
+    chosen, the mean-axis fit's below CHOICE_ROUGHNESS_MIN, and the same from the preference given rather than
+    computed again."""
     grid = ltc_grid(6)
     fitted = fit_ltc(grid, workers=1)
     lights = training_lights()
@@ -93,7 +94,9 @@ def test_the_choice_keeps_ties_and_takes_the_table_that_holds_the_lobe():
     free = fit_ltc(grid, workers=1, axis="free", weighting="chi-square")
     combined = per_texel_fit(fitted, free)
     rough = grid.roughness >= CHOICE_ROUGHNESS_MIN
-    chosen = free_texels(fitted.inverse, free.inverse, grid, lights) & rough
+    preferred = free_texels(fitted.inverse, free.inverse, grid, lights)
+    chosen = preferred & rough
+    np.testing.assert_array_equal(per_texel_fit(fitted, free, preferred=preferred).inverse, combined.inverse)
     assert np.any(chosen) and not np.all(chosen[:, rough]), chosen
     assert not np.any(combined.inverse[:, ~rough] != fitted.inverse[:, ~rough])
     np.testing.assert_array_equal(combined.inverse[chosen], free.inverse[chosen])
@@ -102,6 +105,8 @@ def test_the_choice_keeps_ties_and_takes_the_table_that_holds_the_lobe():
     assert "per texel" in combined.method
     with pytest.raises(ParameterError, match="same grid"):
         per_texel_fit(fitted, fit_ltc(ltc_grid(4), workers=1))
+    with pytest.raises(ParameterError, match="preferred"):
+        per_texel_fit(fitted, free, preferred=preferred[:3])
     with pytest.raises(ParameterError, match="both tables"):
         free_texels(fitted.inverse[:3], free.inverse, grid, lights)
 
