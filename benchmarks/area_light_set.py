@@ -32,14 +32,16 @@ A third section measures the factorisation alone (with the exact lobe over the l
 for this project's table, the public fit and candidate fits made here (the mean-axis fit alone and on a finer table;
 M's four entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER`,
 :data:`LOBE_LIMIT_PREVIOUS` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`)
-and the LTC fitted to training
-lights' radiance at the set's own views and roughnesses (:func:`radiance_fit`); a fifth, the cost of the forms in
+and the LTC fitted to the
+radiance of lights drawn where the lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`,
+:func:`radiance_fit`); a fifth, the cost of the forms in
 ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
 (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
 [--out FILE]`` (the
-report: ``--out report/area_light_set.md``).
+report: ``--out report/area_light_set.md``, which also writes ``report/area_light_set.png``, the totals by view and by
+the light's width: :func:`figure`).
 """
 
 from __future__ import annotations
@@ -53,8 +55,9 @@ import numpy as np
 
 from basis.coefficients import coefficients_from_nk
 from basis.gulbrandsen import gulbrandsen_to_nk
-from basis.storage import shipped_path
+from basis.storage import shipped_path, write_together
 from basis.training.holdout import FIGURE_2
+from basis.validation import ParameterError, check_positive_int
 from benchmarks.npm import NpmError, npm_unpacked
 from benchmarks.output import publish
 from handoff.exr import read_lut
@@ -409,17 +412,43 @@ def ratio_bound(nodes: int) -> list[str]:
 
 
 #: The radiance fit's lights and floor: the LTC's four entries fitted at one (μo, r) to the lobe over
-#: :data:`FIT_LIGHTS` training lights 0.02 to 10 wide (the set's range), residuals log((estimate E + ε) / (lobe + ε))
-#: with ε = :data:`FIT_FLOOR` (the set's own floor for a value; a smaller one would weigh the lobe's far tails, which no
-#: LTC holds, against its peak).
-FIT_LIGHTS, FIT_FLOOR = 48, 1e-3
+#: :data:`FIT_LIGHTS` lights drawn where that lobe reflects, 0.02 to 10 wide (the set's range; :func:`lobe_lights`),
+#: residuals log((estimate E + ε) / (lobe + ε)) with ε = :data:`FIT_FLOOR` (the set's own floor for a value; a smaller
+#: one would weigh the lobe's far tails, which no LTC holds, against its peak).
+FIT_LIGHTS, FIT_FLOOR = 96, 1e-3
 
 
-def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit: bool) -> np.ndarray:
-    """(4,) stored LTC entries at one (μo, α) fitted to the lobe over training lights (issue 41 item 2: what area
-    lights need rather than the lobe's distribution): ``corners`` (L, 4, 3) seen as in :func:`lobe_limit_integral`,
-    ``lobes`` (L,) the reference's ∫_P f cos over them; the estimate the LTC integral, or with ``limit``
-    :func:`lobe_limit_integral`; Levenberg-Marquardt from ``start``, the shipped texel."""
+def lobe_lights(mu_o: float, alpha: float, count: int = FIT_LIGHTS, widths=(0.02, 10.0)) -> np.ndarray:
+    """(count, 4, 3) seeded rectangles (:func:`facing_rectangle`, two units away) centred where the GGX lobe of
+    (μo, α) reflects: L = 2 (V·h) h − V with h drawn from D(h) (n·h) (tan² θh = α² u / (1 − u), φh uniform), kept
+    where cos θ ≥ −0.15 (over the hemisphere and just below it, as preintegrate.ltc_choice.training_lights); widths
+    log-uniform in ``widths``. Lights a rendered surface shows, where lights uniform over the hemisphere mostly sit
+    where the lobe is negligible."""
+    count = check_positive_int("count", count)
+    smallest, largest = widths
+    if not (0.0 < mu_o <= 1.0 and 0.0 < alpha <= 1.0 and 0.0 < smallest <= largest):
+        raise ParameterError(f"need 0 < mu_o, alpha <= 1 and 0 < widths, got {mu_o!r}, {alpha!r}, {widths!r}")
+    rng = np.random.default_rng(41)
+    view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
+    lights = []
+    while len(lights) < count:
+        u, phi, width = rng.uniform(size=3)
+        theta_h, phi = np.arctan(alpha * np.sqrt(u / (1.0 - u))), 2.0 * np.pi * phi
+        half = np.array([np.sin(theta_h) * np.cos(phi), np.sin(theta_h) * np.sin(phi), np.cos(theta_h)])
+        light = 2.0 * np.dot(view, half) * half - view
+        if light[2] >= -0.15:
+            theta, azimuth = np.arccos(np.clip(light[2], -1.0, 1.0)), np.arctan2(light[1], light[0])
+            size = np.exp(np.log(smallest) + width * np.log(largest / smallest))
+            lights.append(facing_rectangle(theta, azimuth, size))
+    return np.array(lights)
+
+
+def radiance_fit(starts, view, corners, roughness: float, albedo: float, lobes, limit: bool) -> np.ndarray:
+    """(4,) stored LTC entries at one (μo, r) fitted to the lobe over lights (issue 41 item 2: what area lights need
+    rather than the lobe's distribution): ``corners`` (L, 4, 3) seen as in :func:`lobe_limit_integral`, ``lobes`` (L,)
+    the reference's ∫_P f cos over them; the estimate the LTC integral, or with ``limit`` taken toward the lobe's
+    punctual limit as the shaders take it (preintegrate.ltc.rect_light_half_cosine); Levenberg-Marquardt from each of
+    ``starts`` (S, 4) (the tables' texels), the lowest sum of squares kept."""
     from scipy.optimize import least_squares
 
     normal = np.array([0.0, 0.0, 1.0])
@@ -427,12 +456,14 @@ def radiance_fit(start, view, corners, alpha: float, albedo: float, lobes, limit
     def residuals(stored):
         with np.errstate(all="ignore"):
             if limit:
-                estimate = lobe_limit_integral(stored, view, corners, alpha, albedo)
+                estimate = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo)[0]
             else:
                 estimate = rect_light_integral(stored, normal, view, np.zeros(3), corners)
         return np.log((estimate * albedo + FIT_FLOOR) / (lobes + FIT_FLOOR))
 
-    return least_squares(residuals, start, method="lm", x_scale=np.abs(start) + 0.1).x
+    fits = [least_squares(residuals, start, method="lm", x_scale=np.abs(start) + 0.1) for start in starts]
+    finite = [fit for fit in fits if np.isfinite(fit.cost)]
+    return min(finite, key=lambda fit: fit.cost).x if finite else np.asarray(starts[0], dtype=np.float64)
 
 
 def two_lobe_weights(stored, mu_o: float, alpha: float, albedo: float, count: int = 400) -> np.ndarray:
@@ -448,7 +479,7 @@ def two_lobe_weights(stored, mu_o: float, alpha: float, albedo: float, count: in
 
 #: The lobe study's rows fitted at each of the set's (μo, r) (no table: the frontier a table of such fits could reach).
 RADIANCE_FIT = "fitted to lights' radiance at the set's (μo, r) (no table)"
-RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual limit"
+RADIANCE_FIT_LIMIT = "the same, fitted with and taken toward the lobe's punctual limit as shipped"
 
 
 def lobe_study(
@@ -459,10 +490,9 @@ def lobe_study(
     on :func:`preintegrate.ltc.ltc_grid`'s axes); the first table toward the lobe's punctual limit (:data:`LOBE_LIMIT`,
     :data:`LOBE_LIMIT_LOWER`, :data:`LOBE_LIMIT_SHIPPED`; the tables named in ``corrected`` too,
     :func:`with_the_limit`) and with a second lobe (:data:`TWO_LOBES`); with
-    ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the training lights' radiance
-    (:func:`radiance_fit`), alone and with the limit."""
+    ``radiance_fits`` the LTC fitted at each of the set's (μo, r) to the radiance of lights where its lobe reflects
+    (:func:`lobe_lights`, :func:`radiance_fit`), alone and with the limit as shipped."""
     normal = np.array([0.0, 0.0, 1.0])
-    training = training_lights(FIT_LIGHTS, (0.02, 10.0)) if radiance_fits else []
     errors: dict[tuple[str, str], list[float]] = {}
     for mu_o in VIEWS:
         view, sine = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o]), np.sqrt(1.0 - mu_o * mu_o)
@@ -474,9 +504,11 @@ def lobe_study(
             weights = two_lobe_weights(first, mu_o, alpha, albedo)
             fitted = {}
             if radiance_fits:
+                training = lobe_lights(mu_o, alpha)
                 lobes = lobe_over(view, alpha, training, nodes)
+                starts = list(stored.values())
                 for name, limit in ((RADIANCE_FIT, False), (RADIANCE_FIT_LIMIT, True)):
-                    fitted[name] = radiance_fit(first, view, np.array(training), alpha, albedo, lobes, limit)
+                    fitted[name] = radiance_fit(starts, view, training, roughness, albedo, lobes, limit)
             for placement, (theta, phi) in _placements(mu_o).items():
                 for width in WIDTHS:
                     corners = facing_rectangle(theta, phi, width, DISTANCE)
@@ -505,9 +537,9 @@ def lobe_study(
                         approximations[RADIANCE_FIT] = rect_light_integral(
                             fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
                         )
-                        approximations[RADIANCE_FIT_LIMIT] = lobe_limit_integral(
-                            fitted[RADIANCE_FIT_LIMIT], view, corners, alpha, albedo
-                        )
+                        approximations[RADIANCE_FIT_LIMIT] = rect_light_half_cosine(
+                            fitted[RADIANCE_FIT_LIMIT], normal, view, np.zeros(3), corners, roughness, albedo
+                        )[0]
                     for name, approximation in approximations.items():
                         error = abs(approximation * albedo - lobe) / lobe
                         errors.setdefault((name, "all"), []).append(error)
@@ -538,6 +570,53 @@ def _statistics(errors: np.ndarray) -> str:
     return f"{100 * p50:.2f} % / {100 * p90:.1f} % / {100 * errors.max():.0f} %"
 
 
+#: The approaches the figure draws (their total error by view and by width) and issue 41's targets (median, p90).
+FIGURE_APPROACHES = ("punctual blend, this project", "punctual blend, public fit", "three.js")
+TARGETS = (0.03, 0.20)
+
+
+def figure(records) -> bytes:
+    """PNG: the total error's median (solid) and p90 (dashed) of :data:`FIGURE_APPROACHES` against N·V and against
+    the light's width, conductors and dielectrics apart, over issue 41's targets (grey); ``records`` (approach, kind,
+    N·V, width, relative error) per value."""
+    from fresnel_lut.report.figures import figure_png, pyplot
+
+    plt = pyplot()
+    approach, kind, mu_o, width, error = (np.array(column) for column in zip(*records))
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharey=True)
+    colours = dict(zip(FIGURE_APPROACHES, ("tab:blue", "tab:orange", "tab:grey")))
+    for row, material in zip(axes, ("conductor", "dielectric")):
+        for axis, (key, values, label) in zip(
+            row, ((mu_o, sorted(VIEWS), "N·V (the view)"), (width, list(WIDTHS), "the light's width (distance 2)"))
+        ):
+            for name in FIGURE_APPROACHES:
+                chosen = (approach == name) & (kind == material)
+                shown = [value for value in values if np.any(chosen & (key == value))]
+                if not shown:
+                    continue
+                statistics = np.array([np.percentile(error[chosen & (key == v)], [50, 90]) for v in shown])
+                axis.plot(shown, 100 * statistics[:, 0], "-o", color=colours[name], markersize=4)
+                axis.plot(shown, 100 * statistics[:, 1], "--o", color=colours[name], markersize=4)
+            for target in TARGETS:
+                axis.axhline(100 * target, color="0.6", linewidth=0.8)
+            axis.set_xscale("log")
+            axis.set_yscale("log")
+            axis.set_xticks(values)
+            axis.set_xticklabels([f"{v:g}" for v in values])
+            axis.set_xlabel(label)
+            axis.set_title(f"{material}s", fontsize=9)
+            axis.grid(True, which="major", alpha=0.3)
+        row[0].set_ylabel("relative error (%)")
+    handles = [plt.Line2D([], [], color=colours[name], marker="o", label=name) for name in FIGURE_APPROACHES]
+    handles += [
+        plt.Line2D([], [], color="k", linestyle=style, label=label) for style, label in (("-", "median"), ("--", "p90"))
+    ]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
+    fig.suptitle("Rectangular lights: total error against the reference (grey: issue 41's 3 % and 20 % targets)")
+    fig.tight_layout(rect=(0.0, 0.05, 1.0, 1.0))
+    return figure_png(fig)
+
+
 def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits: bool = True) -> None:
     basis_table = read_lut(shipped_lut(BASIS_LUT))[0]
     ltc_table = read_lut(shipped_path(LTC_LUT))[0]
@@ -547,6 +626,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
     results: dict[str, dict[str, list]] = {}
     factors: dict[str, dict[str, list]] = {}
     by_size: dict[tuple[str, str], dict[str, list]] = {}
+    records: list[tuple[str, str, float, float, float]] = []
     left_out = 0
     normal = np.array([0.0, 0.0, 1.0])
     for mu_o in VIEWS:
@@ -635,6 +715,11 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                         entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
                         entry[0].extend((np.abs(value - reference) / reference)[keep])
                         entry[1].extend((np.abs(value - exact_fresnel) / reference)[keep])
+                        if approach in FIGURE_APPROACHES:
+                            records.extend(
+                                (approach, kind, mu_o, width, error)
+                                for error in (np.abs(value - reference) / reference)[keep]
+                            )
                         if approach.endswith("this project"):
                             by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(
                                 (np.abs(value - reference) / reference)[keep]
@@ -660,6 +745,14 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
         lines.append(f"| {approach} | " + " | ".join(cells) + " |")
     if isinstance(public, str):
         lines += ["", f"The public fit and three.js not measured: {public}."]
+    if out is not None:
+        lines += [
+            "",
+            f"![total error by view and by the light's width]({Path(out).with_suffix('.png').name})",
+            "",
+            "The same totals by N·V (left) and by the light's width (right), median (solid) and p90 (dashed), "
+            "conductors above, dielectrics below; grey lines: issue 41's targets, 3 % and 20 %.",
+        ]
     lines += [
         "",
         "By the light's width (this project's table), total error:",
@@ -724,10 +817,11 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
             "the last two fit the LTC's four entries "
-            f"at each of the set's own (μo, r), no table between them, to the lobe over {FIT_LIGHTS} seeded training "
-            "lights 0.02 to 10 wide (item 2: what area lights need rather than the lobe's distribution; "
-            "`radiance_fit`), the LTC alone and taken toward the punctual limit inside the fit: a frontier a table of "
-            "such fits could at best reach. Only the shipped table and that bounded limit are shipped:",
+            f"at each of the set's own (μo, r), no table between them, to the lobe over {FIT_LIGHTS} seeded lights "
+            "0.02 to 10 wide centred where that lobe reflects (item 2: what area lights need rather than the lobe's "
+            "distribution; `lobe_lights`, `radiance_fit`, from each table's texel), the LTC alone and taken toward "
+            "the punctual limit as shipped inside the fit: a frontier the LTC, with or without the limit, could at "
+            "best reach with a table of such fits. Only the shipped table and that bounded limit are shipped:",
             "",
             *lobe_study(nodes, candidates, corrected=(MEAN_AXIS, *FREE_TABLES)),
             "",
@@ -735,7 +829,18 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
         ]
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]
-    publish("\n".join(lines) + "\n", out)
+    text = "\n".join(lines) + "\n"
+    if out is None:
+        publish(text, None)
+        return
+    print(text)
+    png = figure(records)
+    write_together(
+        [
+            (Path(out), lambda path: path.write_text(text, encoding="utf-8")),
+            (Path(out).with_suffix(".png"), lambda path: path.write_bytes(png)),
+        ]
+    )
 
 
 def main(argv=None) -> None:
@@ -744,7 +849,7 @@ def main(argv=None) -> None:
     parser.add_argument("--three", default="0.187.0", help="three.js version for the public fit ('none': skip)")
     parser.add_argument("--no-cost", action="store_true", help="leave out the shader-cost section (ACO, llvmpipe)")
     parser.add_argument("--no-fits", action="store_true", help="leave out the lobe study (two LTC fits, ~5 min)")
-    parser.add_argument("--out", default=None, help="Markdown file (default: print)")
+    parser.add_argument("--out", default=None, help="Markdown file, its figure beside it as .png (default: print)")
     arguments = parser.parse_args(argv)
     run(arguments.nodes, arguments.three, arguments.out, not arguments.no_cost, not arguments.no_fits)
 

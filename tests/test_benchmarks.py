@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from tests.conftest import gpu_missing
@@ -136,8 +137,6 @@ def test_gpu_timings_run_small(tmp_path):
 def test_smooth_map_interpolates_its_grid():
     """The smooth material map holds its 9 × 9 random values at the grid's points (every 255/8 texels) and is linear
     between them along each axis (bilinear inside a cell: its second differences vanish within a cell's rows)."""
-    import numpy as np
-
     from benchmarks.shader_cost import smooth_map
 
     grid = np.random.default_rng(4).uniform(0.05, 0.95, (9, 9, 4))
@@ -313,14 +312,48 @@ def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
         assert len(changed) == 1 and now in changed[0], (name, changed)
 
 
-def test_area_light_set_runs_small():
-    """The area-light set with a coarse reference, without peers or cost: every approach and the factorisation."""
+def test_area_light_set_runs_small(tmp_path):
+    """The area-light set with a coarse reference, without peers or cost: every approach and the factorisation, and
+    with ``--out`` the report beside its figure (a PNG the report links to)."""
+    out = tmp_path / "set.md"
     completed = _run(
-        "benchmarks.area_light_set", "--nodes", "16", "--three", "none", "--no-cost", "--no-fits", timeout=600
+        "benchmarks.area_light_set",
+        *("--nodes", "16", "--three", "none", "--no-cost", "--no-fits", "--out", str(out)),
+        timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-2000:]
     for row in ("| split sum, this project |", "| punctual blend, this project |", "| F at the light's mean V·H |"):
         assert completed.stdout.count(row) == 1, completed.stdout
+    assert out.read_text(encoding="utf-8") == completed.stdout[:-1]  # print's own newline
+    assert "](set.png)" in completed.stdout
+    assert (tmp_path / "set.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_radiance_fits_lights_lie_where_the_lobe_reflects():
+    """lobe_lights: seeded, in the widths asked for, centred where the lobe reflects: for a sharp lobe (α = 0.05) at
+    N·V = 0.5 all but a few within 15° of the mirror direction (the GGX lobe's half vectors within about 3 α of the
+    normal hold 97 % of D(h) (n·h): tan² θh = α² u / (1 − u), u = 0.9 gives θh = 8.5°, so the light 17°), and for
+    α = 1 spread over the hemisphere; bad input refused."""
+    from basis.validation import ParameterError
+    from benchmarks.area_light_set import lobe_lights
+
+    lights = lobe_lights(0.5, 0.05, 64, (0.1, 2.0))
+    np.testing.assert_array_equal(lights, lobe_lights(0.5, 0.05, 64, (0.1, 2.0)))
+    assert lights.shape == (64, 4, 3)
+    widths = np.linalg.norm(lights[:, 1] - lights[:, 0], axis=-1)
+    assert np.all((widths >= 0.1 - 1e-12) & (widths <= 2.0 + 1e-12)), widths
+    centres = lights.mean(axis=1)
+    directions = centres / np.linalg.norm(centres, axis=-1, keepdims=True)
+    mirror = np.array([-np.sqrt(0.75), 0.0, 0.5])
+    angles = np.degrees(np.arccos(np.clip(directions @ mirror, -1.0, 1.0)))
+    assert np.mean(angles < 17.0) >= 0.85 and np.median(angles) < 8.0, np.sort(angles)
+    rough = lobe_lights(0.5, 1.0, 64).mean(axis=1)
+    rough /= np.linalg.norm(rough, axis=-1, keepdims=True)
+    assert np.median(np.degrees(np.arccos(rough @ mirror))) > 30.0
+    assert np.all(rough[:, 2] >= -0.15 - 1e-12)
+    for bad in ((0.0, 0.3), (0.5, 0.0), (0.5, 1.5)):
+        with pytest.raises(ParameterError):
+            lobe_lights(*bad, 4)
 
 
 def test_area_light_cost_baseline_is_issue_41s_include():
