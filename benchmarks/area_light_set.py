@@ -70,6 +70,7 @@ from preintegrate.ltc import (
     horizon_ltc_vector,
     lobe_density_ratio,
     lobe_ratio_bound,
+    ltc_direction,
     ltc_grid,
     ltc_inverse,
     ltc_solid_angle,
@@ -344,7 +345,6 @@ def ratio_bound(nodes: int) -> list[str]:
     """Markdown lines: the lobe's error (F = 1) with the shipped table over the training lights, taken toward the
     lobe's limit with each candidate bound on the ratio (:data:`RATIO_LEAST` × :data:`RATIO_PER_SIZE` ×
     :data:`RATIO_SHARES`) and unbounded; the criterion: :func:`_chosen_bound`."""
-    normal = np.array([0.0, 0.0, 1.0])
     table = read_lut(shipped_path(LTC_LUT))[0]
     lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": [], "solid angle": []}
@@ -356,13 +356,15 @@ def ratio_bound(nodes: int) -> list[str]:
             albedo = lobe_albedo(mu_o, alpha)
             stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
             lobes = lobe_over(view, alpha, lights, nodes)
-            integral, direction = rect_light_direction(stored, normal, view, np.zeros(3), lights)
             lit = lobes > 1e-3
-            parts["integral"].append(integral[lit])
-            parts["ratio"].append(lobe_density_ratio(stored, direction[lit], mu_o, alpha, albedo, sine=sine))
+            # the lights are in the shading frame already (normal z, the view in the xz plane)
+            vector = horizon_ltc_vector(stored, lights[lit])
+            direction = ltc_direction(stored, vector)
+            parts["integral"].append(np.maximum(vector[..., 2], 0.0))
+            parts["ratio"].append(lobe_density_ratio(stored, direction, mu_o, alpha, albedo, sine=sine))
             parts["lobe"].append(lobes[lit])
             parts["albedo"].append(np.full(np.sum(lit), albedo))
-            parts["solid angle"].append(ltc_solid_angle(stored, horizon_ltc_vector(stored, lights[lit])))
+            parts["solid angle"].append(ltc_solid_angle(stored, vector))
     integral, ratio, lobe, albedo, solid_angle = (np.concatenate(parts[name]) for name in parts)
 
     def error(bound):

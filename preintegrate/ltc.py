@@ -3,9 +3,9 @@
 Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEIGHTINGS``, ``ltc_grid``,
 ``checked_ltc_grid``, ``fit_points``, ``fit_albedo``, ``LtcFit``, ``fit_ltc``, ``ltc_inverse``, ``ltc_density``,
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
-``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``rect_light_half_cosine``,
-``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``, ``lobe_ratio_bound``,
-``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``.
+``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
+``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
+``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -91,6 +91,7 @@ __all__ = [
     "horizon_ltc_vector",
     "lobe_error",
     "ltc_density",
+    "ltc_direction",
     "ltc_inverse",
     "ltc_solid_angle",
     "lobe_density_ratio",
@@ -579,7 +580,14 @@ def rect_light_direction(stored, normal, view, position, corners) -> tuple[np.nd
     of the transformed quad's vector form factor (:func:`horizon_ltc_vector`, its mean direction in the cosine's space)
     taken back through M (the LTC of ``stored``); where the quad lies below the horizon, the normal."""
     vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
-    return np.maximum(vector[..., 2], 0.0), _unit_or_normal(_taken_back(stored, vector))
+    return np.maximum(vector[..., 2], 0.0), ltc_direction(stored, vector)
+
+
+def ltc_direction(stored, vector) -> np.ndarray:
+    """(…, 3) a light's representative direction M f / |M f| from the vector form factor ``vector`` f (…, 3) of its
+    transformed polygon (:func:`horizon_ltc_vector`), M the LTC of ``stored`` (…, 4); the normal where f is 0 (the
+    light below the horizon)."""
+    return _unit_or_normal(_taken_back(stored, as_float_array("vector", vector)))
 
 
 def _taken_back(stored, vector) -> np.ndarray:

@@ -15,6 +15,7 @@ from preintegrate.ltc import (
     lobe_density_ratio,
     lobe_ratio_bound,
     ltc_density,
+    ltc_direction,
     ltc_grid,
     ltc_inverse,
     ltc_solid_angle,
@@ -115,15 +116,23 @@ def _small_light(rng, size, lift):
 
 
 def test_rect_light_direction_is_the_light_for_a_small_one():
-    """A small light's representative direction is its own direction (to its angular size), for any LTC."""
+    """A small light's representative direction is its own direction (to its angular size), for any LTC; it is
+    ltc_direction of the light's vector form factor, and the normal for a light below the horizon."""
     rng = np.random.default_rng(8)
     normal, view = np.array([0.0, 0.0, 1.0]), np.array([0.6, 0.0, 0.8])
+    frame = shading_frame(normal, view)
     for stored in ([1.0, 0.0, 0.0, 1.0], [4.0, -0.3, 0.2, 1.5], [0.8, 0.5, -0.4, 0.9]):
         for _ in range(8):
             direction, quad = _small_light(rng, 1e-3, 0.2)
             integral, got = rect_light_direction(np.array(stored), normal, view, np.zeros(3), quad)
-            local = shading_frame(normal, view) @ direction
+            local = frame @ direction
             assert integral > 0.0 and np.linalg.norm(got - local) < 2e-3, (stored, got, local)
+            vector = horizon_ltc_vector(np.array(stored), quad @ frame.T)
+            np.testing.assert_array_equal(ltc_direction(np.array(stored), vector), got)
+        below = quad * np.array([1.0, 1.0, -1.0])
+        np.testing.assert_array_equal(
+            ltc_direction(np.array(stored), horizon_ltc_vector(np.array(stored), below @ frame.T)), [0.0, 0.0, 1.0]
+        )
 
 
 def _shipped_texels(cases):
