@@ -577,6 +577,30 @@ FIGURE_APPROACHES = ("punctual blend, this project", "punctual blend, public fit
 TARGETS = (0.03, 0.20)
 
 
+def figure_table(records) -> list[str]:
+    """Markdown lines: the figure's values (:func:`figure`), each of :data:`FIGURE_APPROACHES`' total error by N·V and
+    by the light's width, median / p90 / max, conductors; dielectrics."""
+    approach, kind, mu_o, width, error = (np.array(column) for column in zip(*records))
+    lines = [
+        "The figure's values, total error median / p90 / max (conductors; dielectrics):",
+        "",
+        "| | " + " | ".join(name for name in FIGURE_APPROACHES if np.any(approach == name)) + " |",
+        "|---|" + "---|" * len({name for name in FIGURE_APPROACHES if np.any(approach == name)}),
+    ]
+    for label, key, values in (("N·V", mu_o, sorted(VIEWS)), ("width", width, list(WIDTHS))):
+        for value in values:
+            cells = [
+                "; ".join(
+                    _statistics(error[(approach == name) & (kind == material) & (key == value)])
+                    for material in ("conductor", "dielectric")
+                )
+                for name in FIGURE_APPROACHES
+                if np.any(approach == name)
+            ]
+            lines.append(f"| {label} {value:g} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def figure(records) -> bytes:
     """PNG: the total error's median (solid) and p90 (dashed) of :data:`FIGURE_APPROACHES` against N·V and against
     the light's width, conductors and dielectrics apart, over issue 41's targets (grey); ``records`` (approach, kind,
@@ -755,6 +779,7 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "The same totals by N·V (left) and by the light's width (right), median (solid) and p90 (dashed), "
             "conductors above, dielectrics below; grey lines: issue 41's targets, 3 % and 20 %.",
         ]
+    lines += ["", *figure_table(records)]
     lines += [
         "",
         "By the light's width (this project's table), total error:",

@@ -313,8 +313,8 @@ def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
 
 
 def test_area_light_set_runs_small(tmp_path):
-    """The area-light set with a coarse reference, without peers or cost: every approach and the factorisation, and
-    with ``--out`` the report beside its figure (a PNG the report links to)."""
+    """The area-light set with a coarse reference, without peers or cost: every approach, the factorisation and the
+    figure's values by view and by width, and with ``--out`` the report beside its figure (a PNG it links to)."""
     out = tmp_path / "set.md"
     completed = _run(
         "benchmarks.area_light_set",
@@ -322,8 +322,12 @@ def test_area_light_set_runs_small(tmp_path):
         timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-2000:]
-    for row in ("| split sum, this project |", "| punctual blend, this project |", "| F at the light's mean V·H |"):
-        assert completed.stdout.count(row) == 1, completed.stdout
+    lines = completed.stdout.splitlines()
+    for row in (
+        *("| split sum, this project |", "| punctual blend, this project |", "| F at the light's mean V·H |"),
+        *("| N·V 0.08 |", "| N·V 0.95 |", "| width 0.02 |", "| width 10 |"),  # the figure's values
+    ):
+        assert sum(line.startswith(row) for line in lines) == 1, (row, completed.stdout)
     assert out.read_text(encoding="utf-8") == completed.stdout[:-1]  # print's own newline
     assert "](set.png)" in completed.stdout
     assert (tmp_path / "set.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
