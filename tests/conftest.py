@@ -4,6 +4,7 @@ from one another; the deliberately independent references are ``tests.references
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
@@ -52,8 +53,15 @@ def read_png16(path):
     return texels / 65535.0, text
 
 
+#: A progress report (fresnel_lut.progress.Progress: ``label: 42.0% (done/total unit) 12.0s, about 16 s left``), which
+#: a command prints on standard error for work that runs past a second, as a loaded machine makes a small build do: not
+#: part of the error message whose lines :func:`assert_one_line_error` counts.
+PROGRESS_LINE = re.compile(r"^.+: (?:\s*\d+\.\d% )?\(\d+(?:/\d+)? [^)]*\) \d+\.\ds(?:, about .+ left)?$")
+
+
 def assert_one_line_error(stderr):
-    lines = stderr.splitlines()
+    """``stderr`` is one line, ``fresnel-lut…error…``, and no traceback (progress reports aside: :data:`PROGRESS_LINE`)."""
+    lines = [line for line in stderr.splitlines() if not PROGRESS_LINE.match(line)]
     assert len(lines) == 1, stderr
     assert lines[0].startswith("fresnel-lut"), stderr
     assert "error" in lines[0]

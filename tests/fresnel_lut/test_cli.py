@@ -578,6 +578,28 @@ def test_progress_estimates_the_time_left(monkeypatch):
     assert stream.getvalue() == "fitting:  25.0% (256/1024 rows) 30.0s, about 1.5 min left\n"
 
 
+def test_an_error_is_one_line_beside_the_progress_a_loaded_machine_prints(monkeypatch):
+    """A small build that runs past a second on a loaded machine reports its progress before it fails (CI, 2026-12:
+    ``build --ltc`` then a refused ``build``): assert_one_line_error leaves out exactly what Progress writes, with and
+    without a total and a unit, and still refuses a second line of error or a traceback."""
+    import fresnel_lut.progress as progress_module
+    from tests.conftest import PROGRESS_LINE
+
+    stream = io.StringIO()
+    for total, unit in ((20, "rows"), (None, "texels"), (4, "")):
+        clock = iter([0.0, 2.5])  # made, then called 2.5 s later: past its one-second delay
+        monkeypatch.setattr(progress_module.time, "perf_counter", lambda clock=clock: next(clock))
+        Progress("fitting 6x6 LTC texels (two fits, then the choice)", unit, stream=stream)(1, total)
+    written = stream.getvalue().splitlines()
+    assert len(written) == 3 and all(PROGRESS_LINE.match(line) for line in written), written
+    error = "fresnel-lut: error: ggx_ltc.exr was fitted for height-correlated G2 and this build is separable"
+    assert_one_line_error("\n".join([*written, error]) + "\n")
+    assert not PROGRESS_LINE.match(error)
+    for bad in ([*written, error, error], [*written, "Traceback (most recent call last):", error]):
+        with pytest.raises(AssertionError):
+            assert_one_line_error("\n".join(bad))
+
+
 @pytest.mark.parametrize("target", ["/dev/null", "folder"])
 def test_basis_refuses_a_device_or_folder_before_training(target, tmp_path, monkeypatch, capsys):
     """basis --out /dev/null used to fail after the whole training pass."""
