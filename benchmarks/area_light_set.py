@@ -41,7 +41,7 @@ ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41'
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--nodes N] [--three VERSION] [--no-cost] [--no-fits]
 [--out FILE]`` (the
 report: ``--out report/area_light_set.md``, which also writes ``report/area_light_set.png``, the totals by view and by
-the light's width: :func:`figure`).
+the light's width: :func:`figure`, :func:`figure_values`).
 """
 
 from __future__ import annotations
@@ -59,7 +59,6 @@ from basis.storage import shipped_path, write_together
 from basis.training.holdout import FIGURE_2
 from basis.validation import ParameterError, check_positive_int
 from benchmarks.npm import NpmError, npm_unpacked
-from benchmarks.output import publish
 from handoff.exr import read_lut
 from handoff.shaders import rect_light_punctual, shader_includes
 from handoff.shipped import BASIS_LUT, LTC_LUT, shipped_lut
@@ -577,63 +576,76 @@ FIGURE_APPROACHES = ("punctual blend, this project", "punctual blend, public fit
 TARGETS = (0.03, 0.20)
 
 
-def figure_table(records) -> list[str]:
-    """Markdown lines: the figure's values (:func:`figure`), each of :data:`FIGURE_APPROACHES`' total error by N·V and
-    by the light's width, median / p90 / max, conductors; dielectrics."""
+def figure_values(records) -> dict[tuple[str, str, str, float], np.ndarray]:
+    """The figure's groups, once for its plot and its table: (approach, kind, "N·V" or "width", value) → the relative
+    errors there, for each of :data:`FIGURE_APPROACHES` that ``records`` (approach, kind, N·V, width, relative error)
+    hold, at every N·V of :data:`VIEWS` and width of :data:`WIDTHS` it has values at."""
     approach, kind, mu_o, width, error = (np.array(column) for column in zip(*records))
+    groups = {}
+    for name in FIGURE_APPROACHES:
+        for material in ("conductor", "dielectric"):
+            chosen = (approach == name) & (kind == material)
+            for label, key, values in (("N·V", mu_o, sorted(VIEWS)), ("width", width, WIDTHS)):
+                for value in values:
+                    if np.any(chosen & (key == value)):
+                        groups[(name, material, label, value)] = error[chosen & (key == value)]
+    return groups
+
+
+def figure_table(groups) -> list[str]:
+    """Markdown lines: the figure's values (``groups``, :func:`figure_values`), each approach's total error by N·V and
+    by the light's width, median / p90 / max, conductors; dielectrics ("–" where there is none)."""
+    shown = [name for name in FIGURE_APPROACHES if any(key[0] == name for key in groups)]
     lines = [
         "The figure's values, total error median / p90 / max (conductors; dielectrics):",
         "",
-        "| | " + " | ".join(name for name in FIGURE_APPROACHES if np.any(approach == name)) + " |",
-        "|---|" + "---|" * len({name for name in FIGURE_APPROACHES if np.any(approach == name)}),
+        "| | " + " | ".join(shown) + " |",
+        "|---|" + "---|" * len(shown),
     ]
-    for label, key, values in (("N·V", mu_o, sorted(VIEWS)), ("width", width, list(WIDTHS))):
+    for label, values in (("N·V", sorted(VIEWS)), ("width", WIDTHS)):
         for value in values:
             cells = [
                 "; ".join(
-                    _statistics(error[(approach == name) & (kind == material) & (key == value)])
-                    for material in ("conductor", "dielectric")
+                    _statistics(groups[key]) if key in groups else "–"
+                    for key in ((name, material, label, value) for material in ("conductor", "dielectric"))
                 )
-                for name in FIGURE_APPROACHES
-                if np.any(approach == name)
+                for name in shown
             ]
             lines.append(f"| {label} {value:g} | " + " | ".join(cells) + " |")
     return lines
 
 
-def figure(records) -> bytes:
-    """PNG: the total error's median (solid) and p90 (dashed) of :data:`FIGURE_APPROACHES` against N·V and against
-    the light's width, conductors and dielectrics apart, over issue 41's targets (grey); ``records`` (approach, kind,
-    N·V, width, relative error) per value."""
+def figure(groups) -> bytes:
+    """PNG: the total error's median (solid) and p90 (dashed) of each approach in ``groups`` (:func:`figure_values`)
+    against N·V and against the light's width, conductors and dielectrics apart, over issue 41's targets (grey)."""
     from fresnel_lut.report.figures import figure_png, pyplot
 
     plt = pyplot()
-    approach, kind, mu_o, width, error = (np.array(column) for column in zip(*records))
+    shown = [name for name in FIGURE_APPROACHES if any(key[0] == name for key in groups)]
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharey=True)
     colours = dict(zip(FIGURE_APPROACHES, ("tab:blue", "tab:orange", "tab:grey")))
     for row, material in zip(axes, ("conductor", "dielectric")):
-        for axis, (key, values, label) in zip(
-            row, ((mu_o, sorted(VIEWS), "N·V (the view)"), (width, list(WIDTHS), "the light's width (distance 2)"))
+        for axis, (label, values, title) in zip(
+            row, (("N·V", sorted(VIEWS), "N·V (the view)"), ("width", list(WIDTHS), "the light's width (distance 2)"))
         ):
-            for name in FIGURE_APPROACHES:
-                chosen = (approach == name) & (kind == material)
-                shown = [value for value in values if np.any(chosen & (key == value))]
-                if not shown:
+            for name in shown:
+                keys = [(name, material, label, value) for value in values if (name, material, label, value) in groups]
+                if not keys:
                     continue
-                statistics = np.array([np.percentile(error[chosen & (key == v)], [50, 90]) for v in shown])
-                axis.plot(shown, 100 * statistics[:, 0], "-o", color=colours[name], markersize=4)
-                axis.plot(shown, 100 * statistics[:, 1], "--o", color=colours[name], markersize=4)
+                statistics = np.array([np.percentile(groups[key], [50, 90]) for key in keys])
+                axis.plot([key[3] for key in keys], 100 * statistics[:, 0], "-o", color=colours[name], markersize=4)
+                axis.plot([key[3] for key in keys], 100 * statistics[:, 1], "--o", color=colours[name], markersize=4)
             for target in TARGETS:
                 axis.axhline(100 * target, color="0.6", linewidth=0.8)
             axis.set_xscale("log")
             axis.set_yscale("log")
             axis.set_xticks(values)
             axis.set_xticklabels([f"{v:g}" for v in values])
-            axis.set_xlabel(label)
+            axis.set_xlabel(title)
             axis.set_title(f"{material}s", fontsize=9)
             axis.grid(True, which="major", alpha=0.3)
         row[0].set_ylabel("relative error (%)")
-    handles = [plt.Line2D([], [], color=colours[name], marker="o", label=name) for name in FIGURE_APPROACHES]
+    handles = [plt.Line2D([], [], color=colours[name], marker="o", label=name) for name in shown]
     handles += [
         plt.Line2D([], [], color="k", linestyle=style, label=label) for style, label in (("-", "median"), ("--", "p90"))
     ]
@@ -738,18 +750,14 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
                         approaches["three.js"] = (integral * schlick, integral * split_exact)
                     size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
                     for approach, (value, exact_fresnel) in approaches.items():
+                        total = (np.abs(value - reference) / reference)[keep]
                         entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
-                        entry[0].extend((np.abs(value - reference) / reference)[keep])
+                        entry[0].extend(total)
                         entry[1].extend((np.abs(value - exact_fresnel) / reference)[keep])
                         if approach in FIGURE_APPROACHES:
-                            records.extend(
-                                (approach, kind, mu_o, width, error)
-                                for error in (np.abs(value - reference) / reference)[keep]
-                            )
+                            records.extend((approach, kind, mu_o, width, error) for error in total)
                         if approach.endswith("this project"):
-                            by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(
-                                (np.abs(value - reference) / reference)[keep]
-                            )
+                            by_size.setdefault((size, approach), {}).setdefault(kind, []).extend(total)
     lines = [
         "# Area lights from tiny to huge",
         "",
@@ -779,7 +787,8 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
             "The same totals by N·V (left) and by the light's width (right), median (solid) and p90 (dashed), "
             "conductors above, dielectrics below; grey lines: issue 41's targets, 3 % and 20 %.",
         ]
-    lines += ["", *figure_table(records)]
+    groups = figure_values(records)
+    lines += ["", *figure_table(groups)]
     lines += [
         "",
         "By the light's width (this project's table), total error:",
@@ -857,11 +866,10 @@ def run(nodes: int, three: str, out: str | None, measure_cost: bool = True, fits
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]
     text = "\n".join(lines) + "\n"
-    if out is None:
-        publish(text, None)
-        return
     print(text)
-    png = figure(records)
+    if out is None:
+        return
+    png = figure(groups)
     write_together(
         [
             (Path(out), lambda path: path.write_text(text, encoding="utf-8")),
