@@ -335,8 +335,8 @@ def test_area_light_set_runs_small(tmp_path):
 
 def test_the_radiance_fits_lights_lie_where_the_lobe_reflects():
     """lobe_lights: seeded, in the widths asked for, centred where the lobe reflects: for a sharp lobe (α = 0.05) at
-    N·V = 0.5 all but a few within 15° of the mirror direction (the GGX lobe's half vectors within about 3 α of the
-    normal hold 97 % of D(h) (n·h): tan² θh = α² u / (1 − u), u = 0.9 gives θh = 8.5°, so the light 17°), and for
+    N·V = 0.5 at least 85 % within 17° of the mirror direction and the median within 8° (tan² θh = α² u / (1 − u):
+    u = 0.9 gives θh = 8.5°, so the light 17° off), and for
     α = 1 spread over the hemisphere; bad input refused."""
     from basis.validation import ParameterError
     from benchmarks.area_light_set import lobe_lights
