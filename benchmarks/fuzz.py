@@ -835,6 +835,8 @@ def fuzz_option_combinations(rng, count: int, folder: Path) -> Outcome:
             argv += ["--out", str(folder / f"report{index}")]
         if command == "build":
             argv += ["--size", "4", "--order", "4", "--out", str(folder / f"combination{index}")]
+            if "--ltc" in argv and "--ltc-size" not in argv:
+                argv += ["--ltc-size", "6"]  # the default 64 x 64 fit takes half a minute (the rebuild test runs it)
             if "--ltc-size" in argv:
                 position = argv.index("--ltc-size") + 1
                 if position < len(argv) and argv[position].lstrip("-").isdigit() and int(argv[position]) > 6:
