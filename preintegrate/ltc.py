@@ -350,19 +350,24 @@ def _fit_rows(
     return free, _unpack(free, theta)
 
 
-def lobe_error(parameters, grid: LutGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID) -> np.ndarray:
+def lobe_error(
+    parameters, grid: LutGrid, albedo: np.ndarray | None = None, count: int = _ERROR_GRID, workers: int | None = None
+) -> np.ndarray:
     """(size, size) half the L1 distance ½∫|f̂ − D| dω between the target lobe and the LTC of ``parameters``
-    (size, size, 4) = (a, b, c, d), on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint)."""
+    (size, size, 4) = (a, b, c, d), on 2 × ``count``² directions per texel (0: the same lobe; 1: disjoint); the rows
+    shared among ``workers`` threads (default: the machine's cores; the same bits)."""
     grid = checked_ltc_grid(grid)
     albedo = fit_albedo(grid) if albedo is None else albedo
     mu_rows, alpha = fit_points(grid)
-    errors = np.empty((grid.height, grid.width))
-    for row, mu in enumerate(mu_rows):
-        mu_o = np.full(grid.width, mu)
+
+    def row_error(row: int) -> np.ndarray:
+        mu_o = np.full(grid.width, mu_rows[row])
         directions, weights = _directions(mu_o, alpha, count)
         target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[row][:, None], grid.visibility)
-        errors[row] = 0.5 * np.sum(weights * np.abs(target - ltc_density(directions, parameters[row])), axis=-1)
-    return errors
+        return 0.5 * np.sum(weights * np.abs(target - ltc_density(directions, parameters[row])), axis=-1)
+
+    with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
+        return np.stack(list(pool.map(row_error, range(grid.height))))
 
 
 def stored_density(stored, omega) -> np.ndarray:
@@ -454,7 +459,7 @@ def fit_ltc(
     inverse, _ = _matrix_inverse(fitted)
     stored = np.stack([inverse[..., 0, 0], inverse[..., 2, 0], inverse[..., 0, 2], inverse[..., 2, 2]], axis=-1)
     stored /= inverse[..., 1, 1][..., None]
-    error = lobe_error(fitted, grid, albedo)
+    error = lobe_error(fitted, grid, albedo, workers=workers)
     if progress is not None:
         progress(size + 1, size + 1)
     return LtcFit(grid, fitted, stored, error, weighting)

@@ -20,9 +20,11 @@ choice changes values, not code. ``benchmarks.area_light_set`` measures it on li
 from __future__ import annotations
 
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from basis.parallel import one_blas_thread, worker_count
 from basis.validation import ParameterError, as_float_array, check_positive_int
 
 from .ltc import LtcFit, checked_ltc_grid, fit_albedo, fit_ltc, fit_points, ltc_grid, rect_light_integral, target_lobe
@@ -119,10 +121,11 @@ def free_texels(
     lights,
     nodes: int = CHOICE_NODES,
     progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
 ) -> np.ndarray:
     """(size, size) bool: where the stored table ``second`` holds the lobe over ``lights`` better than ``first``
     (module docstring's score; ties keep ``first``), both (size, size, 4) on the LTC ``grid``; ``progress`` (rows
-    done, rows)."""
+    done, rows); the rows shared among ``workers`` threads (default: the machine's cores; the same choice)."""
     grid = checked_ltc_grid(grid)
     tables = [as_float_array("first", first), as_float_array("second", second)]
     if any(table.shape != (grid.height, grid.width, 4) for table in tables):
@@ -132,7 +135,9 @@ def free_texels(
     albedo = fit_albedo(grid)
     normal, origin = np.array([0.0, 0.0, 1.0]), np.zeros(3)
     chosen = np.zeros((grid.height, grid.width), dtype=bool)
-    for row, mu_o in enumerate(mu_rows):
+
+    def choose(row: int) -> np.ndarray:
+        mu_o = mu_rows[row]
         view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
         lobe = lobe_over_lights(mu_o, alphas, lights, nodes)  # (columns, lights)
 
@@ -141,9 +146,13 @@ def free_texels(
             held = integral * albedo[row][:, None]
             return np.sum(np.abs(np.log((held + _FLOOR) / (lobe + _FLOOR))), axis=1)
 
-        chosen[row] = score(tables[1]) < score(tables[0])
-        if progress is not None:
-            progress(row + 1, grid.height)
+        return score(tables[1]) < score(tables[0])
+
+    with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
+        for row, preferred in enumerate(pool.map(choose, range(grid.height))):
+            chosen[row] = preferred
+            if progress is not None:
+                progress(row + 1, grid.height)
     return chosen
 
 
@@ -153,16 +162,18 @@ def per_texel_fit(
     lights=None,
     progress: Callable[[int, int], None] | None = None,
     preferred: np.ndarray | None = None,
+    workers: int | None = None,
 ) -> LtcFit:
     """Per texel ``mean`` (the mean-axis L2 fit) or ``free`` (the free chi-square fit) of the same grid, whichever
     :func:`free_texels` prefers over ``lights`` (default :func:`training_lights`), at roughness at least
     :data:`CHOICE_ROUGHNESS_MIN`; ``progress`` as :func:`free_texels`'. ``preferred``: that preference where it is
-    already at hand (:func:`free_texels` of the two fits over the training lights), not computed again."""
+    already at hand (:func:`free_texels` of the two fits over the training lights), not computed again; ``workers``
+    as :func:`free_texels`'."""
     if not (isinstance(mean, LtcFit) and isinstance(free, LtcFit)) or mean.grid != free.grid:
         raise ParameterError("mean and free must be LtcFit of the same grid")
     if preferred is None:
         lights = training_lights() if lights is None else lights
-        preferred = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress)
+        preferred = free_texels(mean.inverse, free.inverse, mean.grid, lights, progress=progress, workers=workers)
     elif np.shape(preferred) != (mean.grid.height, mean.grid.width):
         raise ParameterError(f"preferred must be ({mean.grid.height}, {mean.grid.width}), got {np.shape(preferred)}")
     chosen = np.asarray(preferred, dtype=bool) & (mean.grid.roughness >= CHOICE_ROUGHNESS_MIN)
@@ -191,4 +202,4 @@ def fit_area_ltc(
 
     mean = fit_ltc(grid, stage(0), workers)
     free = fit_ltc(grid, stage(steps), workers, axis="free", weighting="chi-square")
-    return per_texel_fit(mean, free, progress=stage(2 * steps))
+    return per_texel_fit(mean, free, progress=stage(2 * steps), workers=workers)

@@ -169,7 +169,7 @@ def test_the_shipped_table_does_not_glow_at_grazing_views():
 
 def test_fit_area_ltc_reports_its_progress_and_is_per_texel_fits_choice():
     """On a 6 × 6 grid: progress runs through both fits' rows (and their lobe error) and the choice's, to its total;
-    the table is :func:`per_texel_fit` of the two fits."""
+    the table is :func:`per_texel_fit` of the two fits, the same bits whether one thread or two shares the rows."""
     from preintegrate.ltc_choice import fit_area_ltc
 
     grid, calls = ltc_grid(6), []
@@ -177,5 +177,5 @@ def test_fit_area_ltc_reports_its_progress_and_is_per_texel_fits_choice():
     done = [call[0] for call in calls]
     assert {call[1] for call in calls} == {2 * 7 + 6} and done == sorted(done) and done[-1] == 20, calls
     mean, free = fit_ltc(grid, workers=1), fit_ltc(grid, workers=1, axis="free", weighting="chi-square")
-    np.testing.assert_array_equal(fit.inverse, per_texel_fit(mean, free).inverse)
+    np.testing.assert_array_equal(fit.inverse, per_texel_fit(mean, free, workers=2).inverse)
     assert fit.weighting == "per-texel"
