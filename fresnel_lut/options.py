@@ -111,7 +111,7 @@ def make_parser() -> argparse.ArgumentParser:
         action="store_true",
         help=(
             "also fit the area lights' LTC table ggx_ltc (64 x 64 by default: two fits and a choice per texel, about "
-            "30 s; make luts does)"
+            "25 s; make luts does)"
         ),
     )
     build.add_argument("--ltc-size", type=int, default=None, help="the LTC table's size (default 64; with --ltc)")
@@ -119,7 +119,7 @@ def make_parser() -> argparse.ArgumentParser:
         "--pixel-tables",
         action="store_true",
         help="also write the per-pixel tables: fresnel_coefficients_rgb (Gulbrandsen's (r, g) -> coefficients and "
-        "f90, 512 x 128, one weighted least-squares fit over theta; about 25 s) and fresnel_curves_rgb (b1..b3 over V.H for punctual lights); make "
+        "f90, 512 x 128, one weighted least-squares fit over theta; about 10 s) and fresnel_curves_rgb (b1..b3 over V.H for punctual lights); make "
         "luts does",
     )
     build.add_argument(
