@@ -66,6 +66,9 @@ const FRESNEL_LTC_SIZE: f32 = 64.0;  // the LTC table's texels a side
 const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 1.5;  // R0, any light
 const FRESNEL_LTC_LOBE_RATIO_PER_SIZE: f32 = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
 const FRESNEL_LTC_LOBE_SHARE_RAISED: f32 = 0.03;  // S, the share of the lobe it may raise I to
+// theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
+const FRESNEL_LTC_EDGE: vec4f = vec4f(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
+const FRESNEL_LTC_EDGE_HI: vec4f = vec4f(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
 const FRESNEL_COEFFICIENT_AXES: vec4f = vec4f(0.166981916, 0.211054434, -0.954887218, 0.966165414);  // x scale, x offset, s scale, s offset of the table's texels
 const FRESNEL_CURVE_TABLE: vec3f = vec3f(0.998535156, 0.000732421875, 0.988721805);  // scale, offset of mu, v of the row
 const FRESNEL_ATLAS_BASIS: vec4f = vec4f(0.0625, 0.962406015, 0.00048828125, 0.00751879699);  // scale u, scale v, offset u, offset v in the atlas
@@ -511,15 +514,21 @@ fn fresnelLtcUVSine(NdotV: f32, sinV: f32, perceptualRoughness: f32) -> vec2f
     return vec2f(r, root) * ((FRESNEL_LTC_SIZE - 1.0) / FRESNEL_LTC_SIZE) + 0.5 / FRESNEL_LTC_SIZE;
 }
 
-// Lambert's edge vector (p x q) theta / |p x q| of the directions p, q (any lengths: theta = atan(|p x q|, p.q) does
-// not depend on them), which float32 holds for short edges (atan where acos would cancel; p x (q - p), the same
-// vector, where p x q would cancel: a light 1e-3 wide two units away within 6.7e-5 of its largest value, not 3.8e-3,
-// tests/luts/test_shaders_area.py); 0 where p x q is.
+// Lambert's edge vector (p x q) theta / (|p| |q| sin theta) of the directions p, q (any lengths), theta the angle
+// between them: p x (q - p), the same vector, which float32 holds where p x q would cancel (a light 1e-3 wide two units
+// away within 6.7e-5 of its largest value, not 3.8e-3, tests/luts/test_shaders_area.py), times theta / sin theta from
+// the polynomial FRESNEL_LTC_EDGE in u = 1 - cos theta (preintegrate.ltc.edge_factor: within float32's rounding, and
+// cheaper than atan; its constant 1 added last, which keeps a short edge's factor as close as 1 itself), beyond a right
+// angle pi / sin theta less it at 1 + cos theta, sin theta from the cross product (1 - cos^2 would cancel); 0 where
+// p x q is; the floors keep a point at the origin finite.
 fn fresnelLtcEdge(p: vec3f, q: vec3f) -> vec3f
 {
     let c: vec3f = cross(p, q - p);
-    let s: f32 = length(c);
-    return c * (select(0.0, atan2(s, dot(p, q)) / s, (s > 0.0)));
+    let d: f32 = dot(p, q);
+    let inverseLengths: f32 = inverseSqrt(max(dot(p, p) * dot(q, q), 1e-37));
+    let u: f32 = 1.0 - abs(d) * inverseLengths;
+    let near: f32 = (FRESNEL_LTC_EDGE.x + u * (FRESNEL_LTC_EDGE.y + u * (FRESNEL_LTC_EDGE.z + u * (FRESNEL_LTC_EDGE.w + u * (FRESNEL_LTC_EDGE_HI.x + u * (FRESNEL_LTC_EDGE_HI.y + u * (FRESNEL_LTC_EDGE_HI.z + u * (FRESNEL_LTC_EDGE_HI.w)))))))) * inverseLengths;
+    return c * (select(3.14159265 * inverseSqrt(max(dot(c, c), 1e-37)) - near, near, (d >= 0.0)));
 }
 
 fn fresnelLtcUnit(v: vec3f) -> vec3f

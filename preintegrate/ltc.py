@@ -5,7 +5,8 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
 ``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
-``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``.
+``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``,
+``EDGE_FACTOR_DEGREE``, ``edge_factor_polynomial``, ``edge_factor``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
 D_o(ω_o) = max(0, z_o)/π seen through a 3 × 3 matrix M: with ω_o = M⁻¹ω / |M⁻¹ω|,
@@ -15,7 +16,8 @@ M⁻¹P to the upper hemisphere (done exactly here, edge by edge, with the horiz
 point; Heitz 2016 §5.2). A light is clipped to the shading horizon first (the BRDF is zero below the surface, where
 the LTC, unless its axis is the normal, is not; Heitz 2016 clips only in the cosine's space): the clipped edges, taken
 through M⁻¹, are clipped again (:func:`horizon_ltc_vector`). θ/sin θ is atan2(|p̂_i × p̂_j|, p̂_i · p̂_j)/|p̂_i × p̂_j|,
-which float32 holds for short edges where acos does not.
+which float32 holds for short edges where acos does not; the shaders take it from a polynomial in cos θ instead
+(:func:`edge_factor_polynomial`, within float32's rounding of it and a sixth of an atan's cost).
 
 The fit. For an isotropic BRDF seen in the xz plane, M = [[a, 0, b], [0, c, 0], [d, 0, 1]] (Heitz 2016 §4.2: four
 entries). As the public fit does, M = R_y(θ) [[s, 0, t], [0, u, 0], [0, 0, 1]] with θ the polar angle of the lobe's
@@ -76,6 +78,7 @@ from .quadrature import directional_albedo
 __all__ = [
     "ALPHA_FLOOR",
     "AXES",
+    "EDGE_FACTOR_DEGREE",
     "LOBE_RATIO_MAX",
     "LOBE_RATIO_PER_SIZE",
     "LOBE_SHARE_RAISED",
@@ -84,6 +87,8 @@ __all__ = [
     "WEIGHTINGS",
     "LtcFit",
     "checked_ltc_grid",
+    "edge_factor",
+    "edge_factor_polynomial",
     "fit_albedo",
     "fit_points",
     "ltc_grid",
@@ -486,6 +491,49 @@ def _edge(p, q) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(sine > 1e-12, np.arctan2(sine, cosine) / sine, 1.0)
     return cross * ratio[..., None]
+
+
+#: Degree of :func:`edge_factor_polynomial`: 7 is within 8.7e-7 of θ / sin θ (and float32 evaluates it within 9.5e-7,
+#: about eight units of its last place: float32's atan on GPUs is no closer; degree 8: 1.4e-7).
+EDGE_FACTOR_DEGREE = 7
+
+
+def edge_factor_polynomial(degree: int = EDGE_FACTOR_DEGREE) -> np.ndarray:
+    """(degree + 1,) coefficients, constant first, of the polynomial P(u) that interpolates θ / sin θ at the
+    ``degree`` + 1 Chebyshev–Lobatto points of u = 1 − cos θ ∈ [0, 1] (θ ≤ π/2; P(0) = 1 and P(1) = π/2 to
+    round-off): the factor of Lambert's edge vector (Heitz 2016 eq. 11) as the shaders evaluate it, by Horner, and
+    beyond a right angle as π / sin θ − P(1 + cos θ) (:func:`edge_factor`). In u, the constant 1 comes last in Horner's
+    order: a short edge's factor is 1 plus u times the rest, so float32 rounds it as it rounds 1, not as it rounds
+    the sum of the coefficients (in cos θ, edges a thousandth as long as their distance cancelled to 2e-4 of their
+    light). θ / sin θ is analytic there (its nearest singularity is u = 2), so the error falls geometrically with the
+    degree.
+
+    >>> c = edge_factor_polynomial()
+    >>> round(float(c[0]), 12), round(float(c.sum()), 12)
+    (1.0, 1.570796326795)
+    """
+    degree = check_positive_int("degree", degree, low=1, high=32)
+    u = 0.5 - 0.5 * np.cos(np.pi * np.arange(degree + 1) / degree)
+    sine = np.sqrt(u * (2.0 - u))
+    ratio = np.where(u > 0.0, np.arccos(1.0 - u) / np.where(u > 0.0, sine, 1.0), 1.0)
+    return np.polynomial.polynomial.polyfit(u, ratio, degree)
+
+
+def edge_factor(cosine, sine, coefficients=None) -> np.ndarray:
+    """θ / sin θ of the angle with ``cosine`` and ``sine`` (≥ 0, > 0 where ``cosine`` < 0) as the shaders take it:
+    P(1 − cos θ) for cos θ ≥ 0, π / sin θ − P(1 + cos θ) below (θ / sin θ + (π − θ) / sin(π − θ) = π / sin θ); P the
+    polynomial of ``coefficients`` (default :func:`edge_factor_polynomial`).
+
+    >>> theta = np.array([1e-3, 1.0, 2.0, 3.1])
+    >>> bool(np.all(np.abs(edge_factor(np.cos(theta), np.sin(theta)) * np.sin(theta) / theta - 1.0) < 1e-6))
+    True
+    """
+    coefficients = edge_factor_polynomial() if coefficients is None else np.asarray(coefficients, dtype=np.float64)
+    cosine = np.asarray(cosine, dtype=np.float64)
+    sine = np.asarray(sine, dtype=np.float64)
+    near = np.polynomial.polynomial.polyval(1.0 - np.abs(cosine), coefficients)
+    with np.errstate(divide="ignore"):
+        return np.where(cosine >= 0.0, near, np.pi / np.where(cosine >= 0.0, 1.0, sine) - near)
 
 
 def polygon_integral(vertices) -> np.ndarray:

@@ -30,7 +30,7 @@ from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, coefficient_table_ax
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
-from preintegrate.ltc import LOBE_RATIO_MAX, LOBE_RATIO_PER_SIZE, LOBE_SHARE_RAISED
+from preintegrate.ltc import LOBE_RATIO_MAX, LOBE_RATIO_PER_SIZE, LOBE_SHARE_RAISED, edge_factor_polynomial
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
@@ -181,6 +181,25 @@ def _choose(conditions: list[str], values: list[str]) -> str:
     if len(values) == 1:
         return values[0]
     return f"({conditions[0]} ? {values[0]} : {_choose(conditions[1:], values[1:])})"
+
+
+def _edge_factor_parts() -> tuple[list[str], str]:
+    """(constants, expression): the polynomial in u = 1 − cos θ ∈ [0, 1] that the area lights' edge integral takes
+    θ / sin θ from (preintegrate.ltc.edge_factor_polynomial, degree 7: two vec4 of coefficients, constant term first;
+    no array, which WGSL would hold as a private variable), and its Horner form in ``u``."""
+    coefficients = edge_factor_polynomial()
+    if len(coefficients) != 8:
+        raise ValueError(f"the include holds a polynomial of degree 7, not {len(coefficients) - 1}")
+    names = [f"FRESNEL_LTC_EDGE{suffix}.{axis}" for suffix in ("", "_HI") for axis in "xyzw"]
+    expression = names[-1]
+    for name in reversed(names[:-1]):
+        expression = f"{name} + u * ({expression})"
+    return [
+        "// theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 "
+        "(preintegrate.ltc.edge_factor_polynomial).",
+        _constant("FRESNEL_LTC_EDGE", coefficients[:4], "c_0 .. c_3"),
+        _constant("FRESNEL_LTC_EDGE_HI", coefficients[4:], "c_4 .. c_7"),
+    ], expression
 
 
 def _curve_parts(c: ShaderConstants) -> tuple[list[str], str]:
@@ -492,7 +511,9 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
     axes_constant, table_terms = _coefficient_table_parts(c)
     curve_table_constant, curve_terms = _curve_table_parts(c)
     atlas_constants, atlas_functions = _atlas_parts(c)
+    edge_constants, edge_factor = _edge_factor_parts()
     placeholders = {
+        "edge_factor": edge_factor,
         "terms": "FresnelTerms8" if wide else "vec4",
         "table_terms": table_terms,
         "curve_terms": curve_terms,
@@ -534,6 +555,7 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             "K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)",
         ),
         _constant("FRESNEL_LTC_LOBE_SHARE_RAISED", LOBE_SHARE_RAISED, "S, the share of the lobe it may raise I to"),
+        *edge_constants,
         axes_constant,
         curve_table_constant,
         *atlas_constants,

@@ -257,15 +257,17 @@ void main() {
 def test_glsl_ltc_integral_of_tiny_and_far_lights_on_llvmpipe():
     """``fresnelLtcRect`` in float32 for a light 2e-3 × 1e-3 two units away and one 200 × 100 a thousand away (long,
     nearly parallel edge vectors), over the inputs above, each sliding across the horizon by its own half diagonal
-    per unit of shift, against the float64 mirror relative to the light's largest value: within 1e-4 (measured 6.7e-5
-    for the tiny light, whose integral is at most 3e-6 here, and 8.6e-7 for the far one; the edges' p × q had cost
-    the tiny light 3.8e-3, where p × (q − p) keeps 6.7e-5), nothing NaN or inf. The tiny light's four edge terms,
+    per unit of shift, against the float64 mirror relative to the light's largest value: within 1e-4 (measured 9.1e-5
+    for the tiny light, whose integral is at most 3e-6 here, and 1.6e-7 for the far one; the edges' p × q had cost
+    the tiny light 3.8e-3, where p × (q − p) keeps 9.1e-5), nothing NaN or inf. The tiny light's four edge terms,
     each about its width over its distance (5e-4), cancel to its share of the lobe, about a thousand times smaller:
-    float32's rounding of each (6e-8) leaves some 6e-5 of it. The same for the integral taken toward the lobe's
-    punctual limit (``fresnelLtcRectVector`` with E = 0.8), whose ratio of the lobe to the LTC's density float32 must
-    hold for a light this small, and which multiplies the integral's rounding by up to preintegrate.ltc's
-    lobe_ratio_bound: LOBE_RATIO_MAX for the tiny light, up to LOBE_RATIO_PER_SIZE √Ω for the far one (measured 7.1e-5
-    and 8.3e-6; a bound of 4 for any light gives the tiny one 1.6e-4, none 1.2e-2)."""
+    float32's rounding of each (6e-8) leaves some 6e-5 of it, at pixels that move with any change in the rounding
+    (θ / sin θ from atan gave 6.7e-5 at another pixel; from the polynomial in 1 − cos θ, 9.1e-5; the same polynomial
+    in cos θ, whose Horner sum rounds as its coefficients do, 2.0e-4). The same for the integral taken toward the
+    lobe's punctual limit (``fresnelLtcRectVector`` with E = 0.8), whose ratio of the lobe to the LTC's density
+    float32 must hold for a light this small, and which multiplies the integral's rounding by up to
+    preintegrate.ltc's lobe_ratio_bound: LOBE_RATIO_MAX for the tiny light, up to LOBE_RATIO_PER_SIZE √Ω for the far
+    one (measured 7.6e-5 and 2.5e-7; a bound of 4 for any light gave the tiny one 1.6e-4, none 1.2e-2)."""
     ltc = _tables()[0]
     a, b = _inputs()
     for light in (LIGHT * [1e-3, 1e-3, 1.0], LIGHT * [100.0, 100.0, 500.0]):
