@@ -277,19 +277,35 @@ def _least_squares_on_grid(values: np.ndarray, basis: Basis, fit: str, iteration
         root = np.sqrt(weights)[:, None]
         rest = residual @ (np.linalg.pinv(root * design) * root.T).T
     else:
-        weights = np.broadcast_to(weights, residual.shape)
-        for _ in range(iterations):
-            weighted = weights[..., None, :] * design.T  # (..., K − 2, M)
-            gram = weighted @ design
-            # a ridge of 1e-14 of the trace keeps the solve regular if the weights collapse
-            ridge = 1e-14 * np.trace(gram, axis1=-2, axis2=-1)[..., None, None] + np.finfo(float).tiny
-            rest = np.linalg.solve(gram + ridge * np.eye(design.shape[1]), weighted @ residual[..., None])[..., 0]
-            error = np.abs(residual - rest @ design.T)
-            updated = weights * error
-            total = updated.sum(axis=-1, keepdims=True)
-            # a curve fitted exactly (error 0 everywhere) keeps its weights
-            weights = np.where(total > 0.0, updated / np.where(total > 0.0, total, 1.0), weights)
+        rows = residual.reshape(-1, residual.shape[-1])
+        rest = np.empty((len(rows), design.shape[1]))
+        for start in range(0, len(rows), _LAWSON_ROWS):
+            part = slice(start, start + _LAWSON_ROWS)
+            rest[part] = _lawson_rest(rows[part], design, weights, iterations)
+        rest = rest.reshape(residual.shape[:-1] + (design.shape[1],))
     return np.concatenate([c0[..., None], c1[..., None], rest], axis=-1)
+
+
+#: Curves per block of the minimax fit's Lawson steps: each curve's steps are its own, and blocks this size keep
+#: their (curves × θ grid) arrays in cache (twice as fast as 4096 at once; the same bits).
+_LAWSON_ROWS = 256
+
+
+def _lawson_rest(residual: np.ndarray, design: np.ndarray, weights: np.ndarray, iterations: int) -> np.ndarray:
+    """(N, K − 2) minimax c2 … of the residuals (N, M) by Lawson's reweighting from ``weights`` (M,)."""
+    weights = np.broadcast_to(weights, residual.shape)
+    for _ in range(iterations):
+        weighted = weights[..., None, :] * design.T  # (N, K − 2, M)
+        gram = weighted @ design
+        # a ridge of 1e-14 of the trace keeps the solve regular if the weights collapse
+        ridge = 1e-14 * np.trace(gram, axis1=-2, axis2=-1)[..., None, None] + np.finfo(float).tiny
+        rest = np.linalg.solve(gram + ridge * np.eye(design.shape[1]), weighted @ residual[..., None])[..., 0]
+        error = np.abs(residual - rest @ design.T)
+        updated = weights * error
+        total = updated.sum(axis=-1, keepdims=True)
+        # a curve fitted exactly (error 0 everywhere) keeps its weights
+        weights = np.where(total > 0.0, updated / np.where(total > 0.0, total, 1.0), weights)
+    return rest
 
 
 def _check_norm(fit: str) -> str:
