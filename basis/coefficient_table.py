@@ -188,10 +188,13 @@ def _train_weights(basis: Basis, width: int, height: int) -> np.ndarray:
     weights = weights / weights.sum()
     for _ in range(4):
         chosen = np.flatnonzero(training)
-        residuals = _residuals(reflectivity[chosen], edge_tint[chosen], basis)
-        weights = _lawson(
-            weights, residuals, _four_point_errors(residuals, reflectivity[chosen], edge_tint[chosen], basis), basis
-        )
+        residuals = np.empty((chosen.size, basis.theta.size))
+        four_point = np.empty(chosen.size)
+        for start in range(0, chosen.size, _BLOCK):  # Fresnel's complex temporaries a block at a time
+            part, texels = slice(start, start + _BLOCK), chosen[start : start + _BLOCK]
+            residuals[part] = _residuals(reflectivity[texels], edge_tint[texels], basis)
+            four_point[part] = _four_point_errors(residuals[part], reflectivity[texels], edge_tint[texels], basis)
+        weights = _lawson(weights, residuals, four_point, basis)
         worse = np.zeros_like(training)
         for start in range(0, reflectivity.size, _BLOCK):
             part = slice(start, start + _BLOCK)
