@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.browser import browser_page
+from benchmarks.browser import browser_page, page_bytes
 from benchmarks.npm import NpmError, npm_unpacked
 from handoff.three import THREE_VERSION
 
@@ -140,7 +140,7 @@ window.spheres = (cases, size, environment) => {
     mesh.position.set((i + 0.5) * size, size / 2, 0);
     scene.add(mesh);
   });
-  return Array.from(readBack(r, scene, camera, width, height));
+  return readBack(r, scene, camera, width, height);
 };
 window.show = async (cases, size) => {
   const width = size * cases.length, height = size;
@@ -212,7 +212,8 @@ def furnace(page, cases: list[dict], lighting: dict | None = None) -> np.ndarray
 
 def spheres(page, cases: list[dict], size: int, environment: str = "white") -> np.ndarray:
     """(size, size × len(cases), 4) of spheres side by side, row 0 at the bottom."""
-    values = np.array(page.evaluate(f"window.spheres({json.dumps(cases)}, {size}, {json.dumps(environment)})"))
+    expression = f"window.spheres({json.dumps(cases)}, {size}, {json.dumps(environment)})"
+    values = np.frombuffer(page_bytes(page, expression), dtype="<f4").astype(np.float64)
     return values.reshape(size, size * len(cases), 4)
 
 

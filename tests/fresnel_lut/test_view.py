@@ -41,7 +41,7 @@ from basis.colorimetry import delta_E_2000
 from basis.materials import material_from_mapping
 from basis.storage import shipped_path
 from basis.validation import ParameterError
-from benchmarks.browser import browser_page
+from benchmarks.browser import browser_page, page_bytes
 from benchmarks.three_page import gltf_document, uv_sphere
 from fresnel_lut import render
 from fresnel_lut.view import page_files, read_environment, serving
@@ -678,9 +678,9 @@ def test_the_asset_page_shows_a_gltf_stock_and_with_the_basis(three_js, browser)
         )
         page.wait_for_function("() => window.fresnelAsset.state.name === 'sphere.gltf'", timeout=60_000)
         assert page.evaluate("window.fresnelAsset.state.metals") == 1
-        basis = np.array(page.evaluate("window.fresnelAsset.pixels()"), dtype=float).reshape(512, 768, 4)
+        basis = np.frombuffer(page_bytes(page, "window.fresnelAsset.pixels()"), np.uint8).reshape(512, 768, 4) * 1.0
         page.select_option("#mode", "stock")
-        stock = np.array(page.evaluate("window.fresnelAsset.pixels()"), dtype=float).reshape(512, 768, 4)
+        stock = np.frombuffer(page_bytes(page, "window.fresnelAsset.pixels()"), np.uint8).reshape(512, 768, 4) * 1.0
         page.close()
     _no_errors(messages)
     background = np.array([basis[0, 0, :3], stock[0, 0, :3]])
