@@ -520,7 +520,7 @@ float2 fresnelLtcUVSine(float NdotV, float sinV, float perceptualRoughness)
 
 // Lambert's edge vector (p x q) theta / (|p| |q| sin theta) of the directions p, q (any lengths), theta the angle
 // between them: p x (q - p), the same vector, which float32 holds where p x q would cancel (a light 1e-3 wide two units
-// away within 6.7e-5 of its largest value, not 3.8e-3, tests/luts/test_shaders_area.py), times theta / sin theta from
+// away within 9.1e-5 of its largest value, not 3.8e-3, tests/luts/test_shaders_area.py), times theta / sin theta from
 // the polynomial FRESNEL_LTC_EDGE in u = 1 - cos theta (preintegrate.ltc.edge_factor: within float32's rounding, and
 // cheaper than atan; its constant 1 added last, which keeps a short edge's factor as close as 1 itself), beyond a right
 // angle pi / sin theta less it at 1 + cos theta, sin theta from the cross product (1 - cos^2 would cancel); 0 where
