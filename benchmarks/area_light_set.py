@@ -203,10 +203,12 @@ def baseline_include() -> str:
 
 
 #: Diagnostics of the shipped form's cost (not shipped): its pass with F(V·H*) from the direct-light polynomial in
-#: place of the basis table's mirror row (a second fetch of a 32-bit table), and without the lobe's limit (the
-#: integral the LTC's own): each the include with that one call changed (:func:`cost_passes`).
+#: place of the basis table's mirror row (a second fetch of a 32-bit table), without the lobe's limit (the integral
+#: the LTC's own), and with each edge's θ / sin θ from atan as it was before the polynomial in 1 − cos θ
+#: (preintegrate.ltc.edge_factor_polynomial): each the include with that one line changed (:func:`cost_passes`).
 POLYNOMIAL_PUNCTUAL = "punctual blend, F(V·H*) from the direct-light polynomial (not shipped)"
 WITHOUT_LOBE_LIMIT = "punctual blend, the LTC's own integral (not shipped)"
+ATAN_EDGES = "punctual blend, each edge's θ / sin θ from atan (shipped before)"
 _SHIPPED_CALLS = {
     POLYNOMIAL_PUNCTUAL: (
         "fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB);",
@@ -216,13 +218,18 @@ _SHIPPED_CALLS = {
         "fresnelLtcRectVector(ltcLut, N, V, P, corners, r, b.x);",
         "fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0);",
     ),
+    ATAN_EDGES: (
+        "return c * ((d >= 0.0) ? near : 3.14159265 * inversesqrt(max(dot(c, c), 1e-37)) - near);",
+        "return c * ((dot(c, c) > 0.0) ? atan(length(c), d) / length(c) : 0.0);",
+    ),
 }
 
 
 def cost_passes(baseline: str) -> tuple[dict[str, str], dict[str, str]]:
     """(variants, includes) of the area-light cost passes for benchmarks.shader_cost.frame_times: :data:`BASELINE`
     with ``baseline`` (its include's text), :data:`COST_VARIANTS` with the shipped include, and the diagnostics
-    (:data:`POLYNOMIAL_PUNCTUAL`, :data:`WITHOUT_LOBE_LIMIT`) with the shipped include so changed."""
+    (:data:`POLYNOMIAL_PUNCTUAL`, :data:`WITHOUT_LOBE_LIMIT`, :data:`ATAN_EDGES`) with the shipped include so
+    changed."""
     shipped = dict(shader_includes())["fresnel_basis.glsl"]
     includes = {BASELINE: baseline}
     for name, (call, replacement) in _SHIPPED_CALLS.items():
@@ -265,9 +272,10 @@ def cost() -> list[str]:
         *lines,
         "",
         f"'{LTC_SHARE}' is the pass less the LTC: the split sum's ratio less its is what the LTC integral costs, "
-        "and about what a second polygon integral (a second lobe) would add. The last two rows change one call of the "
-        "shipped include each (`cost_passes`): what reading F(V·H*) from the basis table's mirror row saves against "
-        "the polynomial, and what the lobe's limit costs. "
+        "and about what a second polygon integral (a second lobe) would add. The last three rows change one line of "
+        "the shipped include each (`cost_passes`): what reading F(V·H*) from the basis table's mirror row saves "
+        "against the polynomial, what the lobe's limit costs, and what the polynomial for each edge's θ / sin θ "
+        "(`preintegrate.ltc.edge_factor_polynomial`) saves against atan. "
         f"Compiler: {compiler}; llvmpipe: {renderer} (256², 16 frames × 12 rounds alternating, medians; this shared machine's llvmpipe timings move by ±25 % between runs).",
     ]
 

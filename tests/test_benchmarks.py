@@ -301,13 +301,17 @@ def test_the_ratio_bound_is_the_criterions_choice():
 
 def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
     """Each diagnostic pass of the area-light cost differs from the shipped include in the one line that makes it."""
-    from benchmarks.area_light_set import BASELINE, POLYNOMIAL_PUNCTUAL, WITHOUT_LOBE_LIMIT, cost_passes
+    from benchmarks.area_light_set import ATAN_EDGES, BASELINE, POLYNOMIAL_PUNCTUAL, WITHOUT_LOBE_LIMIT, cost_passes
     from handoff.shaders import shader_includes
 
     variants, includes = cost_passes("// the baseline")
     shipped = dict(shader_includes())["fresnel_basis.glsl"].splitlines()
     assert includes[BASELINE] == "// the baseline" and set(includes) <= set(variants)
-    for name, now in ((POLYNOMIAL_PUNCTUAL, "fresnelBasisDirect(VdotH"), (WITHOUT_LOBE_LIMIT, "corners, r, 0.0)")):
+    for name, now in (
+        (POLYNOMIAL_PUNCTUAL, "fresnelBasisDirect(VdotH"),
+        (WITHOUT_LOBE_LIMIT, "corners, r, 0.0)"),
+        (ATAN_EDGES, "atan(length(c), d)"),
+    ):
         changed = [b for a, b in zip(shipped, includes[name].splitlines()) if a != b]
         assert len(changed) == 1 and now in changed[0], (name, changed)
 
