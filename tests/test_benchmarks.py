@@ -113,7 +113,7 @@ def test_gpu_timings_run_small(tmp_path):
     """The frame-time benchmark on llvmpipe at 64 × 36, one round, with issue 41's baseline include from a file (as on
     a machine without the history): every shader-cost pass and every area-light pass draws, each ratio to its own
     baseline; a file that is not there is a usage error, not a traceback."""
-    from benchmarks.area_light_set import baseline_include
+    from benchmarks.area_light_set import baseline_include, cost_passes
     from benchmarks.shader_cost import ALL_VARIANTS
 
     include = tmp_path / "baseline.glsl"
@@ -127,7 +127,8 @@ def test_gpu_timings_run_small(tmp_path):
     assert completed.returncode == 0, completed.stderr[-2000:]
     text = out.read_text(encoding="utf-8")
     rows = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
-    assert len(rows) == 2 + len(ALL_VARIANTS) + 6, rows  # two headers, the shader-cost passes, the area-light ones
+    area_passes = len(cost_passes("// the baseline")[0])  # the baseline, the forms and the diagnostics: 7
+    assert area_passes == 7 and len(rows) == 2 + len(ALL_VARIANTS) + area_passes, rows  # and two headers
     assert "| schlick | " in text and text.count(" | 1.00 |") >= 2, text
     assert "| punctual blend | " in text
     missing = _run("benchmarks.gpu_timings", "--baseline-include", str(tmp_path / "absent.glsl"))
