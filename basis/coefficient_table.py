@@ -131,9 +131,10 @@ def _weighted_projection(weights: np.ndarray, basis: Basis) -> np.ndarray:
     return (np.linalg.pinv(root * design) * root.T).T
 
 
-def _ratios(weights: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
-    """(N, M) |error| of the weighted fit over each material's four-point max error."""
-    error = residuals @ _weighted_projection(weights, basis) @ basis.curves[2:] - residuals
+def _ratios(projection: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
+    """(N, M) |error| of the weighted fit (``projection``: :func:`_weighted_projection` of its weights) over each
+    material's four-point max error."""
+    error = residuals @ projection @ basis.curves[2:] - residuals
     return np.abs(error) / four_point[:, None]
 
 
@@ -143,13 +144,23 @@ def _four_point_errors(residuals: np.ndarray, reflectivity, edge_tint, basis: Ba
     return np.maximum(np.max(np.abs(fit - residuals), axis=1), 1e-12)
 
 
+def _residual_blocks(reflectivity: np.ndarray, edge_tint: np.ndarray, basis: Basis):
+    """(part, residuals, four-point errors) of the materials, :data:`_BLOCK` at a time (Fresnel's complex
+    temporaries)."""
+    for start in range(0, reflectivity.size, _BLOCK):
+        part = slice(start, start + _BLOCK)
+        residuals = _residuals(reflectivity[part], edge_tint[part], basis)
+        yield part, residuals, _four_point_errors(residuals, reflectivity[part], edge_tint[part], basis)
+
+
 def _lawson(weights: np.ndarray, residuals: np.ndarray, four_point: np.ndarray, basis: Basis) -> np.ndarray:
     """Lawson's steps on the worst ratio over the materials: w_j ← w_j max_n |e_nj| / E₄,n (Lawson 1961)."""
     for _ in range(_WEIGHT_ITERATIONS):
+        projection = _weighted_projection(weights, basis)
         worst = np.zeros_like(weights)
         for start in range(0, len(residuals), _CACHE_BLOCK):
             part = slice(start, start + _CACHE_BLOCK)
-            worst = np.maximum(worst, np.max(_ratios(weights, residuals[part], four_point[part], basis), axis=0))
+            worst = np.maximum(worst, np.max(_ratios(projection, residuals[part], four_point[part], basis), axis=0))
         weights = weights * worst
         weights = weights / weights.sum()
     return weights
@@ -190,17 +201,13 @@ def _train_weights(basis: Basis, width: int, height: int) -> np.ndarray:
         chosen = np.flatnonzero(training)
         residuals = np.empty((chosen.size, basis.theta.size))
         four_point = np.empty(chosen.size)
-        for start in range(0, chosen.size, _BLOCK):  # Fresnel's complex temporaries a block at a time
-            part, texels = slice(start, start + _BLOCK), chosen[start : start + _BLOCK]
-            residuals[part] = _residuals(reflectivity[texels], edge_tint[texels], basis)
-            four_point[part] = _four_point_errors(residuals[part], reflectivity[texels], edge_tint[texels], basis)
+        for part, block, errors in _residual_blocks(reflectivity[chosen], edge_tint[chosen], basis):
+            residuals[part], four_point[part] = block, errors
         weights = _lawson(weights, residuals, four_point, basis)
+        projection = _weighted_projection(weights, basis)
         worse = np.zeros_like(training)
-        for start in range(0, reflectivity.size, _BLOCK):
-            part = slice(start, start + _BLOCK)
-            residuals = _residuals(reflectivity[part], edge_tint[part], basis)
-            four_point = _four_point_errors(residuals, reflectivity[part], edge_tint[part], basis)
-            worse[part] = np.max(_ratios(weights, residuals, four_point, basis), axis=1) > 1.0
+        for part, block, errors in _residual_blocks(reflectivity, edge_tint, basis):
+            worse[part] = np.max(_ratios(projection, block, errors, basis), axis=1) > 1.0
         if not np.any(worse & ~training):
             break
         training |= worse
