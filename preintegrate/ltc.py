@@ -69,7 +69,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from basis.parallel import one_blas_thread, worker_count
+from basis.parallel import one_blas_thread, threaded_map, worker_count
 from basis.validation import ParameterError, as_float_array, check_choice, check_positive_int, check_range
 
 from .ggx import g1, ndf, roughness_to_alpha, sample_vndf, view_vector, visibility_g2
@@ -372,8 +372,7 @@ def lobe_error(
         target = target_lobe(directions, mu_o[:, None], alpha[:, None], albedo[row][:, None], grid.visibility)
         return 0.5 * np.sum(weights * np.abs(target - ltc_density(directions, parameters[row])), axis=-1)
 
-    with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
-        return np.stack(list(pool.map(row_error, range(grid.height))))
+    return np.stack(list(threaded_map(row_error, range(grid.height), workers)))
 
 
 def stored_density(stored, omega) -> np.ndarray:

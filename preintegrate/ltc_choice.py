@@ -20,11 +20,10 @@ choice changes values, not code. ``benchmarks.area_light_set`` measures it on li
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from basis.parallel import one_blas_thread, worker_count
+from basis.parallel import threaded_map
 from basis.validation import ParameterError, as_float_array, check_positive_int
 
 from .ltc import LtcFit, checked_ltc_grid, fit_albedo, fit_ltc, fit_points, ltc_grid, rect_light_integral, target_lobe
@@ -148,11 +147,10 @@ def free_texels(
 
         return score(tables[1]) < score(tables[0])
 
-    with one_blas_thread(), ThreadPoolExecutor(worker_count(workers)) as pool:
-        for row, preferred in enumerate(pool.map(choose, range(grid.height))):
-            chosen[row] = preferred
-            if progress is not None:
-                progress(row + 1, grid.height)
+    for row, preferred in enumerate(threaded_map(choose, range(grid.height), workers)):
+        chosen[row] = preferred
+        if progress is not None:
+            progress(row + 1, grid.height)
     return chosen
 
 
