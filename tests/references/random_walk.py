@@ -49,7 +49,7 @@ def _next_height(direction, height, u, alpha):
     return np.where(z > 0.9999, np.inf, result)
 
 
-def _visible_normal(towards, alpha, u1, u2):
+def visible_normal(towards, alpha, u1, u2):
     """A normal drawn from D_ω(m) ∝ max(0, ω·m) D(m) for ω = ``towards`` (pointing away from the surface
     side it sees), by the spherical-cap construction in the stretched configuration."""
     stretched = towards * np.array([alpha, alpha, 1.0])
@@ -85,7 +85,7 @@ def random_walk_albedo(mu_o, alpha, eta, kappa, paths=200_000, seed=0, max_bounc
         if alive.size == 0 or bounce == max_bounces:
             break
         towards = -direction[alive]
-        normal = _visible_normal(towards, alpha, rng.random(alive.size), rng.random(alive.size))
+        normal = visible_normal(towards, alpha, rng.random(alive.size), rng.random(alive.size))
         cosine = np.clip(np.sum(towards * normal, axis=1), 0.0, 1.0)
         weight[alive] *= fresnel_complex(cosine[:, None], eta, kappa)
         direction[alive] = -towards + 2.0 * cosine[:, None] * normal
