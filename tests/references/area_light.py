@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .integration import g2_reference, ggx_d, smith_lambda_tan
+from .random_walk import visible_normal
 
 
 def _lobe_per_area(normal, view, position, points, light_normal, alpha) -> tuple[np.ndarray, np.ndarray]:
@@ -161,8 +162,6 @@ def rect_light_monte_carlo(view, corners, alpha, fresnel, samples: int, seed: in
     normals drawn from the view's visible normals (Heitz 2018; tests/references/random_walk.py's spherical caps), the
     view reflected about each, weight F(V·H) G2 / G1(μo) where that ray meets the parallelogram ``corners`` from its
     emitting side (height-correlated G2: G2 / G1 = (1 + Λo) / (1 + Λo + Λi)); no quadrature, no change of variables."""
-    from .random_walk import visible_normal  # noqa: PLC0415 (only the Monte Carlo reference draws normals)
-
     view, corners = np.asarray(view, dtype=np.float64), np.asarray(corners, dtype=np.float64)
     rng = np.random.default_rng(seed)
     half = visible_normal(np.broadcast_to(view, (samples, 3)), alpha, rng.random(samples), rng.random(samples))
