@@ -334,6 +334,42 @@ PREVIOUS_RATIO_MAX = 2.0
 LOBE_LIMIT_PREVIOUS = f"the ratio at most {PREVIOUS_RATIO_MAX:g} for any light (shipped before, not shipped)"
 
 
+#: The lobe study's rows for the ratio over more of the light than L*: Σ f̂ / Σ D over n × n Gauss-Legendre points of
+#: the light (:func:`spread_ratio_integral`), bounded as shipped: n² evaluations of the lobe and of the LTC's density
+#: per light where the include makes one (what that one costs with its blend: the cost section's punctual blend against
+#: its row without the limit), the frontier of what more evaluations of the lobe buy.
+SPREAD_POINTS = (2, 3, 8)
+
+
+def spread_ratio_row(points: int) -> str:
+    """The lobe study's row for :func:`spread_ratio_integral` with ``points`` × ``points`` points."""
+    return f"the ratio over {points} × {points} points of the light ({points * points} lobe evaluations, not shipped)"
+
+
+def spread_ratio_integral(stored, view, corners, roughness: float, albedo: float, points: int) -> float:
+    """The LTC integral of ``stored`` (4,) over the quad ``corners`` (4, 3) (normal z, ``view`` in the xz plane) taken
+    toward the lobe's limit as shipped (preintegrate.ltc.rect_light_half_cosine's bound) with the ratio Σ w f̂ / Σ w D
+    over ``points``² Gauss-Legendre points of the quad (w its solid angle there, 0 below the horizon), f̂ the lobe
+    normalised by the LTC's ``albedo`` E, in place of f̂(L*) / D(L*) at the light's representative direction."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    s, weights = 0.5 * (x + 1.0), np.outer(w, w).reshape(-1) / 4.0
+    u, v = (grid.reshape(-1, 1) for grid in np.meshgrid(s, s, indexing="ij"))
+    edge_u, edge_v = corners[1] - corners[0], corners[3] - corners[0]
+    area_normal = np.cross(edge_u, edge_v)
+    located = corners[0] + u * edge_u + v * edge_v
+    distance = np.linalg.norm(located, axis=-1)
+    direction = located / distance[:, None]
+    solid = weights * np.abs(located @ area_normal) / distance**3 * (direction[:, 2] > 0.0)
+    alpha = roughness**2
+    lobe = np.sum(solid * target_lobe(direction, view[2], alpha, albedo, sine=view[0]))
+    density = np.sum(solid * stored_density(stored, direction))
+    vector = horizon_ltc_vector(stored, corners)
+    integral = max(float(vector[2]), 0.0)
+    bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
+    ratio = lobe / density if density > 0.0 else 1.0
+    return float(toward_lobe_limit(integral, min(ratio, float(bound))))
+
+
 def lobe_limit_integral(stored, view, corners, alpha: float, albedo: float, bound: float = np.inf) -> np.ndarray:
     """(…) the LTC integral of ``stored`` (4,) over the quads ``corners`` (…, 4, 3) seen from the origin with normal z
     and ``view`` (3,) in the xz plane, taken toward the lobe's punctual limit with the ratio at most ``bound``
@@ -552,6 +588,10 @@ def lobe_study(
                         approximations[with_the_limit(name)] = rect_light_half_cosine(
                             stored[name], normal, view, np.zeros(3), corners, roughness, albedo
                         )[0]
+                    for points in SPREAD_POINTS:
+                        approximations[spread_ratio_row(points)] = spread_ratio_integral(
+                            first, view, corners, roughness, albedo, points
+                        )
                     cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
                     approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
                     if radiance_fits:
@@ -574,6 +614,7 @@ def lobe_study(
         LOBE_LIMIT_LOWER,
         LOBE_LIMIT_PREVIOUS,
         LOBE_LIMIT_SHIPPED,
+        *(spread_ratio_row(points) for points in SPREAD_POINTS),
         *(with_the_limit(name) for name in corrected),
         TWO_LOBES,
         *((RADIANCE_FIT, RADIANCE_FIT_LIMIT) if radiance_fits else ()),
@@ -864,7 +905,10 @@ def run(tolerance: float, three: str, out: str | None, measure_cost: bool = True
             f"min({LOBE_RATIO_PER_SIZE:g} √Ω, {LOBE_SHARE_RAISED:g} / I)), Ω the light's solid angle, what ships "
             "(`fresnelBasisRectLight`; it also raises the integral where the LTC holds less than the lobe, for a "
             "light that is not tiny further while the raised value is a small share of the lobe; the bound's choice "
-            "follows the tables); the next three "
+            "follows the tables); the next three take the ratio as shipped but over n × n points of the light rather than at "
+            "L* alone (`spread_ratio_integral`; n² evaluations of the lobe and of the LTC where the include makes one, "
+            "whose cost with its blend is the cost section's punctual blend less its row without the limit); the "
+            "next three "
             "take the mean-axis and free fits the same way; the next adds to the shipped table a clamped cosine "
             "about the normal, a · LTC + b · cosine with (a, b) fitted in L2 at each of the set's (μo, r) "
             "(`two_lobe_weights`; a second polygon integral, costing up to the LTC's share of the pass: cost section); "
