@@ -944,13 +944,15 @@ def main(argv=None) -> None:
         "--tolerance",
         type=float,
         default=REFERENCE_TOLERANCE,
-        help=f"the reference's (default {REFERENCE_TOLERANCE:g})",
+        help=f"the reference's relative tolerance, in (0, 1) (default {REFERENCE_TOLERANCE:g})",
     )
     parser.add_argument("--three", default="0.187.0", help="three.js version for the public fit ('none': skip)")
     parser.add_argument("--no-cost", action="store_true", help="leave out the shader-cost section (ACO, llvmpipe)")
-    parser.add_argument("--no-fits", action="store_true", help="leave out the lobe study (two LTC fits, ~5 min)")
+    parser.add_argument("--no-fits", action="store_true", help="leave out the lobe study (the LTC fits it makes)")
     parser.add_argument("--out", default=None, help="Markdown file, its figure beside it as .png (default: print)")
     arguments = parser.parse_args(argv)
+    if not 0.0 < arguments.tolerance < 1.0:
+        parser.error(f"--tolerance must be in (0, 1), got {arguments.tolerance!r}")
     run(arguments.tolerance, arguments.three, arguments.out, not arguments.no_cost, not arguments.no_fits)
 
 

@@ -325,6 +325,15 @@ def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
         assert len(changed) == 1 and now in changed[0], (name, changed)
 
 
+@pytest.mark.parametrize("tolerance", ["0", "-1e-6", "nan", "1"])
+def test_area_light_set_refuses_a_tolerance_outside_zero_to_one(tolerance, capsys):
+    from benchmarks.area_light_set import main
+
+    with pytest.raises(SystemExit) as exited:
+        main([f"--tolerance={tolerance}", "--three", "none", "--no-cost", "--no-fits"])
+    assert exited.value.code == 2 and "--tolerance must be in (0, 1)" in capsys.readouterr().err
+
+
 def test_area_light_set_runs_small(tmp_path):
     """The area-light set with a coarse reference, without peers or cost: every approach, the factorisation and the
     figure's values by view and by width, and with ``--out`` the report beside its figure (a PNG it links to)."""

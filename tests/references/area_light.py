@@ -115,6 +115,8 @@ def rect_light_reference_adaptive(
     triangles, each by :data:`TRIANGLE_NODES`² collapsed Gauss nodes, its error the difference to its four quarters'
     sum; the triangles with the largest errors split in four until those left sum to ``tolerance`` × the total (every
     channel); RuntimeError past ``max_triangles``."""
+    if not 0.0 < tolerance < 1.0:
+        raise ValueError(f"tolerance must be in (0, 1), got {tolerance!r}")
     normal, view, position = (np.asarray(v, dtype=np.float64) for v in (normal, view, position))
     corners = np.asarray(corners, dtype=np.float64)
     edge_u, edge_v, light_normal, area = _edges(corners)

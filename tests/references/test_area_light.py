@@ -74,6 +74,9 @@ def test_adaptive_is_zero_below_the_horizon_and_behind_the_light_and_refuses_wha
     assert np.array_equal(rect_light_reference_adaptive(NORMAL, view, ORIGIN, below, 0.3, _gold), np.zeros(3))
     behind = facing_rectangle(1.0, np.pi, 1.0)[::-1]  # above the horizon, wound to face away from the point
     assert np.array_equal(rect_light_reference_adaptive(NORMAL, view, ORIGIN, behind, 0.3, _gold), np.zeros(3))
+    for tolerance in (0.0, -1e-6, float("nan"), 1.0):
+        with pytest.raises(ValueError, match="tolerance"):
+            rect_light_reference_adaptive(NORMAL, view, ORIGIN, below, 0.3, _gold, tolerance)
     with pytest.raises(RuntimeError, match="not within"):
         rect_light_reference_adaptive(
             NORMAL, _view(0.08), ORIGIN, facing_rectangle(1.5, np.pi, 10.0), 0.09, _ones, 1e-7, 64
