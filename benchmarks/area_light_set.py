@@ -40,16 +40,19 @@ ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41'
 (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--tolerance T] [--three VERSION] [--no-cost] [--no-fits]
-[--out FILE]`` (the
-report: ``--out report/area_light_set.md``, which also writes ``report/area_light_set.png``, the totals by view and by
-the light's width: :func:`figure`, :func:`figure_values`).
+[--roughness R ...] [--out FILE]`` (the report: ``--out report/area_light_set.md``, which also writes
+``report/area_light_set.png``, the totals by view and by the light's width: :func:`figure`, :func:`figure_values`;
+glossy surfaces, outside the set: ``--roughness 0.1 0.15 0.2 --no-fits --no-cost --out report/area_light_glossy.md``,
+the same lights, views and materials).
 """
 
 from __future__ import annotations
 
 import argparse
 import re
+import shlex
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -716,7 +719,15 @@ def figure(groups) -> bytes:
     return figure_png(fig)
 
 
-def run(tolerance: float, three: str, out: str | None, measure_cost: bool = True, fits: bool = True) -> None:
+def run(
+    tolerance: float,
+    three: str,
+    out: str | None,
+    measure_cost: bool = True,
+    fits: bool = True,
+    roughnesses: tuple[float, ...] = ROUGHNESS,
+    command: str = "python -m benchmarks.area_light_set --out report/area_light_set.md",
+) -> None:
     basis_table = read_lut(shipped_lut(BASIS_LUT))[0]
     ltc_table = read_lut(shipped_path(LTC_LUT))[0]
     public = three_tables(three) if three != "none" else "not asked for"
@@ -730,7 +741,7 @@ def run(tolerance: float, three: str, out: str | None, measure_cost: bool = True
     for mu_o in VIEWS:
         view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
         sine = np.sqrt(1.0 - mu_o * mu_o)
-        for roughness in ROUGHNESS:
+        for roughness in roughnesses:
             alpha = roughness**2
             tables = {"this project": ltc.lookup(ltc_table, mu_o, roughness, sine)}
             if not isinstance(public, str):
@@ -817,10 +828,10 @@ def run(tolerance: float, three: str, out: str | None, measure_cost: bool = True
     lines = [
         "# Area lights from tiny to huge",
         "",
-        f"Command: `python -m benchmarks.area_light_set --out report/area_light_set.md` (reference: "
+        f"Command: `{command}` (reference: "
         f"adaptive cubature over each light's part above the horizon to {tolerance:g} relative, checked against "
         "Monte Carlo in tests/references/test_area_light.py; every value counted, large lights over sharp lobes "
-        f"included). Views N·V {list(VIEWS)}, roughness {list(ROUGHNESS)}, lights of width {list(WIDTHS)} at distance "
+        f"included). Views N·V {list(VIEWS)}, roughness {list(roughnesses)}, lights of width {list(WIDTHS)} at distance "
         f"{DISTANCE} in five placements; gold, Figure 2 (conductors), glass, water (dielectrics). Relative error "
         "median / p90 / max over the values with reference > 1e-3; 'Fresnel part': against the same approach with "
         "the exact curve.",
@@ -950,10 +961,29 @@ def main(argv=None) -> None:
     parser.add_argument("--no-cost", action="store_true", help="leave out the shader-cost section (ACO, llvmpipe)")
     parser.add_argument("--no-fits", action="store_true", help="leave out the lobe study (the LTC fits it makes)")
     parser.add_argument("--out", default=None, help="Markdown file, its figure beside it as .png (default: print)")
+    parser.add_argument(
+        "--roughness",
+        type=float,
+        nargs="+",
+        default=list(ROUGHNESS),
+        help="the set's perceptual roughnesses, in (0, 1] (default %(default)s; the lobe study and the bound's "
+        "choice keep these)",
+    )
     arguments = parser.parse_args(argv)
     if not 0.0 < arguments.tolerance < 1.0:
         parser.error(f"--tolerance must be in (0, 1), got {arguments.tolerance!r}")
-    run(arguments.tolerance, arguments.three, arguments.out, not arguments.no_cost, not arguments.no_fits)
+    if not all(0.0 < roughness <= 1.0 for roughness in arguments.roughness):
+        parser.error(f"--roughness must be in (0, 1], got {arguments.roughness!r}")
+    command = shlex.join(["python", "-m", "benchmarks.area_light_set", *(sys.argv[1:] if argv is None else argv)])
+    run(
+        arguments.tolerance,
+        arguments.three,
+        arguments.out,
+        not arguments.no_cost,
+        not arguments.no_fits,
+        tuple(arguments.roughness),
+        command,
+    )
 
 
 if __name__ == "__main__":

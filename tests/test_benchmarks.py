@@ -325,22 +325,30 @@ def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
         assert len(changed) == 1 and now in changed[0], (name, changed)
 
 
-@pytest.mark.parametrize("tolerance", ["0", "-1e-6", "nan", "1"])
-def test_area_light_set_refuses_a_tolerance_outside_zero_to_one(tolerance, capsys):
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        *((f"--tolerance={value}", "--tolerance must be in (0, 1)") for value in ("0", "-1e-6", "nan", "1")),
+        *((f"--roughness={value}", "--roughness must be in (0, 1]") for value in ("0", "-0.5", "nan", "1.5")),
+    ],
+)
+def test_area_light_set_refuses_a_tolerance_or_roughness_out_of_range(option, message, capsys):
     from benchmarks.area_light_set import main
 
     with pytest.raises(SystemExit) as exited:
-        main([f"--tolerance={tolerance}", "--three", "none", "--no-cost", "--no-fits"])
-    assert exited.value.code == 2 and "--tolerance must be in (0, 1)" in capsys.readouterr().err
+        main([option, "--three", "none", "--no-cost", "--no-fits"])
+    assert exited.value.code == 2 and message in capsys.readouterr().err
 
 
 def test_area_light_set_runs_small(tmp_path):
-    """The area-light set with a coarse reference, without peers or cost: every approach, the factorisation and the
-    figure's values by view and by width, and with ``--out`` the report beside its figure (a PNG it links to)."""
+    """The area-light set with a coarse reference, without peers or cost, at two roughnesses (one glossy): every
+    approach, the factorisation and the figure's values by view and by width, the roughnesses and the command in the
+    report, and with ``--out`` the report beside its figure (a PNG it links to)."""
     out = tmp_path / "set.md"
     completed = _run(
         "benchmarks.area_light_set",
-        *("--tolerance", "1e-3", "--three", "none", "--no-cost", "--no-fits", "--out", str(out)),
+        *("--tolerance", "1e-3", "--three", "none", "--no-cost", "--no-fits", "--roughness", "0.5", "0.15"),
+        *("--out", str(out)),
         timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-2000:]
@@ -350,6 +358,7 @@ def test_area_light_set_runs_small(tmp_path):
         *("| N·V 0.08 |", "| N·V 0.95 |", "| width 0.02 |", "| width 10 |"),  # the figure's values
     ):
         assert sum(line.startswith(row) for line in lines) == 1, (row, completed.stdout)
+    assert "roughness [0.5, 0.15]" in completed.stdout and "--roughness 0.5 0.15" in completed.stdout
     assert out.read_text(encoding="utf-8") == completed.stdout[:-1]  # print's own newline
     assert "](set.png)" in completed.stdout
     assert (tmp_path / "set.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
