@@ -49,7 +49,7 @@ def test_adaptive_is_the_gauss_rule_where_that_converges(mu_o, alpha, theta, phi
         (0.25, 0.25, 0.5 * np.pi, np.pi + 0.3, 3.0),  # across the horizon
         (0.1, 0.05, 1.3, np.pi, 2.0),  # r = 0.22 at grazing: the tensor rule 10 % low
         (0.5, 0.0025, np.arccos(0.5), np.pi, 5.0),  # roughness 0.05: a near mirror
-        (0.05, 0.09, 1.5, np.pi, 1.0),  # a light touching the horizon, seen at grazing
+        (0.05, 0.09, 1.5, np.pi, 1.0),  # a light across the horizon, seen at grazing
     ],
 )
 def test_adaptive_is_monte_carlo_where_the_gauss_rule_is_not(mu_o, alpha, theta, phi, width):
