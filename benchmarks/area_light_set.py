@@ -88,7 +88,7 @@ from preintegrate.ltc import (
     toward_lobe_limit,
 )
 from preintegrate.ltc_choice import CHOICE_LIGHTS as CHOICE_LIGHTS_SHIPPED
-from preintegrate.ltc_choice import facing_rectangle, training_lights
+from preintegrate.ltc_choice import facing_rectangle, light_nodes, training_lights
 from preintegrate.lut import LutGrid
 from tests.references.area_light import rect_light_reference_adaptive
 from tests.references.fresnel import fresnel_complex
@@ -352,19 +352,12 @@ def spread_ratio_row(points: int) -> str:
 def spread_ratio_integral(stored, view, corners, roughness: float, albedo: float, points: int) -> float:
     """The LTC integral of ``stored`` (4,) over the quad ``corners`` (4, 3) (normal z, ``view`` in the xz plane) taken
     toward the lobe's limit as shipped (preintegrate.ltc.rect_light_half_cosine's bound) with the ratio Σ w f̂ / Σ w D
-    over ``points``² Gauss-Legendre points of the quad (w its solid angle there, 0 below the horizon), f̂ the lobe
-    normalised by the LTC's ``albedo`` E, in place of f̂(L*) / D(L*) at the light's representative direction."""
-    x, w = np.polynomial.legendre.leggauss(points)
-    s, weights = 0.5 * (x + 1.0), np.outer(w, w).reshape(-1) / 4.0
-    u, v = (grid.reshape(-1, 1) for grid in np.meshgrid(s, s, indexing="ij"))
-    edge_u, edge_v = corners[1] - corners[0], corners[3] - corners[0]
-    area_normal = np.cross(edge_u, edge_v)
-    located = corners[0] + u * edge_u + v * edge_v
-    distance = np.linalg.norm(located, axis=-1)
-    direction = located / distance[:, None]
-    solid = weights * np.abs(located @ area_normal) / distance**3 * (direction[:, 2] > 0.0)
-    alpha = roughness**2
-    lobe = np.sum(solid * target_lobe(direction, view[2], alpha, albedo, sine=view[0]))
+    over ``points``² Gauss-Legendre points of the quad (preintegrate.ltc_choice.light_nodes; w 0 below the horizon),
+    f̂ the lobe normalised by the LTC's ``albedo`` E, in place of f̂(L*) / D(L*) at the light's representative
+    direction."""
+    direction, solid = (part[0] for part in light_nodes(corners[None], points))
+    solid = solid * (direction[:, 2] > 0.0)
+    lobe = np.sum(solid * target_lobe(direction, view[2], roughness**2, albedo, sine=view[0]))
     density = np.sum(solid * stored_density(stored, direction))
     vector = horizon_ltc_vector(stored, corners)
     integral = max(float(vector[2]), 0.0)

@@ -1,7 +1,7 @@
 """The area lights' LTC table: per texel, the mean-axis or the free chi-square fit, whichever lights hold better.
 
 Public objects: ``CHOICE_LIGHTS``, ``CHOICE_WIDTHS``, ``CHOICE_NODES``, ``CHOICE_ROUGHNESS_MIN``,
-``facing_rectangle``, ``training_lights``, ``lobe_over_lights``, ``free_texels``, ``per_texel_fit``, ``fit_area_ltc``.
+``facing_rectangle``, ``training_lights``, ``lobe_over_lights``, ``light_nodes``, ``free_texels``, ``per_texel_fit``, ``fit_area_ltc``.
 
 A fit of the lobe's distribution is not a fit of what a rectangular light reflects (issue 41): the mean-axis L2 fit
 (the public fit's method, :func:`preintegrate.ltc.fit_ltc`) has no density on the viewer's side, where a rough lobe
@@ -37,6 +37,7 @@ __all__ = [
     "facing_rectangle",
     "fit_area_ltc",
     "free_texels",
+    "light_nodes",
     "lobe_over_lights",
     "per_texel_fit",
     "training_lights",
@@ -91,8 +92,17 @@ def training_lights(count: int = CHOICE_LIGHTS, widths: tuple[float, float] = CH
 def lobe_over_lights(mu_o: float, alpha, lights, nodes: int = CHOICE_NODES) -> np.ndarray:
     """(A, L) ∫_P D(h) G2 / (4 μo) dω, the GGX lobe without Fresnel (height-correlated G2), over each rectangle of
     ``lights`` (L, 4, 3) seen from the origin with normal z and the view (√(1 − μo²), 0, μo), for each of ``alpha``
-    (A,): tensor Gauss-Legendre with ``nodes`` per edge, dω = (n_P · −ω) dA / d²; 0 below the horizon."""
+    (A,): :func:`light_nodes`; 0 below the horizon."""
     alpha = np.atleast_1d(as_float_array("alpha", alpha))
+    omega, solid = light_nodes(lights, nodes)
+    sine = np.sqrt(max(1.0 - mu_o * mu_o, 0.0))
+    lobe = target_lobe(omega[None], mu_o, alpha[:, None, None], 1.0, sine=sine)
+    return np.einsum("alq,lq->al", lobe, solid)
+
+
+def light_nodes(lights, nodes: int = CHOICE_NODES) -> tuple[np.ndarray, np.ndarray]:
+    """(directions (L, Q, 3), solid angles (L, Q)) of tensor Gauss-Legendre with ``nodes`` per edge over each rectangle
+    of ``lights`` (L, 4, 3) seen from the origin: dω = (n_P · −ω) dA / d², 0 where the light faces away."""
     lights = as_float_array("lights", lights)
     if lights.ndim != 3 or lights.shape[1:] != (4, 3):
         raise ParameterError(f"lights must be (L, 4, 3) corners, got shape {lights.shape}")
@@ -107,10 +117,7 @@ def lobe_over_lights(mu_o: float, alpha, lights, nodes: int = CHOICE_NODES) -> n
     distance = np.linalg.norm(points, axis=-1)
     omega = points / distance[..., None]
     facing = np.maximum(-np.einsum("lj,lqj->lq", normal / area[:, None], omega), 0.0)
-    solid = facing / distance**2 * area[:, None] * weights
-    sine = np.sqrt(max(1.0 - mu_o * mu_o, 0.0))
-    lobe = target_lobe(omega[None], mu_o, alpha[:, None, None], 1.0, sine=sine)
-    return np.einsum("alq,lq->al", lobe, solid)
+    return omega, facing / distance**2 * area[:, None] * weights
 
 
 def free_texels(
