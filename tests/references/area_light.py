@@ -139,8 +139,9 @@ def rect_light_reference_adaptive(
 
     triangles = np.stack([np.stack([polygon[0], polygon[k], polygon[k + 1]]) for k in range(1, len(polygon) - 1)])
     finer, quarters = leaves(triangles)
-    values, errors = finer.sum(axis=1), np.abs(finer.sum(axis=1) - integral(triangles))
+    errors = np.abs(finer.sum(axis=1) - integral(triangles))
     while True:
+        values = finer.sum(axis=1)  # each leaf's value: its quarters' sum
         total = np.abs(values.sum(axis=0))
         relative = np.max(errors / np.where(total > 0.0, total, 1.0), axis=1)
         if relative.sum() <= tolerance:
@@ -151,9 +152,8 @@ def rect_light_reference_adaptive(
         order = np.argsort(relative)
         split = np.zeros(len(relative), dtype=bool)
         split[order[np.cumsum(relative[order]) > 0.5 * tolerance]] = True
-        own = finer[split].reshape(-1, channels)
         finer_split, quarters_split = leaves(quarters[split].reshape(-1, 3, 2))
-        values = np.concatenate([values[~split], finer_split.sum(axis=1)])
+        own = finer[split].reshape(-1, channels)  # the new leaves' own values
         errors = np.concatenate([errors[~split], np.abs(finer_split.sum(axis=1) - own)])
         finer = np.concatenate([finer[~split], finer_split])
         quarters = np.concatenate([quarters[~split], quarters_split])
