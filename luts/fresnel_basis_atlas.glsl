@@ -66,6 +66,8 @@ const float FRESNEL_LTC_SIZE = 64.0;  // the LTC table's texels a side
 const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.5;  // R0, any light
 const float FRESNEL_LTC_LOBE_RATIO_PER_SIZE = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
 const float FRESNEL_LTC_LOBE_SHARE_RAISED = 0.03;  // S, the share of the lobe it may raise I to
+const float FRESNEL_LTC_LOBE_WEIGHT_POWER = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
+const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER = 1.5;  // q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 const vec4 FRESNEL_LTC_EDGE = vec4(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 const vec4 FRESNEL_LTC_EDGE_HI = vec4(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
@@ -628,7 +630,7 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = sqrt(I), R = max(R0, min(K sqrt(omega), S / I)) (issue
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, R = max(R0, min(K sqrt(omega), S / I)) (issue
 // 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
 // rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
@@ -653,7 +655,7 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     float density = 2.0 * d * d * smith * albedo * f.z;
     float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / bound), 1e-30) : 1.0;
-    float w = sqrt(min(integral, 1.0));
+    float w = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
 
@@ -701,11 +703,19 @@ float fresnelLtcVdotH(vec4 light, vec3 view)
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
 }
 
+// The weight w = I^q of the split sum in a rectangular light's Fresnel, I = light.w the share of the lobe the light
+// covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel).
+float fresnelLtcSplitSumWeight(vec4 light)
+{
+    return pow(clamp(light.w, 0.0, 1.0), FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER);
+}
+
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
 // paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative direction and w the share of the lobe
-// it covers: a small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the
-// split sum (issue 41). F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
+// E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative direction and w from the share of the
+// lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its direction, a
+// light that covers the lobe to the split sum (issue 41).
+// F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
 // itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
 // tests/luts/test_shaders_area.py measures it).
 vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec4 cR, vec4 cG, vec4 cB)
@@ -716,7 +726,7 @@ vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3
     vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
     float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
     vec3 punctual = b.x * fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB);
-    return light.w * mix(punctual, average, clamp(light.w, 0.0, 1.0));
+    return light.w * mix(punctual, average, fresnelLtcSplitSumWeight(light));
 }
 
 // Schlick's variant for comparison (the engines' F0 * scale + bias from the Schlick table, F90 = 1), on the same
@@ -736,5 +746,5 @@ vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3
     vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
     vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z);
     vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
-    return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), clamp(light.w, 0.0, 1.0));
+    return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), fresnelLtcSplitSumWeight(light));
 }

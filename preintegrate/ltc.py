@@ -5,7 +5,8 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
 ``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
-``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``shading_frame``,
+``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``LOBE_WEIGHT_POWER``,
+``SPLIT_SUM_WEIGHT_POWER``, ``shading_frame``,
 ``EDGE_FACTOR_DEGREE``, ``edge_factor_polynomial``, ``edge_factor``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
@@ -43,9 +44,10 @@ texel centres; three.js ``ltc_1`` and ``LTC_Uv``), so an engine's existing area-
 The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
 (∫_P D dω) × E · mix(F(V·H*), F̄ / E, w), F̄ = ∫_Ω f F cos dω the split sum Σ_k c_k b̄_k(μo, r) of the basis table,
 H* the half vector of the light's representative direction (the direction of the transformed polygon's vector form
-factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and w = ∫_P D dω, the share of
-the lobe the light covers: a small light tends to the punctual F(V·H), one that covers the lobe to the split sum
-(issue 41). The lobe itself does the same: ∫_P D dω becomes I (w + (1 − w) min(f̂(L*) / D(L*), R)), w = √I
+factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and w = I^q, I = ∫_P D dω the share
+of the lobe the light covers (q = :data:`SPLIT_SUM_WEIGHT_POWER`): a small light tends to the punctual F(V·H), one
+that covers the lobe to the split sum (issue 41). The lobe itself does the same: ∫_P D dω becomes
+I (w + (1 − w) min(f̂(L*) / D(L*), R)), w = I^p, p = :data:`LOBE_WEIGHT_POWER`
 (:func:`toward_lobe_limit`, :func:`lobe_density_ratio`), which a small light takes to the lobe's own integral
 f̂(L*) Ω (where the ratio is within R) and a light covering the lobe leaves as it is. R (:func:`lobe_ratio_bound`:
 :data:`LOBE_RATIO_MAX`, more for a light that is not tiny while the raised value is a small share of the lobe) bounds
@@ -83,8 +85,10 @@ __all__ = [
     "LOBE_RATIO_MAX",
     "LOBE_RATIO_PER_SIZE",
     "LOBE_SHARE_RAISED",
+    "LOBE_WEIGHT_POWER",
     "LTC_CHANNELS",
     "MU_FLOOR",
+    "SPLIT_SUM_WEIGHT_POWER",
     "WEIGHTINGS",
     "LtcFit",
     "checked_ltc_grid",
@@ -688,16 +692,17 @@ def lobe_density_ratio(
 #: The bound on how far the lobe-to-LTC density ratio raises a rectangular light's integral (:func:`toward_lobe_limit`)
 #: is R = max(R₀, min(K √Ω, S / I)) (:func:`lobe_ratio_bound`): R₀ = ``LOBE_RATIO_MAX`` for any light, more for a light
 #: that is not tiny (K = ``LOBE_RATIO_PER_SIZE`` per unit of √Ω, its angular size) as long as the raised value stays a
-#: small share of the lobe (S = ``LOBE_SHARE_RAISED``; the normalised lobe integrates to 1). The three are the
-#: candidates' (R₀, K, S) whose lobe error on seeded training lights 0.02 to 10 wide
-#: (:func:`preintegrate.ltc_choice.training_lights`, not the benchmark's set) has the lowest p90, then median, with the
-#: worst within 1.25 × that of the ratio at most 1 (``python -m benchmarks.area_light_set``, "The bound on the lobe's
-#: ratio"). Finite, and growing with √Ω, because the ratio multiplies float32's rounding of the integral, a difference
-#: of edge terms each some 1 / √Ω times larger than it (a light's width over its distance against its solid angle),
-#: most where the LTC's density at the light is far below the lobe's (unbounded, a light 2e-3 wide is off by 1.2e-2
-#: of its largest value; K = 200 leaves a 2 × 1 light's specular 1.5e-5 off, over the 1e-5 float32 is held to:
-#: tests/luts/test_shaders_area.py). Ω is the light's solid angle as the LTC gives it (:func:`ltc_solid_angle`),
-#: which the shaders have at the cost of a few multiplies.
+#: small share of the lobe (S = ``LOBE_SHARE_RAISED``; the normalised lobe integrates to 1). The three, with the
+#: weight's power p (:data:`LOBE_WEIGHT_POWER`), are the candidates' (p, R₀, K, S) whose lobe error on seeded training
+#: lights 0.02 to 10 wide (:func:`preintegrate.ltc_choice.training_lights`, not the benchmark's set) has the lowest p90,
+#: then median, with the worst within 1.25 × that of the ratio at most 1 (``python -m benchmarks.area_light_set``, "The
+#: weight and the bound of the lobe's ratio"). Finite, and growing with √Ω, because the ratio multiplies float32's
+#: rounding of the integral, a difference of edge terms each some 1 / √Ω times larger than it (a light's width over its
+#: distance against its solid angle), most where the LTC's density at the light is far below the lobe's (unbounded, a
+#: light 2e-3 wide is off by 1.2e-2 of its largest value; K = 400 doubles float32's error of lights 0.02 to 0.2 wide, a
+#: light 0.06 wide 1.2e-4 off where K = 100 or 200 leaves 6.1e-5 and the LTC's own integral 5.4e-5:
+#: tests/luts/test_shaders_area.py). Ω is the light's solid angle as the LTC gives it (:func:`ltc_solid_angle`), which
+#: the shaders have at the cost of a few multiplies.
 LOBE_RATIO_MAX = 1.5
 LOBE_RATIO_PER_SIZE = 100.0
 LOBE_SHARE_RAISED = 0.03
@@ -714,14 +719,33 @@ def lobe_ratio_bound(
     return np.maximum(least, np.minimum(size, share / np.maximum(integral, 1e-30)))
 
 
-def toward_lobe_limit(integral, ratio) -> np.ndarray:
+#: The power p of the weight w = I^p with which :func:`toward_lobe_limit` keeps the LTC's own integral I against the
+#: lobe-to-LTC ratio at the light's representative direction: as I grows the ratio at one direction stands less for
+#: the light, and a light that covers the lobe keeps I. Chosen with the ratio's bound (:data:`LOBE_RATIO_MAX`), on
+#: the same training lights and by the same criterion, among p = 1/4 to 5/8 in steps of 1/16 (``python -m
+#: benchmarks.area_light_set``, "The weight and the bound of the lobe's ratio"; √I, p = 1/2, shipped before: on the
+#: set's lights the lobe 3.36 % / 23.9 % median / p90, at 3/8 3.13 % / 19.2 %).
+LOBE_WEIGHT_POWER = 0.375
+
+#: The power q of the weight w = I^q with which :func:`rect_light_fresnel` blends a rectangular light's Fresnel from
+#: F(V·H*) toward the split sum F̄ / E, I the light's share of the lobe: the light's Fresnel is F̄ / E only where it
+#: covers the lobe, and a dielectric's F over a light beside the mirror direction at a grazing view is far from F̄ / E
+#: (glass at N·V 0.08 under a light covering half the lobe: 0.57 against F̄ / E 0.39). Chosen on the lobe-ratio bound's
+#: training lights by the factor's own error (the include's form against the Fresnel over the light, both over the
+#: exact lobe), the lowest p90 of the worse of conductors and dielectrics, among q = 1/2 to 4 (``python -m
+#: benchmarks.area_light_set``, "The Fresnel blend's weight"; q = 1 shipped before).
+SPLIT_SUM_WEIGHT_POWER = 1.5
+
+
+def toward_lobe_limit(integral, ratio, power=LOBE_WEIGHT_POWER) -> np.ndarray:
     """(…) an LTC ``integral`` I taken toward the lobe's own punctual limit, min(I (w + (1 − w) ``ratio``), 1),
-    w = √min(I, 1): ``ratio`` the lobe over the LTC's density at the light's representative direction
-    (:func:`lobe_density_ratio`). As a light shrinks, I × ratio tends to the lobe's own integral over it; as it covers
-    the lobe, w → 1 keeps the LTC's; the normalised lobe integrates to 1, which bounds any light's share (issue 41;
-    the shaders take min(ratio, :func:`lobe_ratio_bound`): :func:`rect_light_half_cosine`)."""
+    w = min(I, 1)^p, p = ``power`` (default :data:`LOBE_WEIGHT_POWER`): ``ratio`` the lobe over the LTC's density at
+    the light's representative direction (:func:`lobe_density_ratio`). As a light shrinks, I × ratio tends to the
+    lobe's own integral over it; as it covers the lobe, w → 1 keeps the LTC's; the normalised lobe integrates to 1,
+    which bounds any light's share (issue 41; the shaders take min(ratio, :func:`lobe_ratio_bound`):
+    :func:`rect_light_half_cosine`)."""
     integral = np.asarray(integral, dtype=np.float64)
-    weight = np.sqrt(np.clip(integral, 0.0, 1.0))
+    weight = np.clip(integral, 0.0, 1.0) ** check_range("power", power, 0.0, 8.0, low_open=True)
     return np.minimum(integral * (weight + (1.0 - weight) * ratio), 1.0)
 
 
@@ -757,10 +781,11 @@ def rect_light_half_cosine(
     return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0)
 
 
-def rect_light_fresnel(integral, split_sum, punctual) -> np.ndarray:
-    """(…, C) a rectangular light's specular per unit radiance: the LTC ``integral`` (…) × mix(``punctual``,
-    ``split_sum``, w), w the integral clamped to [0, 1]; ``punctual`` = E F(V·H*) and ``split_sum`` = F̄ (…, C)
-    (module docstring; the shaders' ``fresnelBasisRectLight`` and ``fresnelLinearRectLight``)."""
+def rect_light_fresnel(integral, split_sum, punctual, power=SPLIT_SUM_WEIGHT_POWER) -> np.ndarray:
+    """(…, C) a rectangular light's specular per unit radiance: the LTC ``integral`` I (…) × mix(``punctual``,
+    ``split_sum``, w), w = min(I, 1)^q, q = ``power`` (default :data:`SPLIT_SUM_WEIGHT_POWER`); ``punctual`` =
+    E F(V·H*) and ``split_sum`` = F̄ (…, C) (module docstring; the shaders' ``fresnelBasisRectLight`` and
+    ``fresnelLinearRectLight``)."""
     integral = np.asarray(integral, dtype=np.float64)
-    weight = np.clip(integral, 0.0, 1.0)[..., None]
+    weight = (np.clip(integral, 0.0, 1.0) ** check_range("power", power, 0.0, 8.0, low_open=True))[..., None]
     return integral[..., None] * (weight * np.asarray(split_sum) + (1.0 - weight) * np.asarray(punctual))

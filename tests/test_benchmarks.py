@@ -259,13 +259,14 @@ def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit(
     """The lobe study (F = 1) on the shipped LTC table with a coarse reference (1e-3): the punctual-limit, two-lobe
     and radiance-fit rows are there and, as in the report, the punctual limit (unbounded, lowering only, and as
     shipped) is lower at the median than the table alone, by a fifth at least, the two lobes lower too (measured:
-    3.36 %, 3.29 % and 3.36 % for the limit, 4.65 % for the two lobes, against 4.73 %), and what ships is lower at the
-    p90 than the lowering-only form and the bound of 2 for any light that shipped before (23.9 % against 31.2 % and
-    32.5 %); the ratio over 8 × 8 points of the light lower than over the one at L* (1.61 % / 11.6 % at the report's
-    tolerance)."""
+    3.13 %, 3.58 % and 3.13 % for the limit, 4.65 % for the two lobes, against 4.73 %), and what ships is lower at the
+    p90 than the lowering-only form, the bound of 2 for any light and the weight √I that shipped before (19.2 % against
+    35.8 %, 28.7 % and 23.9 %); the ratio over 8 × 8 points of the light lower than over the one at L*, by a quarter at
+    the p90 (2.02 % / 13.3 % against 3.13 % / 19.2 %, all at the report's tolerance)."""
     from basis.storage import shipped_path
     from benchmarks.area_light_set import (
         LOBE_LIMIT,
+        LOBE_LIMIT_HALF,
         LOBE_LIMIT_LOWER,
         LOBE_LIMIT_PREVIOUS,
         LOBE_LIMIT_SHIPPED,
@@ -281,31 +282,61 @@ def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit(
 
     lines = lobe_study(1e-3, {"shipped": read_lut(shipped_path(LTC_LUT))[0]})
     rows = [line.split("|") for line in lines if line.count("%") > 3]
-    assert len(rows) == 22, lines  # eleven by placement, then eleven by width
-    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:11]}
-    p90 = {row[1].strip(): float(row[2].split("/")[1].split("%")[0]) for row in rows[:11]}
-    names = {"shipped", LOBE_LIMIT, LOBE_LIMIT_LOWER, LOBE_LIMIT_PREVIOUS, LOBE_LIMIT_SHIPPED, TWO_LOBES}
+    assert len(rows) == 24, lines  # twelve by placement, then twelve by width
+    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:12]}
+    p90 = {row[1].strip(): float(row[2].split("/")[1].split("%")[0]) for row in rows[:12]}
+    names = {
+        "shipped",
+        LOBE_LIMIT,
+        LOBE_LIMIT_LOWER,
+        LOBE_LIMIT_PREVIOUS,
+        LOBE_LIMIT_HALF,
+        LOBE_LIMIT_SHIPPED,
+        TWO_LOBES,
+    }
     spread = {spread_ratio_row(points) for points in SPREAD_POINTS}
     assert set(medians) == names | spread | {RADIANCE_FIT, RADIANCE_FIT_LIMIT}, lines
     # the ratio over 8 × 8 points of the light: the frontier more evaluations of the lobe reach, below the one point
     assert (
         medians[spread_ratio_row(8)] < medians[LOBE_LIMIT_SHIPPED]
-        and p90[spread_ratio_row(8)] < 0.6 * p90[LOBE_LIMIT_SHIPPED]
+        and p90[spread_ratio_row(8)] < 0.75 * p90[LOBE_LIMIT_SHIPPED]
     ), (medians, p90)
-    assert p90[LOBE_LIMIT_SHIPPED] < min(p90[LOBE_LIMIT_PREVIOUS], p90[LOBE_LIMIT_LOWER]), p90
+    assert p90[LOBE_LIMIT_SHIPPED] < min(p90[LOBE_LIMIT_PREVIOUS], p90[LOBE_LIMIT_LOWER], p90[LOBE_LIMIT_HALF]), p90
     for name in (LOBE_LIMIT, LOBE_LIMIT_LOWER, LOBE_LIMIT_SHIPPED):
         assert medians[name] < 0.8 * medians["shipped"], (name, medians)
     assert medians[TWO_LOBES] < medians["shipped"], medians
 
 
 def test_the_ratio_bound_is_the_criterions_choice():
-    """The shipped bound on the lobe's ratio is the one the benchmark's criterion picks on the training lights (the
-    report's reference tolerance)."""
-    from benchmarks.area_light_set import REFERENCE_TOLERANCE, ratio_bound
+    """The shipped weight and bound of the lobe's ratio, (p, R₀, K, S), are the ones the benchmark's criterion picks on
+    the training lights (the report's reference tolerance), and the report's tables say so."""
+    from benchmarks.area_light_set import (
+        REFERENCE_TOLERANCE,
+        SHIPPED_BOUND,
+        chosen_bound,
+        ratio_bound,
+        ratio_bound_errors,
+    )
 
+    assert chosen_bound(ratio_bound_errors(REFERENCE_TOLERANCE)) == SHIPPED_BOUND
     lines = ratio_bound(REFERENCE_TOLERANCE)
     assert not any("now picks" in line for line in lines), lines
-    assert sum("(chosen) (shipped)" in line for line in lines) == 1, lines
+    assert sum("(chosen) (shipped)" in line for line in lines) == 2, lines  # the row of p, the cell of the bound
+
+
+@pytest.mark.slow
+def test_the_split_sum_weight_is_the_criterions_choice():
+    """The shipped power q of the split sum's weight in a rectangular light's Fresnel is the one the benchmark's
+    criterion picks on the training lights (the report's reference tolerance), where it lowers the dielectrics' p90
+    below that of q = 1, which shipped before (measured 15.8 % against 17.2 %)."""
+    from benchmarks.area_light_set import REFERENCE_TOLERANCE, chosen_split_sum_power, split_sum_weight_errors
+    from preintegrate.ltc import SPLIT_SUM_WEIGHT_POWER
+
+    errors = split_sum_weight_errors(REFERENCE_TOLERANCE)
+    assert chosen_split_sum_power(errors) == SPLIT_SUM_WEIGHT_POWER
+    assert np.percentile(errors[SPLIT_SUM_WEIGHT_POWER]["dielectric"], 90) < np.percentile(
+        errors[1.0]["dielectric"], 90
+    )
 
 
 def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():

@@ -30,7 +30,14 @@ from basis.coefficient_table import COEFFICIENT_TABLE_SIZE, coefficient_table_ax
 from basis.eigenbasis import Basis
 from basis.models.formulas import F82_MU, lazanyi_dip
 from basis.validation import ParameterError, safe_line
-from preintegrate.ltc import LOBE_RATIO_MAX, LOBE_RATIO_PER_SIZE, LOBE_SHARE_RAISED, edge_factor_polynomial
+from preintegrate.ltc import (
+    LOBE_RATIO_MAX,
+    LOBE_RATIO_PER_SIZE,
+    LOBE_SHARE_RAISED,
+    LOBE_WEIGHT_POWER,
+    SPLIT_SUM_WEIGHT_POWER,
+    edge_factor_polynomial,
+)
 from preintegrate.lut import LutGrid
 from preintegrate.multiple_scattering import schlick_table_averages
 
@@ -555,6 +562,16 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             "K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)",
         ),
         _constant("FRESNEL_LTC_LOBE_SHARE_RAISED", LOBE_SHARE_RAISED, "S, the share of the lobe it may raise I to"),
+        _constant(
+            "FRESNEL_LTC_LOBE_WEIGHT_POWER",
+            LOBE_WEIGHT_POWER,
+            "p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)",
+        ),
+        _constant(
+            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER",
+            SPLIT_SUM_WEIGHT_POWER,
+            "q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)",
+        ),
         *edge_constants,
         axes_constant,
         curve_table_constant,
