@@ -534,15 +534,22 @@ def split_sum_weight_errors(tolerance: float) -> dict[float, dict[str, np.ndarra
     lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     normal = np.array([0.0, 0.0, 1.0])
     parts: dict[str, list] = {"integral": [], "over light": [], "at star": [], "split": [], "kind": []}
+    curves = {
+        name: lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])
+        for name, (eta, kappa) in _materials().items()
+    }
     for mu_o, roughness, view, alpha, albedo, stored in _training_texels():
         lobes = lobe_over(view, alpha, lights, tolerance)
+        splits = {
+            name: reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0] / albedo
+            for name, curve in curves.items()
+        }
         for corners, lobe in zip(lights[lobes > 1e-3], lobes[lobes > 1e-3]):
             integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo)
-            for name, (eta, kappa) in _materials().items():
-                curve = lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])  # noqa: E731
+            for name, curve in curves.items():
                 exact = reference(view, corners, alpha, curve, tolerance)
                 keep = exact > 1e-3
-                split = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0] / albedo
+                split = splits[name]
                 parts["integral"].append(np.full(np.sum(keep), float(integral)))
                 parts["over light"].append(exact[keep] / lobe)
                 parts["at star"].append(curve(np.array([float(v_dot_h)]))[0][keep])
