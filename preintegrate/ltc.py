@@ -729,11 +729,11 @@ LOBE_WEIGHT_POWER = 0.375
 
 #: The power q of the weight w = I^q with which :func:`rect_light_fresnel` blends a rectangular light's Fresnel from
 #: F(V·H*) toward the split sum F̄ / E, I the light's share of the lobe: the light's Fresnel is F̄ / E only where it
-#: covers the lobe, and a dielectric's F over a light beside the mirror direction at a grazing view is far from F̄ / E
-#: (glass at N·V 0.08 under a light covering half the lobe: 0.57 against F̄ / E 0.39). Chosen on the lobe-ratio bound's
-#: training lights by the factor's own error (the include's form against the Fresnel over the light, both over the
-#: exact lobe), the lowest p90 of the worse of conductors and dielectrics, among q = 1/2 to 4 (``python -m
-#: benchmarks.area_light_set``, "The Fresnel blend's weight"; q = 1 shipped before).
+#: covers the lobe, and a dielectric's F over a light on the mirror direction at a grazing view is far from F̄ / E
+#: (glass at N·V 0.08, r 0.3, under a light holding two fifths of the lobe: 0.57 against F̄ / E 0.39). Chosen on the
+#: lobe-ratio bound's training lights by the factor's own error (the include's form against the Fresnel over the
+#: light, both over the exact lobe), the lowest p90 of the worse of conductors and dielectrics, among q = 1/2 to 4
+#: (``python -m benchmarks.area_light_set``, "The Fresnel blend's weight"; q = 1 shipped before).
 SPLIT_SUM_WEIGHT_POWER = 1.5
 
 

@@ -12,6 +12,7 @@ from preintegrate.ltc import (
     LOBE_RATIO_MAX,
     LOBE_SHARE_RAISED,
     LOBE_WEIGHT_POWER,
+    SPLIT_SUM_WEIGHT_POWER,
     edge_factor,
     edge_factor_polynomial,
     fit_ltc,
@@ -26,6 +27,7 @@ from preintegrate.ltc import (
     polygon_integral,
     polygon_vector,
     rect_light_direction,
+    rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
     shading_frame,
@@ -263,6 +265,27 @@ def test_rect_light_half_cosine_takes_roughness_and_albedo_together():
         rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, 1.5, 0.9)
     with pytest.raises(ParameterError, match="albedo"):
         rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, 0.5, 0.0)
+
+
+@pytest.mark.parametrize("power", [0.0, -0.5, 9.0, float("nan"), float("inf")])
+def test_the_weights_refuse_a_power_out_of_range(power):
+    """toward_lobe_limit's and rect_light_fresnel's weights I^p: p in (0, 8], else a ParameterError naming it."""
+    with pytest.raises(ParameterError, match="power"):
+        toward_lobe_limit(0.5, 1.2, power)
+    with pytest.raises(ParameterError, match="power"):
+        rect_light_fresnel(0.5, np.array([0.2]), np.array([0.3]), power)
+
+
+def test_the_weights_are_the_powers_of_the_integral():
+    """The closed forms at I = 0.25 with the shipped powers: the lobe's I (w + (1 − w) ratio), w = I^p, and the
+    Fresnel's I mix(E F, F̄, I^q); I = 1 keeps the LTC's integral and the split sum whatever the ratio."""
+    w = 0.25**LOBE_WEIGHT_POWER
+    assert toward_lobe_limit(0.25, 1.2) == pytest.approx(0.25 * (w + (1.0 - w) * 1.2), rel=1e-15)
+    assert toward_lobe_limit(1.0, 1.7) == 1.0
+    q = 0.25**SPLIT_SUM_WEIGHT_POWER
+    got = rect_light_fresnel(0.25, np.array([0.2]), np.array([0.3]))
+    assert got == pytest.approx(0.25 * (q * 0.2 + (1.0 - q) * 0.3), rel=1e-15)
+    assert rect_light_fresnel(1.0, np.array([0.2]), np.array([0.3]))[0] == pytest.approx(0.2, rel=1e-15)
 
 
 def test_the_ltc_density_is_normalised():
