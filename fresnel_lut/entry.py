@@ -39,12 +39,16 @@ except KeyboardInterrupt:
 
 
 def main() -> int:
-    pin_numeric_kernels()
     held: list[int] = []
-    previous = signal.getsignal(signal.SIGINT)
-    if previous is signal.default_int_handler:  # not when the shell made us ignore Ctrl-C (a background job)
-        signal.signal(signal.SIGINT, lambda number, frame: held.append(number))
     try:
+        previous = signal.getsignal(signal.SIGINT)
+        if previous is signal.default_int_handler:  # not when the shell made us ignore Ctrl-C (a background job)
+            signal.signal(signal.SIGINT, lambda number, frame: held.append(number))
+    except KeyboardInterrupt:  # Ctrl-C before the interrupt is held
+        print(INTERRUPTED, file=sys.stderr)
+        return 130
+    try:
+        pin_numeric_kernels()  # reads /proc/cpuinfo, whose codec loads on first use: held like the imports
         from .cli import main as run
     finally:
         signal.signal(signal.SIGINT, previous)

@@ -50,6 +50,31 @@ def test_ctrl_c_during_a_long_build(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def test_ctrl_c_while_the_kernels_are_pinned_is_held(monkeypatch, capsys):
+    """Ctrl-C while the command reads the CPU's flags, before numpy loads (a fresh clone's run of
+    test_ctrl_c_while_starting once caught it in the ascii codec's first import, outside the held window: a
+    traceback): held with the imports, then the one line and 130."""
+    import os
+    import signal
+
+    from fresnel_lut import entry
+
+    pinned = []
+
+    def interrupted_pinning():
+        os.kill(os.getpid(), signal.SIGINT)  # delivered at once to the main thread, by the handler in place
+        pinned.append(True)
+
+    monkeypatch.setattr(entry, "pin_numeric_kernels", interrupted_pinning)
+    monkeypatch.setattr(signal, "getsignal", lambda number: signal.default_int_handler)
+    try:
+        status = entry.main()
+    except KeyboardInterrupt:
+        pytest.fail("Ctrl-C escaped main() while the kernels were pinned")
+    assert status == 130 and pinned
+    assert capsys.readouterr().err.strip() == "fresnel-lut: interrupted; no file was written or replaced"
+
+
 def test_ctrl_c_inside_a_lazily_loaded_c_extension(monkeypatch, capsys):
     """scipy loads on first use, after the start-up window; Ctrl-C inside its pybind11 module initialisation
     surfaces as ``ImportError: initialization failed`` caused by KeyboardInterrupt (seen once in a fresh
