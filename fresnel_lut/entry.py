@@ -40,25 +40,19 @@ except KeyboardInterrupt:
 
 def main() -> int:
     held: list[int] = []
-    try:
-        previous = signal.getsignal(signal.SIGINT)
-        if previous is signal.default_int_handler:  # not when the shell made us ignore Ctrl-C (a background job)
-            signal.signal(signal.SIGINT, lambda number, frame: held.append(number))
-    except KeyboardInterrupt:  # Ctrl-C before the interrupt is held
-        print(INTERRUPTED, file=sys.stderr)
-        return 130
-    try:
-        pin_numeric_kernels()  # reads /proc/cpuinfo, whose codec loads on first use: held like the imports
-        from .cli import main as run
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if held:
-        print(INTERRUPTED, file=sys.stderr)
-        return 130
     reported = threading.Event()
-    if previous is signal.default_int_handler:
-        signal.signal(signal.SIGINT, _interrupt_handler(reported))
-    try:
+    try:  # one guard from the first line: a Ctrl-C between any two steps below ends with the one line, not a traceback
+        previous = signal.getsignal(signal.SIGINT)
+        holding = previous is signal.default_int_handler  # not when the shell made us ignore Ctrl-C (a background job)
+        if holding:
+            signal.signal(signal.SIGINT, lambda number, frame: held.append(number))
+        try:
+            pin_numeric_kernels()  # reads /proc/cpuinfo, whose codec loads on first use: held like the imports
+            from .cli import main as run
+        finally:  # from holding the interrupt straight to honouring it, with no moment under Python's own handler
+            signal.signal(signal.SIGINT, _interrupt_handler(reported) if holding else previous)
+        if held:
+            raise KeyboardInterrupt
         status = run()
     except BrokenPipeError:  # the reader of standard output went away: stop without a message
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
