@@ -441,14 +441,23 @@ def recover_folder(folder) -> None:
 
 
 def _make_folder(folder: Path) -> list[Path]:
-    """Create ``folder`` and its missing parents; return those created, deepest first."""
+    """Create ``folder`` and its missing parents; return those this call created, deepest first. One that another
+    writer creates meanwhile (two builds into a new folder race to make it) is used as it is and is not this call's
+    to remove."""
     missing = []
     while not folder.exists():
         missing.append(folder)
         folder = folder.parent
+    created = []
     for path in reversed(missing):
-        path.mkdir()
-    return missing
+        try:
+            path.mkdir()
+        except FileExistsError:
+            if not path.is_dir():
+                raise
+            continue
+        created.append(path)
+    return created[::-1]
 
 
 def _one_line(error: BaseException, path: Path) -> BaseException:

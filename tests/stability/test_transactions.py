@@ -44,6 +44,39 @@ def test_disk_full_in_a_new_folder_leaves_no_folder(tmp_path, monkeypatch, capsy
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_folder_another_writer_creates_meanwhile_is_used_and_left(tmp_path, monkeypatch):
+    """Two builds into a new folder race to create it (a fresh clone's run of
+    test_two_builds_into_one_folder_leave_one_consistent_set lost one build, status 2): the folder another writer
+    makes between this one's check and its mkdir is used as it is, and a failure afterwards leaves it (it is not
+    this writer's to remove)."""
+    from basis import storage
+
+    out = tmp_path / "a" / "luts"
+    real_mkdir = Path.mkdir
+
+    def other_writer_first(path, *args, **kwargs):
+        if path == out:
+            real_mkdir(path)  # the other build's mkdir, just before this one's
+        return real_mkdir(path, *args, **kwargs)
+
+    monkeypatch.setattr(Path, "mkdir", other_writer_first)
+    written = storage.write_together([(out / "one.txt", lambda temporary: temporary.write_text("1"))])
+    assert [path.read_text() for path in written] == ["1"]
+
+    (out / "one.txt").unlink()
+    out.rmdir()
+    (tmp_path / "a").rmdir()
+
+    def failing(temporary):
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OSError, match="No space left"):
+        storage.write_together([(out / "two.txt", failing)])
+    assert out.is_dir() and list(out.iterdir()) == []  # the other writer's folder stays
+    monkeypatch.undo()
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["a"]
+
+
 def test_disk_full_keeps_the_previous_files(tmp_path, monkeypatch, capsys):
     out = tmp_path / "luts"
     assert run(["build", "--size", "6", "--out", out]) == 0
