@@ -32,10 +32,10 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and candidate fits made here (the mean-axis fit alone and on a finer table;
 M's four entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER`,
-:data:`LOBE_LIMIT_PREVIOUS` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its bound's choice: :func:`ratio_bound`)
-and the LTC fitted to the
-radiance of lights drawn where the lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`,
-:func:`radiance_fit`); a fifth, the cost of the forms in
+:data:`LOBE_LIMIT_PREVIOUS`, :data:`LOBE_LIMIT_HALF` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its weight's and
+bound's choice on training lights: :func:`ratio_bound`) and the LTC fitted to the radiance of lights drawn where the
+lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`, :func:`radiance_fit`), then the choice of
+the Fresnel blend's weight on the same training lights (:func:`split_sum_weight`); a fifth, the cost of the forms in
 ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
 (:data:`BASELINE_REVISION`'s include, from git).
 
