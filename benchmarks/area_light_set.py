@@ -368,11 +368,7 @@ def spread_ratio_integral(stored, view, corners, roughness: float, albedo: float
     solid = solid * (direction[:, 2] > 0.0)
     lobe = np.sum(solid * target_lobe(direction, view[2], roughness**2, albedo, sine=view[0]))
     density = np.sum(solid * stored_density(stored, direction))
-    vector = horizon_ltc_vector(stored, corners)
-    integral = max(float(vector[2]), 0.0)
-    bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
-    ratio = lobe / density if density > 0.0 else 1.0
-    return float(toward_lobe_limit(integral, min(ratio, float(bound))))
+    return float(_toward_limit(stored, horizon_ltc_vector(stored, corners), lobe / density if density > 0.0 else 1.0))
 
 
 def lobe_limit_integral(
@@ -385,8 +381,15 @@ def lobe_limit_integral(
     with it and the weight √I)."""
     # the quads are in the shading frame already (normal z, the view in the xz plane)
     vector = horizon_ltc_vector(stored, corners)
-    integral, direction = np.maximum(vector[..., 2], 0.0), ltc_direction(stored, vector)
-    ratio = lobe_density_ratio(stored, direction, view[2], alpha, albedo, sine=view[0])
+    ratio = lobe_density_ratio(stored, ltc_direction(stored, vector), view[2], alpha, albedo, sine=view[0])
+    return _toward_limit(stored, vector, ratio, bound, power)
+
+
+def _toward_limit(stored, vector, ratio, bound: float | None = None, power: float = LOBE_WEIGHT_POWER) -> np.ndarray:
+    """(…) the LTC integral of ``stored`` (4,) whose transformed quad has the vector form factor ``vector`` (…, 3)
+    (preintegrate.ltc.horizon_ltc_vector) taken toward the lobe's limit with ``ratio`` (…) at most ``bound`` (None:
+    the shipped bound, preintegrate.ltc.lobe_ratio_bound) and the weight I^``power``."""
+    integral = np.maximum(vector[..., 2], 0.0)
     if bound is None:
         bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
     return toward_lobe_limit(integral, np.minimum(ratio, bound), power)
@@ -407,16 +410,22 @@ SPLIT_SUM_POWERS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
 Key = tuple[float, float, float, float]
 
 
-def _training_texels():
-    """(μo, r, view, α, E, the shipped LTC table's texel) for each of the training views and roughnesses."""
+def _training_texels(tolerance: float):
+    """(μo, r, view, α, E, the shipped LTC table's texel, the training lights (L, 4, 3) that hold more than 1e-3 of
+    the lobe, and the lobe (F = 1) over each, :func:`lobe_over`) for each of the training views and roughnesses; the
+    lights (:func:`training_lights`, 0.02 to 10 wide) are in the shading frame already (normal z, the view in the xz
+    plane)."""
     table = read_lut(shipped_path(LTC_LUT))[0]
+    lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     for mu_o in CHOICE_VIEWS:
         sine = np.sqrt(1.0 - mu_o * mu_o)
         view = np.array([sine, 0.0, mu_o])
         for roughness in CHOICE_ROUGHNESS:
             alpha = roughness**2
             stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
-            yield mu_o, roughness, view, alpha, lobe_albedo(mu_o, alpha), stored
+            lobes = lobe_over(view, alpha, lights, tolerance)
+            lit = lobes > 1e-3
+            yield mu_o, roughness, view, alpha, lobe_albedo(mu_o, alpha), stored, lights[lit], lobes[lit]
 
 
 def ratio_bound_errors(tolerance: float) -> dict[Key, np.ndarray]:
@@ -424,18 +433,14 @@ def ratio_bound_errors(tolerance: float) -> dict[Key, np.ndarray]:
     toward the lobe's limit with the weight I^p and the bound max(R₀, min(K √Ω, S / I)) on the ratio, for each
     candidate (:data:`WEIGHT_POWERS` × :data:`RATIO_LEAST` × :data:`RATIO_PER_SIZE` × :data:`RATIO_SHARES`), and
     (p, inf, inf, inf) → unbounded."""
-    lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": [], "solid angle": []}
-    for mu_o, _, view, alpha, albedo, stored in _training_texels():
-        lobes = lobe_over(view, alpha, lights, tolerance)
-        lit = lobes > 1e-3
-        # the lights are in the shading frame already (normal z, the view in the xz plane)
-        vector = horizon_ltc_vector(stored, lights[lit])
+    for mu_o, _, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance):
+        vector = horizon_ltc_vector(stored, lights)
         direction = ltc_direction(stored, vector)
         parts["integral"].append(np.maximum(vector[..., 2], 0.0))
         parts["ratio"].append(lobe_density_ratio(stored, direction, mu_o, alpha, albedo, sine=view[0]))
-        parts["lobe"].append(lobes[lit])
-        parts["albedo"].append(np.full(np.sum(lit), albedo))
+        parts["lobe"].append(lobes)
+        parts["albedo"].append(np.full(len(lobes), albedo))
         parts["solid angle"].append(ltc_solid_angle(stored, vector))
     integral, ratio, lobe, albedo, solid_angle = (np.concatenate(parts[name]) for name in parts)
 
@@ -480,8 +485,7 @@ def ratio_bound(tolerance: float) -> list[str]:
         marks = (" (chosen)" if key == chosen else "") + (" (shipped)" if key == SHIPPED_BOUND else "")
         return _statistics(errors[key]) + marks
 
-    def best(p):
-        return chosen_bound({key: e for key, e in errors.items() if key[0] == p})
+    best = {p: chosen_bound({key: e for key, e in errors.items() if key[0] == p}) for p in WEIGHT_POWERS}
 
     lines = [
         f"The weight and the bound of the lobe's ratio, on {CHOICE_LIGHTS} seeded training lights 0.02 to 10 wide "
@@ -502,7 +506,7 @@ def ratio_bound(tolerance: float) -> list[str]:
         "| p | R₀, K, S | median / p90 / max | unbounded |",
         "|---|---|---|---|",
         *(
-            f"| {p:g} | {best(p)[1]:g}, {best(p)[2]:g}, {best(p)[3]:g} | {cell(best(p))} | "
+            f"| {p:g} | {best[p][1]:g}, {best[p][2]:g}, {best[p][3]:g} | {cell(best[p])} | "
             f"{_statistics(errors[(p, np.inf, np.inf, np.inf)])} |"
             for p in WEIGHT_POWERS
         ),
@@ -531,29 +535,26 @@ def split_sum_weight_errors(tolerance: float) -> dict[float, dict[str, np.ndarra
     over the light weighted by the lobe (the reference's, F over F = 1), exact curves, over the training lights
     (:func:`ratio_bound_errors`') and the set's materials, each value with reference > 1e-3, for each of
     :data:`SPLIT_SUM_POWERS`: the factorisation's own error, apart from the lobe's."""
-    lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
     normal = np.array([0.0, 0.0, 1.0])
     parts: dict[str, list] = {"integral": [], "over light": [], "at star": [], "split": [], "kind": []}
     curves = {
         name: lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])
         for name, (eta, kappa) in _materials().items()
     }
-    for mu_o, roughness, view, alpha, albedo, stored in _training_texels():
-        lobes = lobe_over(view, alpha, lights, tolerance)
+    for mu_o, roughness, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance):
         splits = {
             name: reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0] / albedo
             for name, curve in curves.items()
         }
-        for corners, lobe in zip(lights[lobes > 1e-3], lobes[lobes > 1e-3]):
+        for corners, lobe in zip(lights, lobes):
             integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo)
             for name, curve in curves.items():
                 exact = reference(view, corners, alpha, curve, tolerance)
                 keep = exact > 1e-3
-                split = splits[name]
                 parts["integral"].append(np.full(np.sum(keep), float(integral)))
                 parts["over light"].append(exact[keep] / lobe)
                 parts["at star"].append(curve(np.array([float(v_dot_h)]))[0][keep])
-                parts["split"].append(split[keep])
+                parts["split"].append(splits[name][keep])
                 parts["kind"].append(np.full(np.sum(keep), _kind(name)))
     integral, over_light, at_star, split, kind = (np.concatenate(parts[name]) for name in parts)
     errors = {}
