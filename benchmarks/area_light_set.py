@@ -32,10 +32,12 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and candidate fits made here (the mean-axis fit alone and on a finer table;
 M's four entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER`,
-:data:`LOBE_LIMIT_PREVIOUS`, :data:`LOBE_LIMIT_HALF` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its weight's and
+:data:`LOBE_LIMIT_PREVIOUS`, :data:`LOBE_LIMIT_HALF`, :data:`LOBE_LIMIT_NO_SPREAD` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its weight's and
 bound's choice on training lights: :func:`ratio_bound`) and the LTC fitted to the radiance of lights drawn where the
-lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`, :func:`radiance_fit`), then the choice of
-the Fresnel blend's weight on the same training lights (:func:`split_sum_weight`); a fifth, the cost of the forms in
+lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`, :func:`radiance_fit`), the choice of the
+light's spread term on lights drawn where training lobes reflect (:func:`spread_study`, :data:`LOBE_LIMIT_NO_SPREAD`
+without it), then the choice of the Fresnel blend's weight on the bound's training lights (:func:`split_sum_weight`);
+a fifth, the cost of the forms in
 ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
 (:data:`BASELINE_REVISION`'s include, from git).
 
@@ -70,11 +72,15 @@ from preintegrate.ltc import (
     LOBE_RATIO_MAX,
     LOBE_RATIO_PER_SIZE,
     LOBE_SHARE_RAISED,
+    LOBE_SPREAD_POWER,
+    LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
     SPLIT_SUM_WEIGHT_POWER,
+    disk_solid_angle,
     horizon_ltc_vector,
     lobe_density_ratio,
     lobe_ratio_bound,
+    lobe_spread,
     ltc_direction,
     ltc_grid,
     ltc_inverse,
@@ -336,14 +342,16 @@ LOBE_LIMIT_LOWER = "toward the lobe's punctual limit where that lowers the integ
 #: (:func:`ratio_bound`).
 LOBE_LIMIT_SHIPPED = (
     f"this project as shipped: the ratio at most max({LOBE_RATIO_MAX:g}, min({LOBE_RATIO_PER_SIZE:g} √Ω, "
-    f"{LOBE_SHARE_RAISED:g} / I))"
+    f"{LOBE_SHARE_RAISED:g} / I)), the weight with the light's spread"
 )
+#: The same without the spread term (preintegrate.ltc.LOBE_SPREAD_POWER), as it shipped before.
+LOBE_LIMIT_NO_SPREAD = "the shipped bound and weight I^p without the spread (shipped before, not shipped)"
 #: What shipped before the bound grew with the light (at 1988e1a): the ratio at most 2 for any light.
 PREVIOUS_RATIO_MAX = 2.0
 LOBE_LIMIT_PREVIOUS = f"the ratio at most {PREVIOUS_RATIO_MAX:g} for any light (the bound shipped before, not shipped)"
 #: The shipped bound with the weight √I that shipped before :data:`preintegrate.ltc.LOBE_WEIGHT_POWER` (p = 1/2).
 PREVIOUS_WEIGHT_POWER = 0.5
-LOBE_LIMIT_HALF = "the shipped bound with the weight √I (shipped before, not shipped)"
+LOBE_LIMIT_HALF = "the shipped bound with the weight √I, no spread (shipped before that, not shipped)"
 
 
 #: The lobe study's rows for the ratio over more of the light than L*: Σ f̂ / Σ D over n × n Gauss-Legendre points of
@@ -410,19 +418,20 @@ SPLIT_SUM_POWERS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
 Key = tuple[float, float, float, float]
 
 
-def _training_texels(tolerance: float):
+def _training_texels(tolerance: float, draw=None):
     """(μo, r, view, α, E, the shipped LTC table's texel, the training lights (L, 4, 3) that hold more than 1e-3 of
     the lobe, and the lobe (F = 1) over each, :func:`lobe_over`) for each of the training views and roughnesses; the
-    lights (:func:`training_lights`, 0.02 to 10 wide) are in the shading frame already (normal z, the view in the xz
-    plane)."""
+    lights (:func:`training_lights`, 0.02 to 10 wide, the same at each; ``draw(μo, α)`` gives each its own) are in the
+    shading frame already (normal z, the view in the xz plane)."""
     table = read_lut(shipped_path(LTC_LUT))[0]
-    lights = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0)))
+    common = np.array(training_lights(CHOICE_LIGHTS, (0.02, 10.0))) if draw is None else None
     for mu_o in CHOICE_VIEWS:
         sine = np.sqrt(1.0 - mu_o * mu_o)
         view = np.array([sine, 0.0, mu_o])
         for roughness in CHOICE_ROUGHNESS:
             alpha = roughness**2
             stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
+            lights = common if draw is None else draw(mu_o, alpha)
             lobes = lobe_over(view, alpha, lights, tolerance)
             lit = lobes > 1e-3
             yield mu_o, roughness, view, alpha, lobe_albedo(mu_o, alpha), stored, lights[lit], lobes[lit]
@@ -526,6 +535,87 @@ def ratio_bound(tolerance: float) -> list[str]:
     ]
     if chosen != SHIPPED_BOUND:
         lines += ["", f"The criterion now picks (p, R₀, K, S) = {chosen}; preintegrate.ltc ships {SHIPPED_BOUND}."]
+    return lines
+
+
+#: The candidates for the spread term's power k and share c (preintegrate.ltc.LOBE_SPREAD_POWER), with the bound and p
+#: as shipped, on :data:`SPREAD_LIGHTS` seeded lights per training view and roughness drawn where its lobe reflects
+#: (:func:`lobe_lights`, 0.02 to 10 wide): the term acts where the ratio raises a light that the lobe's peak lights,
+#: which few of the hemisphere's training lights (:func:`ratio_bound`'s) are.
+SPREAD_POWERS, SPREAD_SHARES, SPREAD_LIGHTS = (2.0, 3.0, 4.0, 6.0, 8.0), (0.003, 0.01, 0.03, 0.1, 0.3), 256
+
+
+def spread_errors(tolerance: float) -> dict[tuple[float, float] | None, np.ndarray]:
+    """(k, c) → the lobe's relative errors (F = 1) with the shipped table over the spread's training lights
+    (:data:`SPREAD_LIGHTS`), taken toward the lobe's limit with the shipped weight and bound and the spread term with
+    that k and c (preintegrate.ltc.toward_lobe_limit, the spread from preintegrate.ltc.disk_solid_angle), for each
+    candidate (:data:`SPREAD_POWERS` × :data:`SPREAD_SHARES`); None → without the spread term."""
+    parts: dict[str, list] = {"integral": [], "ratio": [], "spread": [], "lobe": [], "albedo": []}
+    draw = lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPREAD_LIGHTS)  # noqa: E731
+    for mu_o, _, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance, draw):
+        vector = horizon_ltc_vector(stored, lights)
+        integral = np.maximum(vector[..., 2], 0.0)
+        ratio = lobe_density_ratio(stored, ltc_direction(stored, vector), mu_o, alpha, albedo, sine=view[0])
+        ltc_angle = ltc_solid_angle(stored, vector)
+        parts["integral"].append(integral)
+        parts["ratio"].append(np.minimum(ratio, lobe_ratio_bound(integral, ltc_angle)))
+        parts["spread"].append(lobe_spread(ltc_angle, disk_solid_angle(lights)))
+        parts["lobe"].append(lobes)
+        parts["albedo"].append(np.full(len(lobes), albedo))
+    integral, ratio, spread, lobe, albedo = (np.concatenate(parts[name]) for name in parts)
+
+    def error(key):
+        power, share = key if key is not None else (1.0, 1.0)
+        value = toward_lobe_limit(
+            integral, ratio, spread=None if key is None else spread, spread_power=power, spread_share=share
+        )
+        return np.abs(value * albedo - lobe) / lobe
+
+    keys = [None, *((power, share) for power in SPREAD_POWERS for share in SPREAD_SHARES)]
+    return {key: error(key) for key in keys}
+
+
+def chosen_spread(errors: dict[tuple[float, float] | None, np.ndarray]) -> tuple[float, float]:
+    """The candidate (k, c) of ``errors`` (:func:`spread_errors`) with the lowest p90, then median (the bound's
+    criterion, :func:`chosen_bound`, without its guard on the worst: no candidate's is above the worst without the
+    term)."""
+    return min(
+        (key for key in errors if key is not None),
+        key=lambda key: (np.percentile(errors[key], 90), np.median(errors[key])),
+    )
+
+
+def spread_study(tolerance: float) -> list[str]:
+    """Markdown lines: the lobe's error (F = 1) over the spread's training lights for each candidate (k, c) and
+    without the term (:func:`spread_errors`); the criterion: :func:`chosen_spread`."""
+    errors = spread_errors(tolerance)
+    chosen, shipped = chosen_spread(errors), (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
+
+    def cell(key):
+        return (
+            _statistics(errors[key]) + (" (chosen)" if key == chosen else "") + (" (shipped)" if key == shipped else "")
+        )
+
+    lines = [
+        f"The lobe's spread, on {SPREAD_LIGHTS} seeded lights 0.02 to 10 wide per training view and roughness (N·V "
+        f"{list(CHOICE_VIEWS)}, r {list(CHOICE_ROUGHNESS)}), drawn where that lobe reflects (`lobe_lights`, not this "
+        f"set's), {len(errors[chosen])} values with the lobe above 1e-3: the shipped table's integral taken toward "
+        "the lobe's limit with the shipped weight and bound, and where the ratio raises it a weight of at least "
+        "(1 − s^k) min(1, I / c), s = min(Ω_L / Ω, 1) the light's spread, Ω_L its solid angle as the LTC's Jacobian at "
+        "L* gives it, Ω its own as a disk's (`preintegrate.ltc.lobe_spread`, `disk_solid_angle`): s is the LTC's "
+        "mean density over the light against its density at L*, small for a light much wider than the lobe, for "
+        "which the ratio at L* does not stand. The chosen (k, c) has the lowest p90, then median (the bound's "
+        f"criterion). Without the term: {_statistics(errors[None])}.",
+        "",
+        "| k | " + " | ".join(f"c = {share:g}" for share in SPREAD_SHARES) + " |",
+        "|---|" + "---|" * len(SPREAD_SHARES),
+        *(
+            f"| {power:g} | " + " | ".join(cell((power, share)) for share in SPREAD_SHARES) + " |"
+            for power in SPREAD_POWERS
+        ),
+    ]
+    if chosen != shipped:
+        lines += ["", f"The criterion now picks (k, c) = {chosen}; preintegrate.ltc ships {shipped}."]
     return lines
 
 
@@ -722,6 +812,9 @@ def lobe_study(
                     approximations[LOBE_LIMIT_PREVIOUS] = lobe_limit_integral(
                         first, view, corners, alpha, albedo, PREVIOUS_RATIO_MAX
                     )
+                    approximations[LOBE_LIMIT_NO_SPREAD] = lobe_limit_integral(
+                        first, view, corners, alpha, albedo, None
+                    )
                     approximations[LOBE_LIMIT_HALF] = lobe_limit_integral(
                         first, view, corners, alpha, albedo, None, PREVIOUS_WEIGHT_POWER
                     )
@@ -758,6 +851,7 @@ def lobe_study(
         LOBE_LIMIT_LOWER,
         LOBE_LIMIT_PREVIOUS,
         LOBE_LIMIT_HALF,
+        LOBE_LIMIT_NO_SPREAD,
         LOBE_LIMIT_SHIPPED,
         *(spread_ratio_row(points) for points in SPREAD_POINTS),
         *(with_the_limit(name) for name in corrected),
@@ -1059,7 +1153,8 @@ def run(
             "ratio unbounded, at most 1 (it only takes off what the LTC holds beyond the lobe), at most "
             f"{PREVIOUS_RATIO_MAX:g} for any light (the bound that shipped before), at most max({LOBE_RATIO_MAX:g}, "
             f"min({LOBE_RATIO_PER_SIZE:g} √Ω, {LOBE_SHARE_RAISED:g} / I)), Ω the light's solid angle, with the "
-            "weight √I (p = 1/2, what shipped before) and with I^p, what ships "
+            "weight √I (p = 1/2, what shipped before that), with I^p alone (what shipped before) and with I^p and the "
+            "light's spread, what ships "
             "(`fresnelBasisRectLight`; it also raises the integral where the LTC holds less than the lobe, for a "
             "light that is not tiny further while the raised value is a small share of the lobe; the bound's choice "
             "follows the tables); the next three take the ratio as shipped but over n × n points of the light rather than at "
@@ -1079,6 +1174,8 @@ def run(
             *lobe_study(tolerance, candidates, corrected=(MEAN_AXIS, *FREE_TABLES)),
             "",
             *ratio_bound(tolerance),
+            "",
+            *spread_study(tolerance),
             "",
             *split_sum_weight(tolerance),
         ]

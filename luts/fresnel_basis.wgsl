@@ -67,6 +67,8 @@ const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 1.5;  // R0, any light
 const FRESNEL_LTC_LOBE_RATIO_PER_SIZE: f32 = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
 const FRESNEL_LTC_LOBE_SHARE_RAISED: f32 = 0.03;  // S, the share of the lobe it may raise I to
 const FRESNEL_LTC_LOBE_WEIGHT_POWER: f32 = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
+const FRESNEL_LTC_SPREAD_POWER: f32 = 3.0;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
+const FRESNEL_LTC_SPREAD_SHARE: f32 = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
 const FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER: f32 = 1.5;  // q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 const FRESNEL_LTC_EDGE: vec4f = vec4f(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
@@ -623,7 +625,9 @@ fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, R = max(R0, min(K sqrt(omega), S / I)) (issue
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, where that ratio exceeds 1 at least
+// (1 - s^k) min(1, I / c), s = min(omega / solidAngle, 1) the light's spread (solidAngle from fresnelLtcDiskSolidAngle;
+// preintegrate.ltc.lobe_spread, LOBE_SPREAD_POWER), R = max(R0, min(K sqrt(omega), S / I)) (issue
 // 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
 // rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
@@ -634,7 +638,7 @@ fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
 // f.z), where no factor is a power of the light's size (float32 holds a tiny light). d = sin^2(theta_h) +
 // a2 cos^2(theta_h) from H's components (1 - cos^2 cancels in float32 for a sharp lobe); a2 = r^4, at least the
 // fit's own floor (ALPHA_FLOOR^2).
-fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f, view: vec3f, r: f32, albedo: f32) -> f32
+fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f, view: vec3f, r: f32, albedo: f32, solidAngle: f32) -> f32
 {
     let NdotV: f32 = view.z;
     let H: vec3f = fresnelLtcUnit(view + L);
@@ -648,8 +652,26 @@ fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f
     let lobe: f32 = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     let density: f32 = 2.0 * d * d * smith * albedo * f.z;
     let ratio: f32 = select(1.0, lobe / max(max(density, lobe / bound), 1e-30), (albedo > 0.0 && f.z > 0.0));
-    let w: f32 = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
+    var w: f32 = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
+    let spread: f32 = select(1.0, min(3.14159265 * size * size / solidAngle, 1.0), (solidAngle > 0.0));
+    let wide: f32 = (1.0 - pow(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
+    w = select(w, max(w, wide), (ratio > 1.0));
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
+}
+
+// The solid angle of the quad with corners (world space) seen from P, as a disk seen on its axis with the quad's
+// projected solid angle |c . a| / |c|^3 (c the quad's centre from P, a = (1/2) (v2 - v0) x (v3 - v1) its vector area),
+// 2 pi (1 - 1 / root), root = sqrt(1 + that / pi), written without the difference (preintegrate.ltc.disk_solid_angle:
+// exact as the light shrinks, a little above a rectangle's exact solid angle, which would cost more); the vectors
+// scaled by 1 / |c| first (float32 holds a far or huge light; 0 where |c| overflows).
+fn fresnelLtcDiskSolidAngle(P: vec3f, corners: array<vec3f, 4>) -> f32
+{
+    let centre: vec3f = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]) - P;
+    let inverseDistance: f32 = inverseSqrt(max(dot(centre, centre), 1e-37));
+    let area: vec3f = 0.5 * cross((corners[2] - corners[0]) * inverseDistance, (corners[3] - corners[1]) * inverseDistance);
+    let projected: f32 = abs(dot(centre * inverseDistance, area));
+    let root: f32 = sqrt(1.0 + projected * 0.318309886);
+    return 2.0 * projected / (root * (1.0 + root));
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
@@ -681,7 +703,7 @@ fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
     let L: vec3f = fresnelLtcUnit(back);
     let integral: f32 = max(f.z, 0.0);
     let rough: f32 = fresnelSanitize(r, 0.5, 0.0, 1.0);
-    return vec4f(L, select(integral, fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo), (albedo > 0.0)));
+    return vec4f(L, select(integral, fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), (albedo > 0.0)));
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).

@@ -6,7 +6,8 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
 ``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
 ``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``LOBE_WEIGHT_POWER``,
-``SPLIT_SUM_WEIGHT_POWER``, ``shading_frame``,
+``SPLIT_SUM_WEIGHT_POWER``, ``LOBE_SPREAD_POWER``, ``LOBE_SPREAD_SHARE``, ``disk_solid_angle``, ``lobe_spread``,
+``shading_frame``,
 ``EDGE_FACTOR_DEGREE``, ``edge_factor_polynomial``, ``edge_factor``.
 
 A linearly transformed cosine (Heitz, Dupuy, Hill, Neubelt 2016, eq. 1-3) is the clamped cosine
@@ -49,7 +50,9 @@ of the lobe the light covers (q = :data:`SPLIT_SUM_WEIGHT_POWER`): a small light
 that covers the lobe to the split sum (issue 41). The lobe itself does the same: ∫_P D dω becomes
 I (w + (1 − w) min(f̂(L*) / D(L*), R)), w = I^p, p = :data:`LOBE_WEIGHT_POWER`
 (:func:`toward_lobe_limit`, :func:`lobe_density_ratio`), which a small light takes to the lobe's own integral
-f̂(L*) Ω (where the ratio is within R) and a light covering the lobe leaves as it is. R (:func:`lobe_ratio_bound`:
+f̂(L*) Ω (where the ratio is within R) and a light covering the lobe leaves as it is; where the ratio raises I, a
+light much wider than the lobe (its spread, :func:`lobe_spread`, the LTC's mean density over it against its density at
+L*, small) keeps more of I (:data:`LOBE_SPREAD_POWER`). R (:func:`lobe_ratio_bound`:
 :data:`LOBE_RATIO_MAX`, more for a light that is not tiny while the raised value is a small share of the lobe) bounds
 what the lobe adds where the LTC holds less than it (the mirror direction at grazing views is off pointwise and right
 in the integral of a medium light) and what the ratio multiplies of float32's rounding of I.
@@ -85,12 +88,16 @@ __all__ = [
     "LOBE_RATIO_MAX",
     "LOBE_RATIO_PER_SIZE",
     "LOBE_SHARE_RAISED",
+    "LOBE_SPREAD_POWER",
+    "LOBE_SPREAD_SHARE",
     "LOBE_WEIGHT_POWER",
     "LTC_CHANNELS",
     "MU_FLOOR",
     "SPLIT_SUM_WEIGHT_POWER",
     "WEIGHTINGS",
     "LtcFit",
+    "disk_solid_angle",
+    "lobe_spread",
     "checked_ltc_grid",
     "edge_factor",
     "edge_factor_polynomial",
@@ -670,6 +677,34 @@ def ltc_solid_angle(stored, vector) -> np.ndarray:
     return _solid_angle(stored, vector, _taken_back(stored, vector))
 
 
+def disk_solid_angle(local) -> np.ndarray:
+    """(…) the solid angle of the quad ``local`` (…, 4, 3) (its corners from the shaded point; the whole quad, not
+    clipped to the horizon) as that of a disk seen on its axis with the quad's projected solid angle
+    Ω_p = |c · a| / |c|³, c the quad's centre, a = ½ (v₂ − v₀) × (v₃ − v₁) its vector area:
+    2π (1 − 1 / √(1 + Ω_p / π)), written 2 Ω_p / (ρ (1 + ρ)), ρ = √(1 + Ω_p / π) (no difference of nearly equal
+    terms for a small light). Exact for a disk seen on its axis and as the light shrinks, at most 2π; never below a
+    quad's exact solid angle in tests/preintegrate/test_ltc.py and at most 1.29 × it for quads seen obliquely (the
+    exact one would take the shaders a fan of atan2 per light)."""
+    local = as_float_array("local", local)
+    if local.ndim < 2 or local.shape[-2:] != (4, 3):
+        raise ParameterError(f"local must be (..., 4, 3), got shape {local.shape}")
+    centre = np.mean(local, axis=-2)
+    area = 0.5 * np.cross(local[..., 2, :] - local[..., 0, :], local[..., 3, :] - local[..., 1, :])
+    distance2 = np.maximum(np.sum(centre * centre, axis=-1), 1e-300)
+    projected = np.abs(np.sum(centre * area, axis=-1)) / (distance2 * np.sqrt(distance2))
+    root = np.sqrt(1.0 + projected / np.pi)
+    return 2.0 * projected / (root * (1.0 + root))
+
+
+def lobe_spread(ltc_angle, solid_angle) -> np.ndarray:
+    """(…) min(Ω_L / Ω, 1): a light's spread (:data:`LOBE_SPREAD_POWER`) from its solid angle as the LTC gives it,
+    ``ltc_angle`` Ω_L (:func:`ltc_solid_angle`), and its own, ``solid_angle`` Ω (:func:`disk_solid_angle`); 1 where
+    Ω is 0."""
+    ltc_angle = np.asarray(ltc_angle, dtype=np.float64)
+    solid_angle = np.asarray(solid_angle, dtype=np.float64)
+    return np.where(solid_angle > 0.0, np.minimum(ltc_angle / np.where(solid_angle > 0.0, solid_angle, 1.0), 1.0), 1.0)
+
+
 def _solid_angle(stored, vector, back) -> np.ndarray:
     """:func:`ltc_solid_angle` from f = ``vector`` and ``back`` = M f (:func:`_taken_back`), where both are at hand."""
     determinant = np.abs(np.linalg.det(ltc_inverse(stored)))
@@ -736,16 +771,42 @@ LOBE_WEIGHT_POWER = 0.375
 #: (``python -m benchmarks.area_light_set``, "The Fresnel blend's weight"; q = 1 shipped before).
 SPLIT_SUM_WEIGHT_POWER = 1.5
 
+#: The spread s = Ω_L / Ω of a light: Ω_L its solid angle as the LTC's Jacobian at L* gives it (:func:`ltc_solid_angle`,
+#: the LTC's integral over its density at L*), Ω its own (:func:`disk_solid_angle`); s is the LTC's mean density over
+#: the light against its density at L*, 1 for a small light and small for one much wider than the lobe, and tells how
+#: little the ratio at L* stands for the light. Where the ratio raises the integral, :func:`toward_lobe_limit` keeps
+#: at least (1 − s^k) min(1, I / c) of the LTC's own integral, k = ``LOBE_SPREAD_POWER``, c = ``LOBE_SPREAD_SHARE``
+#: (with I^p alone, a light on the lobe's peak and wider than it, holding a few hundredths of it, was raised by the ratio
+#: at the peak as if the lobe were that dense all over it). Chosen with the bound and p fixed, by the bound's criterion,
+#: on seeded lights where the training views' and roughnesses' lobes reflect (``python -m benchmarks.area_light_set``,
+#: "The lobe's spread"; ``benchmarks.area_light_set.lobe_lights``).
+LOBE_SPREAD_POWER = 3.0
+LOBE_SPREAD_SHARE = 0.1
 
-def toward_lobe_limit(integral, ratio, power=LOBE_WEIGHT_POWER) -> np.ndarray:
+
+def toward_lobe_limit(
+    integral,
+    ratio,
+    power=LOBE_WEIGHT_POWER,
+    spread=None,
+    spread_power=LOBE_SPREAD_POWER,
+    spread_share=LOBE_SPREAD_SHARE,
+) -> np.ndarray:
     """(…) an LTC ``integral`` I taken toward the lobe's own punctual limit, min(I (w + (1 − w) ``ratio``), 1),
     w = min(I, 1)^p, p = ``power`` (default :data:`LOBE_WEIGHT_POWER`): ``ratio`` the lobe over the LTC's density at
     the light's representative direction (:func:`lobe_density_ratio`). As a light shrinks, I × ratio tends to the
     lobe's own integral over it; as it covers the lobe, w → 1 keeps the LTC's; the normalised lobe integrates to 1,
     which bounds any light's share (issue 41; the shaders take min(ratio, :func:`lobe_ratio_bound`):
-    :func:`rect_light_half_cosine`)."""
+    :func:`rect_light_half_cosine`). With the light's ``spread`` s ∈ [0, 1] (…) (:data:`LOBE_SPREAD_POWER`), where
+    the ratio exceeds 1 w is at least (1 − s^k) min(1, I / c), k = ``spread_power``, c = ``spread_share``."""
     integral = np.asarray(integral, dtype=np.float64)
     weight = np.clip(integral, 0.0, 1.0) ** check_range("power", power, 0.0, 8.0, low_open=True)
+    if spread is not None:
+        spread = check_range("spread", spread, 0.0, 1.0)
+        spread_power = check_range("spread_power", spread_power, 0.0, 8.0, low_open=True)
+        spread_share = check_range("spread_share", spread_share, 0.0, 1.0, low_open=True)
+        wide = (1.0 - spread**spread_power) * np.minimum(integral / spread_share, 1.0)
+        weight = np.where(ratio > 1.0, np.maximum(weight, wide), weight)
     return np.minimum(integral * (weight + (1.0 - weight) * ratio), 1.0)
 
 
@@ -756,9 +817,11 @@ def rect_light_half_cosine(
     (:func:`rect_light_direction`), the view (|N × V|, 0, N·V) in the shading frame with N·V clamped to [0, 1] ((1, 0, 0)
     below the horizon), as the shaders' ``fresnelLtcView`` and ``fresnelLtcVdotH``. With the perceptual ``roughness`` r ∈ [0, 1] and the lobe's ``albedo`` E > 0
     (…), the integral is taken toward the lobe's punctual limit, :func:`toward_lobe_limit` with
-    min(:func:`lobe_density_ratio`, :func:`lobe_ratio_bound`), α = max(r², :data:`ALPHA_FLOOR`): what the shaders'
-    ``fresnelLtcRectVector`` returns for albedo E."""
-    vector = horizon_ltc_vector(stored, _local_corners(normal, view, position, corners))
+    min(:func:`lobe_density_ratio`, :func:`lobe_ratio_bound`) and the light's :func:`lobe_spread` (from
+    :func:`disk_solid_angle`), α = max(r², :data:`ALPHA_FLOOR`): what the shaders' ``fresnelLtcRectVector`` returns for
+    albedo E."""
+    local = _local_corners(normal, view, position, corners)
+    vector = horizon_ltc_vector(stored, local)
     back = _taken_back(stored, vector)
     integral, direction = np.maximum(vector[..., 2], 0.0), _unit_or_normal(back)
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
@@ -773,8 +836,9 @@ def rect_light_half_cosine(
         alpha = np.maximum(check_range("roughness", roughness, 0.0, 1.0) ** 2, ALPHA_FLOOR)
         albedo = check_range("albedo", albedo, 0.0, 1.0, low_open=True)
         ratio = lobe_density_ratio(stored, direction, n_dot_v, alpha, albedo, sine=sine)
-        bound = lobe_ratio_bound(integral, _solid_angle(stored, vector, back))
-        integral = toward_lobe_limit(integral, np.minimum(ratio, bound))
+        ltc_angle = _solid_angle(stored, vector, back)
+        spread = lobe_spread(ltc_angle, disk_solid_angle(local))
+        integral = toward_lobe_limit(integral, np.minimum(ratio, lobe_ratio_bound(integral, ltc_angle)), spread=spread)
     local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
     half = local_view + direction
     half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)

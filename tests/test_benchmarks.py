@@ -259,15 +259,17 @@ def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit(
     """The lobe study (F = 1) on the shipped LTC table with a coarse reference (1e-3): the punctual-limit, two-lobe
     and radiance-fit rows are there and, as in the report, the punctual limit (unbounded, lowering only, and as
     shipped) is lower at the median than the table alone, by a fifth at least, the two lobes lower too (measured:
-    3.13 %, 3.58 % and 3.13 % for the limit, 4.65 % for the two lobes, against 4.73 %), and what ships is lower at the
-    p90 than the lowering-only form, the bound of 2 for any light and the weight √I that shipped before (19.2 % against
-    35.8 %, 28.7 % and 23.9 %); the ratio over 8 × 8 points of the light lower than over the one at L*, by a quarter at
-    the p90 (2.02 % / 13.3 % against 3.13 % / 19.2 %, all at the report's tolerance)."""
+    3.13 %, 3.58 % and 2.48 % for the limit, 4.65 % for the two lobes, against 4.73 %), and what ships is lower at the
+    p90 than the lowering-only form, the bound of 2 for any light and the weight √I that shipped before (17.6 % against
+    35.8 %, 28.7 % and 23.9 %), and lower at the median and the p90 than the weight I^p without the light's spread
+    (2.48 % / 17.6 % against 3.13 % / 19.2 %); the ratio over 8 × 8 points of the light lower than over the one at L*,
+    by a fifth at the p90 (2.02 % / 13.3 %; a quarter before the spread term, all at the report's tolerance)."""
     from basis.storage import shipped_path
     from benchmarks.area_light_set import (
         LOBE_LIMIT,
         LOBE_LIMIT_HALF,
         LOBE_LIMIT_LOWER,
+        LOBE_LIMIT_NO_SPREAD,
         LOBE_LIMIT_PREVIOUS,
         LOBE_LIMIT_SHIPPED,
         RADIANCE_FIT,
@@ -282,18 +284,28 @@ def test_the_lobe_study_takes_the_shipped_table_toward_the_lobes_punctual_limit(
 
     lines = lobe_study(1e-3, {"shipped": read_lut(shipped_path(LTC_LUT))[0]})
     rows = [line.split("|") for line in lines if line.count("%") > 3]
-    assert len(rows) == 24, lines  # twelve by placement, then twelve by width
-    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:12]}
-    p90 = {row[1].strip(): float(row[2].split("/")[1].split("%")[0]) for row in rows[:12]}
-    limits = {LOBE_LIMIT, LOBE_LIMIT_LOWER, LOBE_LIMIT_PREVIOUS, LOBE_LIMIT_HALF, LOBE_LIMIT_SHIPPED}
+    assert len(rows) == 26, lines  # thirteen by placement, then thirteen by width
+    medians = {row[1].strip(): float(row[2].split("%")[0]) for row in rows[:13]}
+    p90 = {row[1].strip(): float(row[2].split("/")[1].split("%")[0]) for row in rows[:13]}
+    limits = {
+        LOBE_LIMIT,
+        LOBE_LIMIT_LOWER,
+        LOBE_LIMIT_PREVIOUS,
+        LOBE_LIMIT_HALF,
+        LOBE_LIMIT_NO_SPREAD,
+        LOBE_LIMIT_SHIPPED,
+    }
     spread = {spread_ratio_row(points) for points in SPREAD_POINTS}
     assert set(medians) == {"shipped", TWO_LOBES, RADIANCE_FIT, RADIANCE_FIT_LIMIT} | limits | spread, lines
     # the ratio over 8 × 8 points of the light: the frontier more evaluations of the lobe reach, below the one point
     assert (
         medians[spread_ratio_row(8)] < medians[LOBE_LIMIT_SHIPPED]
-        and p90[spread_ratio_row(8)] < 0.75 * p90[LOBE_LIMIT_SHIPPED]
+        and p90[spread_ratio_row(8)] < 0.8 * p90[LOBE_LIMIT_SHIPPED]
     ), (medians, p90)
     assert p90[LOBE_LIMIT_SHIPPED] < min(p90[LOBE_LIMIT_PREVIOUS], p90[LOBE_LIMIT_LOWER], p90[LOBE_LIMIT_HALF]), p90
+    # the light's spread: lower at the median and the p90 than the weight I^p alone
+    assert medians[LOBE_LIMIT_SHIPPED] < medians[LOBE_LIMIT_NO_SPREAD], medians
+    assert p90[LOBE_LIMIT_SHIPPED] < p90[LOBE_LIMIT_NO_SPREAD], p90
     for name in (LOBE_LIMIT, LOBE_LIMIT_LOWER, LOBE_LIMIT_SHIPPED):
         assert medians[name] < 0.8 * medians["shipped"], (name, medians)
     assert medians[TWO_LOBES] < medians["shipped"], medians
@@ -314,6 +326,21 @@ def test_the_ratio_bound_is_the_criterions_choice():
     lines = ratio_bound(REFERENCE_TOLERANCE)
     assert not any("now picks" in line for line in lines), lines
     assert sum("(chosen) (shipped)" in line for line in lines) == 2, lines  # the row of p, the cell of the bound
+
+
+@pytest.mark.slow
+def test_the_spread_is_the_criterions_choice():
+    """The shipped power k and share c of the lobe's spread term are the ones the benchmark's criterion picks on the
+    spread's training lights (the report's reference tolerance), where the term lowers the p90 below that without it
+    (measured 9.5 % against 14.1 %), and the report's table says so."""
+    from benchmarks.area_light_set import REFERENCE_TOLERANCE, chosen_spread, spread_errors, spread_study
+    from preintegrate.ltc import LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE
+
+    errors = spread_errors(REFERENCE_TOLERANCE)
+    assert chosen_spread(errors) == (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
+    assert np.percentile(errors[(LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)], 90) < np.percentile(errors[None], 90)
+    lines = spread_study(REFERENCE_TOLERANCE)
+    assert not any("now picks" in line for line in lines) and sum("(chosen) (shipped)" in line for line in lines) == 1
 
 
 @pytest.mark.slow

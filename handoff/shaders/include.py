@@ -34,6 +34,8 @@ from preintegrate.ltc import (
     LOBE_RATIO_MAX,
     LOBE_RATIO_PER_SIZE,
     LOBE_SHARE_RAISED,
+    LOBE_SPREAD_POWER,
+    LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
     SPLIT_SUM_WEIGHT_POWER,
     edge_factor_polynomial,
@@ -567,6 +569,12 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             LOBE_WEIGHT_POWER,
             "p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)",
         ),
+        _constant(
+            "FRESNEL_LTC_SPREAD_POWER",
+            LOBE_SPREAD_POWER,
+            "k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread",
+        ),
+        _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
         _constant(
             "FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER",
             SPLIT_SUM_WEIGHT_POWER,
