@@ -69,7 +69,7 @@ static const float FRESNEL_LTC_LOBE_SHARE_RAISED = 0.03;  // S, the share of the
 static const float FRESNEL_LTC_LOBE_WEIGHT_POWER = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
 static const float FRESNEL_LTC_SPREAD_POWER = 3.0;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
 static const float FRESNEL_LTC_SPREAD_SHARE = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
-static const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER = 1.5;  // q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
+static const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER = 2.0;  // q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 static const float4 FRESNEL_LTC_EDGE = float4(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 static const float4 FRESNEL_LTC_EDGE_HI = float4(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7

@@ -765,11 +765,13 @@ LOBE_WEIGHT_POWER = 0.375
 #: The power q of the weight w = I^q with which :func:`rect_light_fresnel` blends a rectangular light's Fresnel from
 #: F(V·H*) toward the split sum F̄ / E, I the light's share of the lobe: the light's Fresnel is F̄ / E only where it
 #: covers the lobe, and a dielectric's F over a light on the mirror direction at a grazing view is far from F̄ / E
-#: (glass at N·V 0.08, r 0.3, under a light holding two fifths of the lobe: 0.57 against F̄ / E 0.39). Chosen on the
-#: lobe-ratio bound's training lights by the factor's own error (the include's form against the Fresnel over the
-#: light, both over the exact lobe), the lowest p90 of the worse of conductors and dielectrics, among q = 1/2 to 4
-#: (``python -m benchmarks.area_light_set``, "The Fresnel blend's weight"; q = 1 shipped before).
-SPLIT_SUM_WEIGHT_POWER = 1.5
+#: (glass at N·V 0.08, r 0.3, under a light holding two fifths of the lobe: 0.57 against F̄ / E 0.39). Chosen on
+#: seeded lights drawn where the training views' and roughnesses' lobes reflect by the factor's own error (the
+#: include's form against the Fresnel over the light, both over the exact lobe), the lowest p90 of the worse of
+#: conductors and dielectrics, among q = 1/2 to 4 (``python -m benchmarks.area_light_set``, "The Fresnel blend's
+#: weight"; q = 1.5 shipped before, chosen on the lobe-ratio bound's training lights, which few lights the lobe
+#: reflects are among; q = 1 before that).
+SPLIT_SUM_WEIGHT_POWER = 2.0
 
 #: The spread s = Ω_L / Ω of a light: Ω_L its solid angle as the LTC's Jacobian at L* gives it (:func:`ltc_solid_angle`,
 #: the LTC's integral over its density at L*), Ω its own (:func:`disk_solid_angle`); s is the LTC's mean density over

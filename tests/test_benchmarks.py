@@ -346,16 +346,17 @@ def test_the_spread_is_the_criterions_choice():
 @pytest.mark.slow
 def test_the_split_sum_weight_is_the_criterions_choice():
     """The shipped power q of the split sum's weight in a rectangular light's Fresnel is the one the benchmark's
-    criterion picks on the training lights (the report's reference tolerance), where it lowers the dielectrics' p90
-    below that of q = 1, which shipped before (measured 15.8 % against 17.2 %)."""
+    criterion picks on its training lights (the report's reference tolerance), where it lowers the dielectrics' p90
+    below that of q = 1 and of q = 1.5, which shipped before (measured 9.4 % against 12.4 % and 9.8 %)."""
     from benchmarks.area_light_set import REFERENCE_TOLERANCE, chosen_split_sum_power, split_sum_weight_errors
     from preintegrate.ltc import SPLIT_SUM_WEIGHT_POWER
 
     errors = split_sum_weight_errors(REFERENCE_TOLERANCE)
     assert chosen_split_sum_power(errors) == SPLIT_SUM_WEIGHT_POWER
-    assert np.percentile(errors[SPLIT_SUM_WEIGHT_POWER]["dielectric"], 90) < np.percentile(
-        errors[1.0]["dielectric"], 90
-    )
+    for before in (1.0, 1.5):
+        assert np.percentile(errors[SPLIT_SUM_WEIGHT_POWER]["dielectric"], 90) < np.percentile(
+            errors[before]["dielectric"], 90
+        )
 
 
 def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
