@@ -352,6 +352,15 @@ LOBE_LIMIT_PREVIOUS = f"the ratio at most {PREVIOUS_RATIO_MAX:g} for any light (
 #: The shipped bound with the weight √I that shipped before :data:`preintegrate.ltc.LOBE_WEIGHT_POWER` (p = 1/2).
 PREVIOUS_WEIGHT_POWER = 0.5
 LOBE_LIMIT_HALF = "the shipped bound with the weight √I, no spread (shipped before that, not shipped)"
+#: The lobe study's rows of the shipped table taken toward the lobe's limit, in the report's order.
+LOBE_LIMIT_ROWS = (
+    LOBE_LIMIT,
+    LOBE_LIMIT_LOWER,
+    LOBE_LIMIT_PREVIOUS,
+    LOBE_LIMIT_HALF,
+    LOBE_LIMIT_NO_SPREAD,
+    LOBE_LIMIT_SHIPPED,
+)
 
 
 #: The lobe study's rows for the ratio over more of the light than L*: Σ f̂ / Σ D over n × n Gauss-Legendre points of
@@ -856,12 +865,7 @@ def lobe_study(
     widths = [f"width {width:g}" for width in WIDTHS]
     rows = [
         *tables,
-        LOBE_LIMIT,
-        LOBE_LIMIT_LOWER,
-        LOBE_LIMIT_PREVIOUS,
-        LOBE_LIMIT_HALF,
-        LOBE_LIMIT_NO_SPREAD,
-        LOBE_LIMIT_SHIPPED,
+        *LOBE_LIMIT_ROWS,
         *(spread_ratio_row(points) for points in SPREAD_POINTS),
         *(with_the_limit(name) for name in corrected),
         TWO_LOBES,
