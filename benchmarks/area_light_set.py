@@ -121,6 +121,24 @@ def _materials() -> dict[str, tuple[np.ndarray, np.ndarray]]:
     }
 
 
+def _curves() -> dict:
+    """name → the exact Fresnel curve, V·H (N,) → (N, C), of each of :func:`_materials`."""
+    return {
+        name: lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])
+        for name, (eta, kappa) in _materials().items()
+    }
+
+
+def _joined(curves: dict, lobe: bool = False) -> tuple:
+    """(one curve, V·H (N,) → (N, Σ C), of all the channels of ``curves``, after F = 1 and V·H itself with ``lobe``;
+    where np.split cuts its values into those parts): one reference call per light for them all, refined until every
+    channel meets the tolerance."""
+    first = [lambda x: np.stack([np.ones_like(x), x], -1)] if lobe else []
+    parts = [*first, *curves.values()]
+    cuts = np.cumsum([np.shape(part(np.ones(1)))[-1] for part in parts])[:-1]
+    return (lambda x: np.concatenate([part(x) for part in parts], axis=-1)), cuts
+
+
 def _kind(material: str) -> str:
     """ "dielectric" or "conductor": the kind of one of :func:`_materials`."""
     return "dielectric" if material in ("glass", "water") else "conductor"
@@ -598,10 +616,11 @@ def chosen_spread(errors: dict[tuple[float, float] | None, np.ndarray]) -> tuple
     )
 
 
-def spread_study(tolerance: float) -> list[str]:
+def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
     """Markdown lines: the lobe's error (F = 1) over the spread's training lights for each candidate (k, c) and
-    without the term (:func:`spread_errors`); the criterion: :func:`chosen_spread`."""
-    errors = spread_errors(tolerance)
+    without the term (``errors``, by default :func:`spread_errors` at ``tolerance``); the criterion:
+    :func:`chosen_spread`."""
+    errors = spread_errors(tolerance) if errors is None else errors
     chosen, shipped = chosen_spread(errors), (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
 
     def cell(key):
@@ -641,10 +660,8 @@ def split_sum_weight_errors(tolerance: float) -> dict[float, dict[str, np.ndarra
     apart from the lobe's."""
     normal = np.array([0.0, 0.0, 1.0])
     parts: dict[str, list] = {"integral": [], "over light": [], "at star": [], "split": [], "kind": []}
-    curves = {
-        name: lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])
-        for name, (eta, kappa) in _materials().items()
-    }
+    curves = _curves()
+    every, cuts = _joined(curves)
     draw = lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPLIT_SUM_LIGHTS)  # noqa: E731
     for mu_o, roughness, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance, draw):
         splits = {
@@ -653,8 +670,8 @@ def split_sum_weight_errors(tolerance: float) -> dict[float, dict[str, np.ndarra
         }
         for corners, lobe in zip(lights, lobes):
             integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo)
-            for name, curve in curves.items():
-                exact = reference(view, corners, alpha, curve, tolerance)
+            values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
+            for (name, curve), exact in zip(curves.items(), values):
                 keep = exact > 1e-3
                 parts["integral"].append(np.full(np.sum(keep), float(integral)))
                 parts["over light"].append(exact[keep] / lobe)
@@ -987,6 +1004,8 @@ def run(
     by_size: dict[tuple[str, str], dict[str, list]] = {}
     records: list[tuple[str, str, float, float, float]] = []
     normal = np.array([0.0, 0.0, 1.0])
+    curves = _curves()
+    every, cuts = _joined(curves, lobe=True)
     for mu_o in VIEWS:
         view = np.array([np.sqrt(1.0 - mu_o * mu_o), 0.0, mu_o])
         sine = np.sqrt(1.0 - mu_o * mu_o)
@@ -999,15 +1018,14 @@ def run(
             terms = grid.lookup(basis_table, mu_o, roughness)
             albedo = terms[0]
             exact_albedo = lobe_albedo(mu_o, alpha)
-            # what does not depend on the material, once per light: the lobe over it (F = 1, and its V·H summed) and
-            # each table's integral, alone and toward the lobe's limit with V·H* (three.js's as its code takes it)
+            # once per light: the lobe over it (F = 1, and its V·H summed), each material's reference and each table's
+            # integral, alone and toward the lobe's limit with V·H* (three.js's as its code takes it)
             lights = []
             for theta, phi in _placements(mu_o).values():
                 for width in WIDTHS:
                     corners = facing_rectangle(theta, phi, width, DISTANCE)
-                    lobe_and_v_dot_h = reference(
-                        view, corners, alpha, lambda x: np.stack([np.ones_like(x), x], -1), tolerance
-                    )
+                    lobe_and_v_dot_h, *values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
+                    exacts = dict(zip(materials, values))
                     integrals = {
                         table_name: (
                             rect_light_integral(stored, normal, view, np.zeros(3), corners),
@@ -1017,15 +1035,15 @@ def run(
                     }
                     if not isinstance(public, str):
                         integrals["three.js"] = cosine_space_integral(tables["public fit"], normal, view, corners)
-                    lights.append((width, corners, lobe_and_v_dot_h, integrals))
+                    lights.append((width, corners, lobe_and_v_dot_h, exacts, integrals))
             for name, (eta, kappa) in materials.items():
-                curve = lambda x, eta=eta, kappa=kappa: fresnel_complex(x[:, None], eta[None, :], kappa[None, :])  # noqa: E731
+                curve = curves[name]
                 coefficients = coefficients_from_nk(eta, kappa)
                 split_basis = coefficients @ terms
                 split_exact = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
                 kind = _kind(name)
-                for width, corners, (lobe, v_dot_h_sum), integrals in lights:
-                    exact = reference(view, corners, alpha, curve, tolerance)
+                for width, corners, (lobe, v_dot_h_sum), exacts, integrals in lights:
+                    exact = exacts[name]
                     keep = exact > 1e-3
                     if not np.any(keep):
                         continue

@@ -332,7 +332,7 @@ def test_the_spread_is_the_criterions_choice():
     errors = spread_errors(REFERENCE_TOLERANCE)
     assert chosen_spread(errors) == (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
     assert np.percentile(errors[(LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)], 90) < np.percentile(errors[None], 90)
-    lines = spread_study(REFERENCE_TOLERANCE)
+    lines = spread_study(REFERENCE_TOLERANCE, errors)
     assert not any("now picks" in line for line in lines) and sum("(chosen) (shipped)" in line for line in lines) == 1
 
 
