@@ -468,21 +468,45 @@ def _training_texels(tolerance: float, draw=None):
             yield mu_o, roughness, view, alpha, lobe_albedo(mu_o, alpha), stored, lights[lit], lobes[lit]
 
 
+def _lobe_terms(tolerance: float, draw=None) -> dict[str, np.ndarray]:
+    """Over :func:`_training_texels` (``draw`` as there), each lit light's LTC integral I, the lobe-to-LTC ratio at
+    L* (unbounded), the light's solid angle as the LTC gives it, its spread (preintegrate.ltc.lobe_spread), the lobe
+    (F = 1) over it and E, concatenated: what the lobe's limit takes, for the candidates of the training studies."""
+    names = ("integral", "ratio", "solid angle", "spread", "lobe", "albedo")
+    parts: dict[str, list] = {name: [] for name in names}
+    for mu_o, _, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance, draw):
+        vector = horizon_ltc_vector(stored, lights)
+        ltc_angle = ltc_solid_angle(stored, vector)
+        parts["integral"].append(np.maximum(vector[..., 2], 0.0))
+        parts["ratio"].append(
+            lobe_density_ratio(stored, ltc_direction(stored, vector), mu_o, alpha, albedo, sine=view[0])
+        )
+        parts["solid angle"].append(ltc_angle)
+        parts["spread"].append(lobe_spread(ltc_angle, disk_solid_angle(lights)))
+        parts["lobe"].append(lobes)
+        parts["albedo"].append(np.full(len(lobes), albedo))
+    return {name: np.concatenate(parts[name]) for name in names}
+
+
+def _p90_then_median(errors: np.ndarray) -> tuple[float, float]:
+    """The training studies' criterion, as a sort key: the p90 of ``errors``, then their median."""
+    return float(np.percentile(errors, 90)), float(np.median(errors))
+
+
+def _marks(key, chosen, shipped) -> str:
+    """ " (chosen)" and " (shipped)" as ``key`` is the criterion's ``chosen`` and what ships, for a study's table."""
+    return (" (chosen)" if key == chosen else "") + (" (shipped)" if key == shipped else "")
+
+
 def ratio_bound_errors(tolerance: float) -> dict[Key, np.ndarray]:
     """(p, R₀, K, S) → the lobe's relative errors (F = 1) with the shipped table over the training lights, taken
     toward the lobe's limit with the weight I^p and the bound max(R₀, min(K √Ω, S / I)) on the ratio, for each
     candidate (:data:`WEIGHT_POWERS` × :data:`RATIO_LEAST` × :data:`RATIO_PER_SIZE` × :data:`RATIO_SHARES`), and
     (p, inf, inf, inf) → unbounded."""
-    parts: dict[str, list] = {"integral": [], "ratio": [], "lobe": [], "albedo": [], "solid angle": []}
-    for mu_o, _, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance):
-        vector = horizon_ltc_vector(stored, lights)
-        direction = ltc_direction(stored, vector)
-        parts["integral"].append(np.maximum(vector[..., 2], 0.0))
-        parts["ratio"].append(lobe_density_ratio(stored, direction, mu_o, alpha, albedo, sine=view[0]))
-        parts["lobe"].append(lobes)
-        parts["albedo"].append(np.full(len(lobes), albedo))
-        parts["solid angle"].append(ltc_solid_angle(stored, vector))
-    integral, ratio, lobe, albedo, solid_angle = (np.concatenate(parts[name]) for name in parts)
+    terms = _lobe_terms(tolerance)
+    integral, ratio, lobe, albedo, solid_angle = (
+        terms[name] for name in ("integral", "ratio", "lobe", "albedo", "solid angle")
+    )
 
     def error(power, bound):
         return np.abs(toward_lobe_limit(integral, np.minimum(ratio, bound), power) * albedo - lobe) / lobe
@@ -507,7 +531,7 @@ def chosen_bound(errors: dict[Key, np.ndarray]) -> Key:
         for key, e in errors.items()
         if np.isfinite(key[1]) and e.max() <= 1.25 * errors[(key[0], 1.0, 0.0, RATIO_SHARES[0])].max()
     ]
-    return min(allowed, key=lambda key: (np.percentile(errors[key], 90), np.median(errors[key])))
+    return min(allowed, key=lambda key: _p90_then_median(errors[key]))
 
 
 SHIPPED_BOUND = (LOBE_WEIGHT_POWER, LOBE_RATIO_MAX, LOBE_RATIO_PER_SIZE, LOBE_SHARE_RAISED)
@@ -522,8 +546,7 @@ def ratio_bound(tolerance: float) -> list[str]:
     power = LOBE_WEIGHT_POWER
 
     def cell(key):
-        marks = (" (chosen)" if key == chosen else "") + (" (shipped)" if key == SHIPPED_BOUND else "")
-        return _statistics(errors[key]) + marks
+        return _statistics(errors[key]) + _marks(key, chosen, SHIPPED_BOUND)
 
     best = {p: chosen_bound({key: e for key, e in errors.items() if key[0] == p}) for p in WEIGHT_POWERS}
 
@@ -581,19 +604,9 @@ def spread_errors(tolerance: float) -> dict[tuple[float, float] | None, np.ndarr
     (:data:`SPREAD_LIGHTS`), taken toward the lobe's limit with the shipped weight and bound and the spread term with
     that k and c (preintegrate.ltc.toward_lobe_limit, the spread from preintegrate.ltc.disk_solid_angle), for each
     candidate (:data:`SPREAD_POWERS` × :data:`SPREAD_SHARES`); None → without the spread term."""
-    parts: dict[str, list] = {"integral": [], "ratio": [], "spread": [], "lobe": [], "albedo": []}
-    draw = lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPREAD_LIGHTS)  # noqa: E731
-    for mu_o, _, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance, draw):
-        vector = horizon_ltc_vector(stored, lights)
-        integral = np.maximum(vector[..., 2], 0.0)
-        ratio = lobe_density_ratio(stored, ltc_direction(stored, vector), mu_o, alpha, albedo, sine=view[0])
-        ltc_angle = ltc_solid_angle(stored, vector)
-        parts["integral"].append(integral)
-        parts["ratio"].append(np.minimum(ratio, lobe_ratio_bound(integral, ltc_angle)))
-        parts["spread"].append(lobe_spread(ltc_angle, disk_solid_angle(lights)))
-        parts["lobe"].append(lobes)
-        parts["albedo"].append(np.full(len(lobes), albedo))
-    integral, ratio, spread, lobe, albedo = (np.concatenate(parts[name]) for name in parts)
+    terms = _lobe_terms(tolerance, lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPREAD_LIGHTS))
+    integral, spread, lobe, albedo = (terms[name] for name in ("integral", "spread", "lobe", "albedo"))
+    ratio = np.minimum(terms["ratio"], lobe_ratio_bound(integral, terms["solid angle"]))
 
     def error(key):
         power, share = key if key is not None else (1.0, 1.0)
@@ -610,10 +623,7 @@ def chosen_spread(errors: dict[tuple[float, float] | None, np.ndarray]) -> tuple
     """The candidate (k, c) of ``errors`` (:func:`spread_errors`) with the lowest p90, then median (the bound's
     criterion, :func:`chosen_bound`, without its guard on the worst: no candidate's is above the worst without the
     term)."""
-    return min(
-        (key for key in errors if key is not None),
-        key=lambda key: (np.percentile(errors[key], 90), np.median(errors[key])),
-    )
+    return min((key for key in errors if key is not None), key=lambda key: _p90_then_median(errors[key]))
 
 
 def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
@@ -624,9 +634,7 @@ def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
     chosen, shipped = chosen_spread(errors), (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
 
     def cell(key):
-        return (
-            _statistics(errors[key]) + (" (chosen)" if key == chosen else "") + (" (shipped)" if key == shipped else "")
-        )
+        return _statistics(errors[key]) + _marks(key, chosen, shipped)
 
     lines = [
         f"The lobe's spread, on {SPREAD_LIGHTS} seeded lights 0.02 to 10 wide per training view and roughness (N·V "
@@ -707,9 +715,6 @@ def split_sum_weight(tolerance: float) -> list[str]:
     errors = split_sum_weight_errors(tolerance)
     chosen = chosen_split_sum_power(errors)
 
-    def marks(q):
-        return (" (chosen)" if q == chosen else "") + (" (shipped)" if q == SPLIT_SUM_WEIGHT_POWER else "")
-
     counts = {name: len(e) for name, e in errors[chosen].items()}
     lines = [
         f"The Fresnel blend's weight, on {SPLIT_SUM_LIGHTS} seeded lights per training view and roughness drawn "
@@ -725,7 +730,7 @@ def split_sum_weight(tolerance: float) -> list[str]:
         "| q | conductors | dielectrics |",
         "|---|---|---|",
         *(
-            f"| {q:g}{marks(q)} | {_statistics(errors[q]['conductor'])} | {_statistics(errors[q]['dielectric'])} |"
+            f"| {q:g}{_marks(q, chosen, SPLIT_SUM_WEIGHT_POWER)} | {_statistics(errors[q]['conductor'])} | {_statistics(errors[q]['dielectric'])} |"
             for q in SPLIT_SUM_POWERS
         ),
     ]
