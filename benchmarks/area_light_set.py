@@ -32,11 +32,13 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 A third section measures the factorisation alone (with the exact lobe over the light); a fourth, the lobe alone (F = 1)
 for this project's table, the public fit and candidate fits made here (the mean-axis fit alone and on a finer table;
 M's four entries free, L2 and chi-square), the lobe's own punctual limit (:data:`LOBE_LIMIT`, :data:`LOBE_LIMIT_LOWER`,
-:data:`LOBE_LIMIT_PREVIOUS`, :data:`LOBE_LIMIT_HALF`, :data:`LOBE_LIMIT_NO_SPREAD` and as shipped, :data:`LOBE_LIMIT_SHIPPED`, with its weight's and
+:data:`LOBE_LIMIT_PREVIOUS`, :data:`LOBE_LIMIT_HALF`, :data:`LOBE_LIMIT_NO_SPREAD`, :data:`LOBE_LIMIT_NO_UPPER` and as
+shipped, :data:`LOBE_LIMIT_SHIPPED`, with its weight's and
 bound's choice on training lights: :func:`ratio_bound`) and the LTC fitted to the radiance of lights drawn where the
 lobe reflects at the set's own views and roughnesses (:func:`lobe_lights`, :func:`radiance_fit`), the choice of the
 light's spread term on lights drawn where training lobes reflect (:func:`spread_study`, :data:`LOBE_LIMIT_NO_SPREAD`
-without it), then the choice of the Fresnel blend's weight on such lights too (:func:`split_sum_weight`);
+without it), then the choice of the Fresnel blend's weight and of the LTC's share above the horizon on such
+lights too (:func:`blend_study`);
 a fifth, the cost of the forms in
 ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41's baseline
 (:data:`BASELINE_REVISION`'s include, from git).
@@ -75,7 +77,9 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
+    UPPER_SHARE_POWER,
     disk_solid_angle,
     horizon_ltc_vector,
     lobe_density_ratio,
@@ -85,6 +89,7 @@ from preintegrate.ltc import (
     ltc_grid,
     ltc_inverse,
     ltc_solid_angle,
+    ltc_upper_share,
     polygon_integral,
     rect_light_fresnel,
     rect_light_half_cosine,
@@ -93,6 +98,7 @@ from preintegrate.ltc import (
     stored_density,
     target_lobe,
     toward_lobe_limit,
+    toward_upper_share,
 )
 from preintegrate.ltc_choice import CHOICE_LIGHTS as CHOICE_LIGHTS_SHIPPED
 from preintegrate.ltc_choice import facing_rectangle, light_nodes, training_lights
@@ -360,8 +366,10 @@ LOBE_LIMIT_LOWER = "toward the lobe's punctual limit where that lowers the integ
 #: (:func:`ratio_bound`).
 LOBE_LIMIT_SHIPPED = (
     f"this project as shipped: the ratio at most max({LOBE_RATIO_MAX:g}, min({LOBE_RATIO_PER_SIZE:g} √Ω, "
-    f"{LOBE_SHARE_RAISED:g} / I)), the weight with the light's spread"
+    f"{LOBE_SHARE_RAISED:g} / I)), the weight with the light's spread, then the LTC's share above the horizon"
 )
+#: The same without the LTC's share above the horizon (preintegrate.ltc.toward_upper_share), as it shipped before.
+LOBE_LIMIT_NO_UPPER = "the shipped limit without the LTC's share above the horizon (shipped before, not shipped)"
 #: The same without the spread term (preintegrate.ltc.LOBE_SPREAD_POWER), as it shipped before.
 LOBE_LIMIT_NO_SPREAD = "the shipped bound and weight I^p without the spread (shipped before, not shipped)"
 #: What shipped before the bound grew with the light (at 1988e1a): the ratio at most 2 for any light.
@@ -377,6 +385,7 @@ LOBE_LIMIT_ROWS = (
     LOBE_LIMIT_PREVIOUS,
     LOBE_LIMIT_HALF,
     LOBE_LIMIT_NO_SPREAD,
+    LOBE_LIMIT_NO_UPPER,
     LOBE_LIMIT_SHIPPED,
 )
 
@@ -438,13 +447,21 @@ def _toward_limit(stored, vector, ratio, bound: float | None = None, power: floa
 RATIO_LEAST, RATIO_PER_SIZE, RATIO_SHARES = (1.0, 1.25, 1.5, 2.0), (0.0, 10.0, 30.0, 50.0, 100.0), (0.01, 0.03, 0.1)
 WEIGHT_POWERS = tuple(k / 16 for k in range(4, 11))
 CHOICE_VIEWS, CHOICE_ROUGHNESS, CHOICE_LIGHTS = (0.9, 0.5, 0.2, 0.1), (0.25, 0.45, 0.65, 0.85), 64
-#: The candidates for the power q of the split sum's weight I^q in a rectangular light's Fresnel
-#: (preintegrate.ltc.rect_light_fresnel), on :data:`SPLIT_SUM_LIGHTS` seeded lights per training view and roughness
-#: drawn where that lobe reflects (:func:`lobe_lights`, as the spread's; fewer, as each light takes the reference once
-#: per material): the blend matters where a light holds much of the lobe, which few of the hemisphere's training
-#: lights do (on :func:`ratio_bound`'s 64 the criterion chose q = 1.5, which shipped before).
-SPLIT_SUM_POWERS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
-SPLIT_SUM_LIGHTS = 96
+#: The candidates for the Fresnel blend's weight a I + (1 − a) I^n in a rectangular light's Fresnel
+#: (preintegrate.ltc.rect_light_fresnel: a in ``BLEND_LINEARS``, n in ``BLEND_POWERS``) and for the power m of the LTC's
+#: share above the horizon (preintegrate.ltc.toward_upper_share: m in ``UPPER_SHARE_POWERS``, None without it), chosen
+#: together (:func:`chosen_blend`) on ``BLEND_LIGHTS`` seeded lights per training view and roughness drawn where that
+#: lobe reflects (:func:`lobe_lights`, the first of the spread's; fewer, as each light takes the reference once per
+#: material), by the include's total error: the blend and the share take the same I, and the Fresnel factor's error
+#: under a wide light adds to the lobe's or takes from it. ``BLEND_BEFORE`` is what shipped before, w = I² and no
+#: share. Powers of 64 gave no lower training median (scratch) and would steepen both terms further, whose slope
+#: multiplies float32's rounding of I (tests/luts/test_shaders_area.py).
+UPPER_SHARE_POWERS = (None, 2.0, 4.0, 8.0, 16.0, 32.0)
+BLEND_LINEARS = (0.0, 0.25, 0.5, 0.75)
+BLEND_POWERS = (2.0, 4.0, 8.0, 16.0, 32.0)
+BLEND_LIGHTS = 96
+Blend = tuple[float | None, float, float]
+BLEND_BEFORE: Blend = (None, 0.0, 2.0)
 
 Key = tuple[float, float, float, float]
 
@@ -659,83 +676,131 @@ def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
     return lines
 
 
-def split_sum_weight_errors(tolerance: float) -> dict[float, dict[str, np.ndarray]]:
-    """q → {"conductor", "dielectric"} → the relative errors of the include's Fresnel factor, mix(F(V·H*), F̄ / E, I^q)
-    (I and V·H* the include's, preintegrate.ltc.rect_light_half_cosine with the shipped table), against the Fresnel
-    over the light weighted by the lobe (the reference's, F over F = 1), exact curves, over :data:`SPLIT_SUM_LIGHTS`
-    lights per training view and roughness drawn where that lobe reflects (:func:`lobe_lights`) and the set's
-    materials, each value with reference > 1e-3, for each of :data:`SPLIT_SUM_POWERS`: the factorisation's own error,
-    apart from the lobe's."""
+def blend_errors(tolerance: float) -> dict[Blend, dict[str, np.ndarray]]:
+    """(m, a, n) → {"conductor", "dielectric"} → the relative errors of the include's rectangular light,
+    I' E mix(F(V·H*), F̄ / E, a I' + (1 − a) I'^n), I' the LTC integral toward the lobe's limit as shipped and then
+    toward the LTC's share above the horizon with the power m (preintegrate.ltc.toward_upper_share; None: I' = I), V·H*
+    the include's (preintegrate.ltc.rect_light_half_cosine with the shipped table), against the reference, exact
+    curves, E and F̄ the reference's, over :data:`BLEND_LIGHTS` lights per training view and roughness drawn where that
+    lobe reflects (:func:`lobe_lights`) and the set's materials, each value with reference > 1e-3, for each candidate
+    of :data:`UPPER_SHARE_POWERS`, :data:`BLEND_LINEARS` and :data:`BLEND_POWERS`."""
     normal = np.array([0.0, 0.0, 1.0])
-    parts: dict[str, list] = {"integral": [], "over light": [], "at star": [], "split": [], "kind": []}
+    names = ("integral", "upper", "exact", "punctual", "split", "kind")
+    parts: dict[str, list] = {name: [] for name in names}
     curves = _curves()
     every, cuts = _joined(curves)
-    draw = lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPLIT_SUM_LIGHTS)  # noqa: E731
-    for mu_o, roughness, view, alpha, albedo, stored, lights, lobes in _training_texels(tolerance, draw):
+    draw = lambda mu_o, alpha: lobe_lights(mu_o, alpha, BLEND_LIGHTS)  # noqa: E731
+    for mu_o, roughness, view, alpha, albedo, stored, lights, _ in _training_texels(tolerance, draw):
         splits = {
-            name: reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0] / albedo
-            for name, curve in curves.items()
+            name: reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0] for name, curve in curves.items()
         }
-        for corners, lobe in zip(lights, lobes):
-            integral, v_dot_h = rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo)
+        upper = float(ltc_upper_share(stored))
+        for corners in lights:
+            integral, v_dot_h = rect_light_half_cosine(
+                stored, normal, view, np.zeros(3), corners, roughness, albedo, upper_power=None
+            )
             values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
             for (name, curve), exact in zip(curves.items(), values):
                 keep = exact > 1e-3
                 parts["integral"].append(np.full(np.sum(keep), float(integral)))
-                parts["over light"].append(exact[keep] / lobe)
-                parts["at star"].append(curve(np.array([float(v_dot_h)]))[0][keep])
+                parts["upper"].append(np.full(np.sum(keep), upper))
+                parts["exact"].append(exact[keep])
+                parts["punctual"].append(albedo * curve(np.array([float(v_dot_h)]))[0][keep])
                 parts["split"].append(splits[name][keep])
                 parts["kind"].append(np.full(np.sum(keep), _kind(name)))
-    integral, over_light, at_star, split, kind = (np.concatenate(parts[name]) for name in parts)
+    integral, upper, exact, punctual, split, kind = (np.concatenate(parts[name]) for name in names)
     errors = {}
-    for power in SPLIT_SUM_POWERS:
-        specular = rect_light_fresnel(integral, split[:, None], at_star[:, None], power)[:, 0]
-        # the factor is the specular over I; where I is 0 its limit, F(V·H*) (the weight I^q is 0 there)
-        form = np.where(integral > 0.0, specular / np.where(integral > 0.0, integral, 1.0), at_star)
-        error = np.abs(form - over_light) / over_light
-        errors[power] = {name: error[kind == name] for name in ("conductor", "dielectric")}
+    for upper_power in UPPER_SHARE_POWERS:
+        raised = integral if upper_power is None else toward_upper_share(integral, upper, upper_power)
+        for linear in BLEND_LINEARS:
+            for power in BLEND_POWERS:
+                value = rect_light_fresnel(raised, split[:, None], punctual[:, None], power, linear)[:, 0]
+                error = np.abs(value - exact) / exact
+                errors[(upper_power, linear, power)] = {
+                    name: error[kind == name] for name in ("conductor", "dielectric")
+                }
     return errors
 
 
-def chosen_split_sum_power(errors: dict[float, dict[str, np.ndarray]]) -> float:
-    """The q of ``errors`` (:func:`split_sum_weight_errors`) with the lowest p90 of the worse of conductors and
-    dielectrics, then the lowest median of the worse."""
-    return min(
-        errors,
-        key=lambda q: (
-            max(np.percentile(e, 90) for e in errors[q].values()),
-            max(np.median(e) for e in errors[q].values()),
-        ),
-    )
+def _worse(errors: dict[str, np.ndarray], percentile: float) -> float:
+    """The ``percentile`` of the worse of the kinds in ``errors`` ({kind: relative errors})."""
+    return max(float(np.percentile(values, percentile)) for values in errors.values())
 
 
-def split_sum_weight(tolerance: float) -> list[str]:
-    """Markdown lines: the include's Fresnel factor on the training lights for each candidate power of its split
-    sum's weight (:func:`split_sum_weight_errors`); the criterion: :func:`chosen_split_sum_power`."""
-    errors = split_sum_weight_errors(tolerance)
-    chosen = chosen_split_sum_power(errors)
+def chosen_blend(errors: dict[Blend, dict[str, np.ndarray]], keys=None) -> Blend | None:
+    """The (m, a, n) of ``errors`` (:func:`blend_errors`; of ``keys`` among them where given) with the lowest median of
+    the worse of conductors and dielectrics, then the lowest p90 of the worse, among those whose p90 of the worse is no
+    higher than :data:`BLEND_BEFORE`'s: the median is the target the set missed, the p90 one it met. None where no key
+    qualifies."""
+    limit = _worse(errors[BLEND_BEFORE], 90)
+    allowed = [key for key in (errors if keys is None else keys) if _worse(errors[key], 90) <= limit]
+    return min(allowed, key=lambda key: (_worse(errors[key], 50), _worse(errors[key], 90)), default=None)
 
-    counts = {name: len(e) for name, e in errors[chosen].items()}
+
+def _blend_name(key: Blend) -> str:
+    upper_power, linear, power = key
+    share = "no share" if upper_power is None else f"m = {upper_power:g}"
+    return f"{share}, a = {linear:g}, n = {power:g}"
+
+
+def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | None = None) -> list[str]:
+    """Markdown lines: the include's rectangular light on the blend's training lights for each candidate of the
+    Fresnel blend's weight and of the LTC's share above the horizon (:func:`blend_errors`, computed here unless given);
+    the criterion: :func:`chosen_blend`."""
+    errors = blend_errors(tolerance) if errors is None else errors
+    chosen = chosen_blend(errors)
+    shipped = (UPPER_SHARE_POWER, SPLIT_SUM_WEIGHT_LINEAR, SPLIT_SUM_WEIGHT_POWER)
+    counts = {name: len(values) for name, values in errors[BLEND_BEFORE].items()}
+
+    def cell(key: Blend) -> str:
+        return f"{100 * _worse(errors[key], 50):.2f} % / {100 * _worse(errors[key], 90):.1f} %{_marks(key, chosen, shipped)}"
+
     lines = [
-        f"The Fresnel blend's weight, on {SPLIT_SUM_LIGHTS} seeded lights per training view and roughness drawn "
-        "where that lobe reflects (`lobe_lights`, the first of the spread's): the include's factor "
-        "mix(F(V·H*), F̄ / E, I^q), "
-        "I and V·H* the include's (the shipped table, taken toward the lobe's limit as shipped), against F over the "
-        "light weighted by the lobe (the reference's), exact curves, the set's materials "
-        f"({counts['conductor']} conductor and {counts['dielectric']} dielectric values with reference > 1e-3), "
-        "median / p90 / max: the factorisation's own error, apart from the lobe's. The chosen q has the lowest p90 "
-        "of the worse of the two kinds, then median (q = 1.5 shipped before, the choice on the hemisphere's 64 training "
-        "lights of the bound; q = 1 before that):",
+        f"The Fresnel blend's weight and the horizon's share, on {BLEND_LIGHTS} seeded lights per training view and "
+        "roughness drawn where that lobe reflects (`lobe_lights`, the first of the spread's): the include's rectangular "
+        "light, I' E mix(F(V·H*), F̄ / E, a I' + (1 − a) I'^n), I' the shipped table's integral taken toward the "
+        "lobe's limit as shipped and then toward the LTC's share above the horizon H, I (1 + (1/H − 1) min(I/H, 1)^m) "
+        "(`preintegrate.ltc.toward_upper_share`, `ltc_upper_share`), against the reference, exact curves, the set's "
+        f"materials ({counts['conductor']} conductor and {counts['dielectric']} dielectric values with reference "
+        "> 1e-3), the lobe and the factor together, as both take I'. The chosen (m, a, n) has the lowest median of the "
+        "worse of the two kinds, then p90, among those whose p90 is no higher than that of what shipped before (no "
+        "share, w = I², chosen by the factor's own p90: "
+        f"{100 * _worse(errors[BLEND_BEFORE], 50):.2f} % / {100 * _worse(errors[BLEND_BEFORE], 90):.1f} %). "
+        "Each m with its best (a, n) by the same criterion, median / p90 / max:",
         "",
-        "| q | conductors | dielectrics |",
-        "|---|---|---|",
+        "| m | a, n | conductors | dielectrics |",
+        "|---|---|---|---|",
+    ]
+    for upper_power in UPPER_SHARE_POWERS:
+        keys = [key for key in errors if key[0] == upper_power]
+        best = chosen_blend(errors, keys)
+        if best is None:
+            lines.append(f"| {'none' if upper_power is None else f'{upper_power:g}'} | – (every p90 above) | – | – |")
+            continue
+        lines.append(
+            f"| {'none' if upper_power is None else f'{upper_power:g}'} | {best[1]:g}, {best[2]:g}"
+            f"{_marks(best, chosen, shipped)} | {_statistics(errors[best]['conductor'])} | "
+            f"{_statistics(errors[best]['dielectric'])} |"
+        )
+    lines.append(
+        f"| none, w = I² (shipped before) | 0, 2 | {_statistics(errors[BLEND_BEFORE]['conductor'])} | "
+        f"{_statistics(errors[BLEND_BEFORE]['dielectric'])} |"
+    )
+    upper_power = chosen[0] if chosen is not None else UPPER_SHARE_POWER
+    lines += [
+        "",
+        f"At m = {'none' if upper_power is None else f'{upper_power:g}'}, every (a, n), the worse of the two kinds, "
+        "median / p90:",
+        "",
+        "| a | " + " | ".join(f"n = {power:g}" for power in BLEND_POWERS) + " |",
+        "|---|" + "---|" * len(BLEND_POWERS),
         *(
-            f"| {q:g}{_marks(q, chosen, SPLIT_SUM_WEIGHT_POWER)} | {_statistics(errors[q]['conductor'])} | {_statistics(errors[q]['dielectric'])} |"
-            for q in SPLIT_SUM_POWERS
+            f"| {linear:g} | " + " | ".join(cell((upper_power, linear, power)) for power in BLEND_POWERS) + " |"
+            for linear in BLEND_LINEARS
         ),
     ]
-    if chosen != SPLIT_SUM_WEIGHT_POWER:
-        lines += ["", f"The criterion now picks q = {chosen:g}; preintegrate.ltc ships {SPLIT_SUM_WEIGHT_POWER:g}."]
+    if chosen != shipped:
+        lines += ["", f"The criterion now picks {_blend_name(chosen)}; preintegrate.ltc ships {_blend_name(shipped)}."]
     return lines
 
 
@@ -858,6 +923,9 @@ def lobe_study(
                     approximations[LOBE_LIMIT_HALF] = lobe_limit_integral(
                         first, view, corners, alpha, albedo, None, PREVIOUS_WEIGHT_POWER
                     )
+                    approximations[LOBE_LIMIT_NO_UPPER] = rect_light_half_cosine(
+                        first, normal, view, np.zeros(3), corners, roughness, albedo, upper_power=None
+                    )[0]
                     approximations[LOBE_LIMIT_SHIPPED] = rect_light_half_cosine(
                         first, normal, view, np.zeros(3), corners, roughness, albedo
                     )[0]
@@ -1149,7 +1217,8 @@ def run(
         "The Fresnel factor a rectangular light needs is F averaged over the light, weighted by the lobe "
         "(the reference over its F = 1 part); each form's relative error against it, with the exact curve and the "
         "exact mean V·H over the light (the reference's), median / p90 / max; the blends weigh the split sum by "
-        f"I^{SPLIT_SUM_WEIGHT_POWER:g}, I the exact share of the lobe, as the include weighs it "
+        f"{SPLIT_SUM_WEIGHT_LINEAR:g} I + {1 - SPLIT_SUM_WEIGHT_LINEAR:g} I^{SPLIT_SUM_WEIGHT_POWER:g}, I the exact "
+        "share of the lobe, as the include weighs it "
         "(`preintegrate.ltc.rect_light_fresnel`); the last two take V·H* of the light's representative direction as "
         "the include does (the shipped table's): what the include's factorisation costs by itself, apart from its "
         "lobe:",
@@ -1189,8 +1258,9 @@ def run(
             "ratio unbounded, at most 1 (it only takes off what the LTC holds beyond the lobe), at most "
             f"{PREVIOUS_RATIO_MAX:g} for any light (the bound that shipped before), at most max({LOBE_RATIO_MAX:g}, "
             f"min({LOBE_RATIO_PER_SIZE:g} √Ω, {LOBE_SHARE_RAISED:g} / I)), Ω the light's solid angle, with the "
-            "weight √I (p = 1/2, what shipped before that), with I^p alone (what shipped before) and with I^p and the "
-            "light's spread, what ships "
+            "weight √I (p = 1/2, what shipped before that), with I^p alone (what shipped before that), with I^p and "
+            "the light's spread (what shipped before) and with it taken then toward the LTC's share above the horizon "
+            "(`preintegrate.ltc.toward_upper_share`), what ships "
             "(`fresnelBasisRectLight`; it also raises the integral where the LTC holds less than the lobe, for a "
             "light that is not tiny further while the raised value is a small share of the lobe; the bound's choice "
             "follows the tables); the next three take the ratio as shipped but over n × n points of the light rather than at "
@@ -1213,7 +1283,7 @@ def run(
             "",
             *spread_study(tolerance),
             "",
-            *split_sum_weight(tolerance),
+            *blend_study(tolerance),
         ]
     if measure_cost:
         lines += ["", "## Cost", "", *cost()]

@@ -37,7 +37,9 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
+    UPPER_SHARE_POWER,
     edge_factor_polynomial,
 )
 from preintegrate.lut import LutGrid
@@ -576,9 +578,17 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         ),
         _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
         _constant(
-            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER",
-            SPLIT_SUM_WEIGHT_POWER,
-            "q: the split sum's weight I^q in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)",
+            "FRESNEL_LTC_UPPER_SHARE_POWER",
+            UPPER_SHARE_POWER,
+            "m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)",
+        ),
+        _constant(
+            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR",
+            SPLIT_SUM_WEIGHT_LINEAR,
+            "a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)",
+        ),
+        _constant(
+            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER", SPLIT_SUM_WEIGHT_POWER, "n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)"
         ),
         *edge_constants,
         axes_constant,

@@ -14,7 +14,9 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
+    UPPER_SHARE_POWER,
     disk_solid_angle,
     edge_factor,
     edge_factor_polynomial,
@@ -28,6 +30,7 @@ from preintegrate.ltc import (
     ltc_grid,
     ltc_inverse,
     ltc_solid_angle,
+    ltc_upper_share,
     polygon_integral,
     polygon_vector,
     rect_light_direction,
@@ -35,7 +38,9 @@ from preintegrate.ltc import (
     rect_light_half_cosine,
     rect_light_integral,
     shading_frame,
+    stored_density,
     toward_lobe_limit,
+    toward_upper_share,
 )
 
 NODES, NODE_WEIGHTS = np.polynomial.legendre.leggauss(160)
@@ -310,25 +315,104 @@ def test_rect_light_half_cosine_takes_roughness_and_albedo_together():
         rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, 0.5, 0.0)
 
 
-@pytest.mark.parametrize("power", [0.0, -0.5, 9.0, float("nan"), float("inf")])
+@pytest.mark.parametrize("power", [0.0, -0.5, float("nan"), float("inf")])
 def test_the_weights_refuse_a_power_out_of_range(power):
-    """toward_lobe_limit's and rect_light_fresnel's weights I^p: p in (0, 8], else a ParameterError naming it."""
+    """toward_lobe_limit's weight I^p takes p in (0, 8], rect_light_fresnel's a I + (1 − a) I^n and
+    toward_upper_share's min(I/H, 1)^m take n, m in (0, 64] and a in [0, 1]; else a ParameterError naming it."""
+    for function in (
+        lambda value: toward_lobe_limit(0.5, 1.2, value),
+        lambda value: rect_light_fresnel(0.5, np.array([0.2]), np.array([0.3]), value),
+        lambda value: toward_upper_share(0.5, 0.9, value),
+    ):
+        with pytest.raises(ParameterError, match="power"):
+            function(power)
     with pytest.raises(ParameterError, match="power"):
-        toward_lobe_limit(0.5, 1.2, power)
-    with pytest.raises(ParameterError, match="power"):
-        rect_light_fresnel(0.5, np.array([0.2]), np.array([0.3]), power)
+        toward_lobe_limit(0.5, 1.2, 9.0)
+    for function in (
+        lambda: rect_light_fresnel(0.5, np.array([0.2]), np.array([0.3]), 65.0),
+        lambda: toward_upper_share(0.5, 0.9, 65.0),
+    ):
+        with pytest.raises(ParameterError, match="power"):
+            function()
+    for linear in (-0.1, 1.5, float("nan")):
+        with pytest.raises(ParameterError, match="linear"):
+            rect_light_fresnel(0.5, np.array([0.2]), np.array([0.3]), linear=linear)
+    for upper in (0.0, 1.1, float("nan")):
+        with pytest.raises(ParameterError, match="upper_share"):
+            toward_upper_share(0.5, upper)
 
 
 def test_the_weights_are_the_powers_of_the_integral():
-    """The closed forms at I = 0.25 with the shipped powers: the lobe's I (w + (1 − w) ratio), w = I^p, and the
-    Fresnel's I mix(E F, F̄, I^q); I = 1 keeps the LTC's integral and the split sum whatever the ratio."""
+    """The closed forms at I = 0.25 with the shipped constants: the lobe's I (w + (1 − w) ratio), w = I^p, and the
+    Fresnel's I mix(E F, F̄, a I + (1 − a) I^n); I = 1 keeps the LTC's integral and the split sum whatever the ratio."""
     w = 0.25**LOBE_WEIGHT_POWER
     assert toward_lobe_limit(0.25, 1.2) == pytest.approx(0.25 * (w + (1.0 - w) * 1.2), rel=1e-15)
     assert toward_lobe_limit(1.0, 1.7) == 1.0
-    q = 0.25**SPLIT_SUM_WEIGHT_POWER
+    q = SPLIT_SUM_WEIGHT_LINEAR * 0.25 + (1.0 - SPLIT_SUM_WEIGHT_LINEAR) * 0.25**SPLIT_SUM_WEIGHT_POWER
     got = rect_light_fresnel(0.25, np.array([0.2]), np.array([0.3]))
     assert got == pytest.approx(0.25 * (q * 0.2 + (1.0 - q) * 0.3), rel=1e-15)
     assert rect_light_fresnel(1.0, np.array([0.2]), np.array([0.3]))[0] == pytest.approx(0.2, rel=1e-15)
+
+
+def test_the_ltcs_upper_share_is_its_density_above_the_horizon():
+    """ltc_upper_share's closed form (1 + n_z) / 2 against the LTC's density summed over the upper hemisphere on a
+    1600 × 800 latitude-longitude grid (its own error below 1e-5 for these lobes): M⁻¹ of the identity (1), of lobes
+    tilted toward and beyond the horizon, and with a negative determinant; H is 1 for a matrix that keeps the axis."""
+    theta = (np.arange(800) + 0.5) * (0.5 * np.pi) / 800
+    phi = (np.arange(1600) + 0.5) * 2 * np.pi / 1600
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    directions = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
+    cell = (np.sin(t) * (0.5 * np.pi / 800) * (2 * np.pi / 1600)).reshape(-1)
+    for stored in ([1.0, 0.0, 0.0, 1.0], [0.9, 0.4, -0.3, 0.8], [0.5, -0.2, 0.7, 0.3], [1.2, 0.9, 0.1, -0.6]):
+        stored = np.array(stored)
+        numeric = np.sum(cell * stored_density(np.broadcast_to(stored, (len(directions), 4)), directions))
+        assert ltc_upper_share(stored) == pytest.approx(numeric, abs=2e-5), stored
+    assert ltc_upper_share(np.array([[2.0, 0.0, 0.5, 1.0]]))[0] == 1.0
+    with pytest.raises(ParameterError, match="stored"):
+        ltc_upper_share(np.zeros(3))
+
+
+def test_toward_the_upper_share_a_light_holding_all_above_the_horizon_gets_one():
+    """toward_upper_share: I = H becomes 1, an I of at least H too (at most 1); a small I stays within (I / H)^m of
+    itself; the closed form in between; H = 1 changes nothing."""
+    upper = 0.84
+    assert toward_upper_share(upper, upper) == pytest.approx(1.0, rel=1e-15)
+    assert toward_upper_share(0.95, upper) == 1.0
+    assert toward_upper_share(0.01, upper) == pytest.approx(0.01, rel=(0.01 / upper) ** UPPER_SHARE_POWER)
+    share = (0.8 / upper) ** UPPER_SHARE_POWER
+    assert toward_upper_share(0.8, upper) == pytest.approx(0.8 * (1.0 + (1.0 / upper - 1.0) * share), rel=1e-15)
+    assert np.array_equal(toward_upper_share([0.1, 0.5, 1.0], 1.0), [0.1, 0.5, 1.0])
+
+
+def test_a_light_over_the_whole_hemisphere_comes_to_the_lobes_integral():
+    """The shipped table's path (rect_light_half_cosine with E from the independent reference) under a quad 2e4 wide at
+    height 1, which holds all of the normalised lobe but a sliver at the horizon (its integral there is 1 by E's
+    definition): within 2e-3 of 1 where the LTC keeps nearly all of itself above the horizon, and at N·V 0.08, r 0.3,
+    where it keeps 0.84, the LTC's share above the horizon takes it from 0.83 to 0.93 (the lobe's limit there lowers I
+    below H, which the share's power then weighs: preintegrate.ltc.toward_upper_share)."""
+    from basis.storage import shipped_path
+    from handoff.exr import read_lut
+    from handoff.shipped import LTC_LUT
+    from tests.references.integration import reference_albedo_grid
+
+    table = read_lut(shipped_path(LTC_LUT))[0]
+    # wound so that (c1 − c0) × (c3 − c0) points down, at the shaded point
+    quad = np.array([[-1e4, 1e4, 1.0], [1e4, 1e4, 1.0], [1e4, -1e4, 1.0], [-1e4, -1e4, 1.0]])
+    normal = np.array([0.0, 0.0, 1.0])
+    for mu_o, roughness in ((0.08, 0.3), (0.5, 0.5), (0.9, 0.8), (0.25, 0.7)):
+        sine = np.sqrt(1.0 - mu_o * mu_o)
+        view = np.array([sine, 0.0, mu_o])
+        stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
+        albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), [mu_o], [roughness**2])[0, 0]
+        got, without = (
+            rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo, upper_power=power)[0]
+            for power in (UPPER_SHARE_POWER, None)
+        )
+        assert without <= got <= 1.0, (mu_o, roughness, got, without)
+        if ltc_upper_share(stored) > 0.99:
+            assert got == pytest.approx(1.0, abs=2e-3), (mu_o, roughness, got)
+        else:
+            assert got > without + 0.09, (mu_o, roughness, got, without)
 
 
 def test_the_ltc_density_is_normalised():

@@ -162,6 +162,19 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
 
+// The integral taken toward the LTC's share above the shading horizon, H = (1 + n.z) / 2, n the unit normal (M's third
+// row, (-m20, 0, m00) / det) of the plane the table's M^-1 (t, its determinant det) takes the horizon to:
+// I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = FRESNEL_LTC_UPPER_SHARE_POWER (preintegrate.ltc.toward_upper_share,
+// ltc_upper_share): the LTC's share below the horizon stands for lobe just above it, which only a light covering nearly
+// all of the lobe holds; H at least 1e-3 (the shipped table's least is 0.84).
+float fresnelLtcTowardUpper(float integral, vec4 t, float det)
+{
+    float cosine = t.x * inversesqrt(max(t.x * t.x + t.y * t.y, 1e-37));
+    float upper = max(0.5 + 0.5 * ((det < 0.0) ? -cosine : cosine), 1e-3);
+    float share = pow(min(integral / upper, 1.0), FRESNEL_LTC_UPPER_SHARE_POWER);
+    return min(integral * (1.0 + (1.0 / upper - 1.0) * share), 1.0);
+}
+
 // The solid angle of the quad with corners (world space) seen from P, as a disk seen on its axis with the quad's
 // projected solid angle |c . a| / |c|^3 (c the quad's centre from P, a = (1/2) (v2 - v0) x (v3 - v1) its vector area),
 // 2 pi (1 - 1 / root), root = sqrt(1 + that / pi), written without the difference (preintegrate.ltc.disk_solid_angle:
@@ -181,7 +194,8 @@ float fresnelLtcDiskSolidAngle(vec3 P, vec3 corners[4])
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
 // that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
-// for albedo E > 0, the LTC's own for albedo 0.
+// and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
+// albedo 0.
 vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
@@ -206,7 +220,7 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     vec3 L = fresnelLtcUnit(back);
     float integral = max(f.z, 0.0);
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
-    return vec4(L, (albedo > 0.0) ? fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)) : integral);
+    return vec4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -221,11 +235,12 @@ float fresnelLtcVdotH(vec4 light, vec3 view)
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
 }
 
-// The weight w = I^q of the split sum in a rectangular light's Fresnel, I = light.w the share of the lobe the light
-// covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel).
+// The weight w = a I + (1 - a) I^n of the split sum in a rectangular light's Fresnel, I = light.w the share of the lobe
+// the light covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel).
 float fresnelLtcSplitSumWeight(vec4 light)
 {
-    return pow(clamp(light.w, 0.0, 1.0), FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER);
+    float share = clamp(light.w, 0.0, 1.0);
+    return FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR) * pow(share, FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER);
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
