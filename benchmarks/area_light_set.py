@@ -970,6 +970,10 @@ def lobe_study(
 
 
 def _statistics(errors: np.ndarray) -> str:
+    """median / p90 / max of relative ``errors`` in per cent; "–" where there are none (a narrow run's size class may
+    hold no value above the floor)."""
+    if np.size(errors) == 0:
+        return "–"
     p50, p90 = np.percentile(errors, [50, 90])
     return f"{100 * p50:.2f} % / {100 * p90:.1f} % / {100 * errors.max():.0f} %"
 
@@ -1183,7 +1187,7 @@ def run(
     for approach, kinds in results.items():
         cells = []
         for kind in ("conductor", "dielectric"):
-            total, fresnel = (np.array(values) for values in kinds[kind])
+            total, fresnel = (np.array(values) for values in kinds.get(kind, ([], [])))
             cells += [_statistics(total), _statistics(fresnel)]
         lines.append(f"| {approach} | " + " | ".join(cells) + " |")
     if isinstance(public, str):
@@ -1205,8 +1209,8 @@ def run(
         "| width | approach | conductors | dielectrics |",
         "|---|---|---|---|",
         *(
-            f"| {size} | {approach.split(',')[0]} | {_statistics(np.array(kinds['conductor']))} | "
-            f"{_statistics(np.array(kinds['dielectric']))} |"
+            f"| {size} | {approach.split(',')[0]} | {_statistics(np.array(kinds.get('conductor', [])))} | "
+            f"{_statistics(np.array(kinds.get('dielectric', [])))} |"
             for (size, approach), kinds in sorted(by_size.items())
         ),
     ]

@@ -397,6 +397,20 @@ def test_area_light_set_refuses_a_tolerance_or_roughness_out_of_range(option, me
     assert exited.value.code == 2 and message in capsys.readouterr().err
 
 
+def test_area_light_set_reports_a_class_without_values():
+    """At r = 0.85 alone no small light gives a dielectric value above the floor (1e-3): the report says "–" for that
+    class and runs to its end rather than failing on an empty percentile."""
+    completed = _run(
+        "benchmarks.area_light_set",
+        *("--tolerance", "1e-3", "--three", "none", "--no-cost", "--no-fits", "--roughness", "0.85"),
+        timeout=600,
+    )
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    small = [line for line in completed.stdout.splitlines() if line.startswith("| small (≤ 0.2) | punctual blend |")]
+    assert len(small) == 1 and small[0].rstrip().endswith("| – |"), completed.stdout
+    assert "| width 0.02 | –; – |" in completed.stdout
+
+
 def test_area_light_set_runs_small(tmp_path):
     """The area-light set with a coarse reference, without peers or cost, at two roughnesses (one glossy): every
     approach, the factorisation and the figure's values by view and by width, the roughnesses and the command in the
