@@ -47,7 +47,8 @@ Run: ``.venv/bin/python -m benchmarks.area_light_set [--tolerance T] [--three VE
 [--roughness R ...] [--out FILE]`` (the report: ``--out report/area_light_set.md``, which also writes
 ``report/area_light_set.png``, the totals by view and by the light's width: :func:`figure`, :func:`figure_values`;
 glossy surfaces, outside the set: ``--roughness 0.1 0.15 0.2 --no-fits --no-cost --out report/area_light_glossy.md``,
-the same lights, views and materials).
+and roughnesses between and beyond the set's: ``--roughness 0.4 0.6 0.85 --no-fits --no-cost --out
+report/area_light_heldout.md``, the same lights, views and materials).
 """
 
 from __future__ import annotations
