@@ -595,8 +595,7 @@ def ratio_bound(tolerance: float) -> list[str]:
         f"Every bound at p = {power:g}, what ships (K = 0 is R₀ for any light, whatever S; R₀ = {PREVIOUS_RATIO_MAX:g} "
         "shipped before):",
         "",
-        "| R₀ | K | " + " | ".join(f"S = {share:g}" for share in RATIO_SHARES) + " |",
-        "|---|---|" + "---|" * len(RATIO_SHARES),
+        *_table_head(["R₀", "K", *(f"S = {share:g}" for share in RATIO_SHARES)]),
         *(
             f"| {least:g} | {per_size:g} | "
             + " | ".join(cell((power, least, per_size, share)) for share in RATIO_SHARES)
@@ -665,8 +664,7 @@ def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
         "which the ratio at L* does not stand. The chosen (k, c) has the lowest p90, then median (the bound's "
         f"criterion). Without the term: {_statistics(errors[None])}.",
         "",
-        "| k | " + " | ".join(f"c = {share:g}" for share in SPREAD_SHARES) + " |",
-        "|---|" + "---|" * len(SPREAD_SHARES),
+        *_table_head(["k", *(f"c = {share:g}" for share in SPREAD_SHARES)]),
         *(
             f"| {power:g} | " + " | ".join(cell((power, share)) for share in SPREAD_SHARES) + " |"
             for power in SPREAD_POWERS
@@ -793,8 +791,7 @@ def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | N
         f"At m = {'none' if upper_power is None else f'{upper_power:g}'}, every (a, n), the worse of the two kinds, "
         "median / p90:",
         "",
-        "| a | " + " | ".join(f"n = {power:g}" for power in BLEND_POWERS) + " |",
-        "|---|" + "---|" * len(BLEND_POWERS),
+        *_table_head(["a", *(f"n = {power:g}" for power in BLEND_POWERS)]),
         *(
             f"| {linear:g} | " + " | ".join(cell((upper_power, linear, power)) for power in BLEND_POWERS) + " |"
             for linear in BLEND_LINEARS
@@ -964,10 +961,16 @@ def lobe_study(
     ]
     lines = []
     for columns in (placements, widths):
-        lines += ["", "| table | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
+        lines += ["", *_table_head(["table", *columns])]
         for name in rows:
             lines.append(f"| {name} | " + " | ".join(_statistics(np.array(errors[(name, c)])) for c in columns) + " |")
     return lines[1:]
+
+
+def _table_head(labels) -> list[str]:
+    """A Markdown table's header row of ``labels`` and its separator."""
+    labels = list(labels)
+    return ["|" + "|".join(f" {label} " if label else " " for label in labels) + "|", "|" + "---|" * len(labels)]
 
 
 def _statistics(errors: np.ndarray) -> str:
@@ -1007,8 +1010,7 @@ def figure_table(groups) -> list[str]:
     lines = [
         "The figure's values, total error median / p90 / max (conductors; dielectrics):",
         "",
-        "| | " + " | ".join(shown) + " |",
-        "|---|" + "---|" * len(shown),
+        *_table_head(["", *shown]),
     ]
     for label, values in (("N·V", sorted(VIEWS)), ("width", WIDTHS)):
         for value in values:
