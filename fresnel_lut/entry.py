@@ -10,7 +10,9 @@ loaded later, on first use (scipy, matplotlib), is covered by recognising any er
 library swallows the KeyboardInterrupt (a bare ``except:`` around an optional import), a watchdog started by the
 first Ctrl-C ends the process after :data:`GRACE` seconds with the same line and status; what a write left
 half done is what a kill leaves, which the next writer finishes (:mod:`basis.storage`). A closed pipe
-on standard output (``fresnel-lut … | head``) ends the command quietly. Before numpy loads, its and OpenBLAS'
+on standard output (``fresnel-lut … | head``) ends the command quietly. Once the command's outcome is known, the
+installed command ignores Ctrl-C to its exit (:func:`main`'s ``final``), where an interrupt could only print a
+traceback after the command's last line. Before numpy loads, its and OpenBLAS'
 kernels are pinned (:mod:`fresnel_lut.kernels`) so that the files the command writes are the same bytes on every
 x86-64 machine. Everything else is :func:`fresnel_lut.cli.main`.
 """
@@ -38,7 +40,11 @@ except KeyboardInterrupt:
     raise SystemExit(130) from None
 
 
-def main() -> int:
+def main(final: bool = False) -> int:
+    """The command (:func:`fresnel_lut.cli.main`) under the guard of the module docstring; its exit status. With
+    ``final`` (the installed command, whose process ends when this returns: :func:`console`) Ctrl-C is ignored from
+    the moment the command's outcome is known, so that nothing between it and the exit prints a traceback; for
+    in-process callers (the tests) a later Ctrl-C still raises KeyboardInterrupt."""
     held: list[int] = []
     reported = threading.Event()
     try:  # one guard from the first line: a Ctrl-C between any two steps below ends with the one line, not a traceback
@@ -54,16 +60,26 @@ def main() -> int:
         if held:
             raise KeyboardInterrupt
         status = run()
+        _settled(final)  # a Ctrl-C before this line is still the guard's: the one line and 130
     except BrokenPipeError:  # the reader of standard output went away: stop without a message
+        _settled(final)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         status = 1
     except BaseException as error:
+        _settled(final)
         if not caused_by_interrupt(error):
             raise
         print(INTERRUPTED, file=sys.stderr)
         status = 130
     reported.set()  # the command has ended and said so: the watchdog has nothing left to do
     return status
+
+
+def _settled(final: bool) -> None:
+    """The command's outcome is known: for the installed command (``final``), Ctrl-C is ignored from here to the
+    exit, where it could only print a traceback after the command's own last line."""
+    if final:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _interrupt_handler(reported: threading.Event):
@@ -90,7 +106,7 @@ def console() -> int:
     """The ``fresnel-lut`` command: :func:`main`, and after an interrupt an exit without the interpreter's finalisation
     (every file is already whole or untouched; a C extension whose import Ctrl-C cut short would print its own
     reference-leak report there, after the one line)."""
-    status = main()
+    status = main(final=True)
     if status == 130:
         for stream in (sys.stdout, sys.stderr):
             try:

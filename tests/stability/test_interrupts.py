@@ -172,3 +172,46 @@ def test_a_swallowed_ctrl_c_still_ends_the_command_within_a_second(tmp_path):
     _, error = process.communicate(timeout=30)
     assert process.returncode == 130 and time.monotonic() - sent < GRACE + 1.0
     assert error.strip() == "fresnel-lut: interrupted; no file was written or replaced"
+
+
+def test_ctrl_c_after_the_command_has_ended_prints_no_traceback():
+    """Once the installed command's outcome is known (``main(final=True)``, as ``console`` calls it) Ctrl-C is
+    ignored to the exit: a SIGINT after the command printed its result leaves its status and prints no traceback
+    (before, a Ctrl-C between main's return and the exit raised KeyboardInterrupt over the result). In-process
+    callers (``final`` False, the tests) keep their own handler."""
+    code = (
+        "import os, signal, sys\n"
+        "sys.argv = ['fresnel-lut', 'coeffs', '--material', 'Gold', '--json']\n"
+        "from fresnel_lut.entry import main\n"
+        "status = main(final=True)\n"
+        "os.kill(os.getpid(), signal.SIGINT)\n"
+        "print('after', status, signal.getsignal(signal.SIGINT) is signal.SIG_IGN)\n"
+        "sys.exit(status)\n"
+    )
+    completed = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    assert completed.returncode == 0, completed.stderr[-2000:]
+    assert "after 0 True" in completed.stdout and "Traceback" not in completed.stderr, completed.stderr[-2000:]
+
+
+def test_in_process_main_keeps_the_callers_ctrl_c(monkeypatch):
+    """``main()`` without ``final`` does not ignore Ctrl-C after the command ends: an in-process caller's Ctrl-C still
+    raises KeyboardInterrupt (main's handler does, as Python's own)."""
+    import signal
+
+    from fresnel_lut import cli, entry
+
+    monkeypatch.setattr(cli, "main", lambda: 0)
+    before = signal.getsignal(signal.SIGINT)
+    try:
+        assert entry.main() == 0
+        assert signal.getsignal(signal.SIGINT) is not signal.SIG_IGN
+        with pytest.raises(KeyboardInterrupt):
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)
+    finally:
+        signal.signal(signal.SIGINT, before)
