@@ -69,9 +69,9 @@ const FRESNEL_LTC_LOBE_SHARE_RAISED: f32 = 0.03;  // S, the share of the lobe it
 const FRESNEL_LTC_LOBE_WEIGHT_POWER: f32 = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
 const FRESNEL_LTC_SPREAD_POWER: f32 = 3.0;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
 const FRESNEL_LTC_SPREAD_SHARE: f32 = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
-const FRESNEL_LTC_UPPER_SHARE_POWER: f32 = 32.0;  // m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
+const FRESNEL_LTC_UPPER_SHARE_SQUARINGS: i32 = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 const FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR: f32 = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
-const FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER: f32 = 32.0;  // n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
+const FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS: i32 = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 const FRESNEL_LTC_EDGE: vec4f = vec4f(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 const FRESNEL_LTC_EDGE_HI: vec4f = vec4f(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
@@ -664,16 +664,28 @@ fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, L: vec3f
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
 
+// x^(2^times), by squaring: the powers of the horizon's share and of the Fresnel blend's weight are powers of two
+// (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on CPU rasterisers.
+fn fresnelLtcSquared(xIn: f32, times: i32) -> f32
+{
+    var x = xIn;
+    for (var i = 0; i < times; i++)
+    {
+        x *= x;
+    }
+    return x;
+}
+
 // The integral taken toward the LTC's share above the shading horizon, H = (1 + n.z) / 2, n the unit normal (M's third
 // row, (-m20, 0, m00) / det) of the plane the table's M^-1 (t, its determinant det) takes the horizon to:
-// I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = FRESNEL_LTC_UPPER_SHARE_POWER (preintegrate.ltc.toward_upper_share,
+// I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = 2^FRESNEL_LTC_UPPER_SHARE_SQUARINGS (preintegrate.ltc.toward_upper_share,
 // ltc_upper_share): the LTC's share below the horizon stands for lobe just above it, which only a light covering nearly
 // all of the lobe holds; H at least 1e-3 (the shipped table's least is 0.84).
 fn fresnelLtcTowardUpper(integral: f32, t: vec4f, det: f32) -> f32
 {
     let cosine: f32 = t.x * inverseSqrt(max(t.x * t.x + t.y * t.y, 1e-37));
     let upper: f32 = max(0.5 + 0.5 * (select(cosine, -cosine, (det < 0.0))), 1e-3);
-    let share: f32 = pow(min(integral / upper, 1.0), FRESNEL_LTC_UPPER_SHARE_POWER);
+    let share: f32 = fresnelLtcSquared(min(integral / upper, 1.0), FRESNEL_LTC_UPPER_SHARE_SQUARINGS);
     return min(integral * (1.0 + (1.0 / upper - 1.0) * share), 1.0);
 }
 
@@ -738,11 +750,11 @@ fn fresnelLtcVdotH(light: vec4f, view: vec3f) -> f32
 }
 
 // The weight w = a I + (1 - a) I^n of the split sum in a rectangular light's Fresnel, I = light.w the share of the lobe
-// the light covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel).
+// the light covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel), n = 2^FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS.
 fn fresnelLtcSplitSumWeight(light: vec4f) -> f32
 {
     let share: f32 = clamp(light.w, 0.0, 1.0);
-    return FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR) * pow(share, FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER);
+    return FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR) * fresnelLtcSquared(share, FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS);
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual

@@ -98,6 +98,15 @@ def _constant(name: str, values, comment: str = "") -> str:
     return f"const {_vector_type(width)} {name} = {_value(values)};" + (f"  // {comment}" if comment else "")
 
 
+def _squarings_constant(name: str, power: float, comment: str) -> str:
+    """``const int name = log2(power)``: the shaders raise to ``power`` by that many squarings (``fresnelLtcSquared``),
+    so it must be a power of two, at least 2."""
+    times = int(round(np.log2(power))) if power >= 2.0 else 0
+    if times < 1 or 2.0**times != power:
+        raise ParameterError(f"{name}: the shaders raise to {power:g} by squaring, which needs a power of two from 2")
+    return f"const int {name} = {times};  // {comment}"
+
+
 def _terms_constants(name: str, values, wide: bool, comment: str) -> list[str]:
     """``values`` (K,) as one vec4 ``name`` (zero-padded), and ``name_HI`` (terms 4-7) for K > 4."""
     padded = np.zeros(8 if wide else 4)
@@ -577,18 +586,20 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             "k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread",
         ),
         _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
-        _constant(
-            "FRESNEL_LTC_UPPER_SHARE_POWER",
+        _squarings_constant(
+            "FRESNEL_LTC_UPPER_SHARE_SQUARINGS",
             UPPER_SHARE_POWER,
-            "m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)",
+            "log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)",
         ),
         _constant(
             "FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR",
             SPLIT_SUM_WEIGHT_LINEAR,
             "a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)",
         ),
-        _constant(
-            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER", SPLIT_SUM_WEIGHT_POWER, "n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)"
+        _squarings_constant(
+            "FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS",
+            SPLIT_SUM_WEIGHT_POWER,
+            "log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)",
         ),
         *edge_constants,
         axes_constant,

@@ -113,3 +113,30 @@ def test_the_textures_come_with_one_sampler_in_hlsl_and_wgsl(includes):
             textures = line.count("Texture2D<float4>") + line.count("texture_2d<f32>")
             if textures and re.match(r"^(fn |[\w<>]+ \w+\()", line):
                 assert line.count(spelled) == 1, line
+
+
+@pytest.mark.parametrize("power", [12.0, 1.0, 2.5])
+def test_a_rect_light_power_the_shaders_cannot_square_to_is_refused(monkeypatch, power):
+    """The shaders raise the Fresnel blend's I^n and the horizon share's min(I/H, 1)^m by squaring
+    (``fresnelLtcSquared``, ``FRESNEL_LTC_*_SQUARINGS`` = log2 of the power): a power that is not 2, 4, 8, … is refused
+    when the include is generated, not rounded to another."""
+    from basis.validation import ParameterError
+    from handoff.shaders import include
+
+    monkeypatch.setattr(include, "SPLIT_SUM_WEIGHT_POWER", power)
+    with pytest.raises(ParameterError, match="power of two"):
+        shader_includes()
+
+
+def test_the_rect_light_squarings_are_the_shipped_powers(includes):
+    """``FRESNEL_LTC_UPPER_SHARE_SQUARINGS`` and ``FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS`` are log2 of
+    preintegrate.ltc's UPPER_SHARE_POWER and SPLIT_SUM_WEIGHT_POWER in every language."""
+    from preintegrate.ltc import SPLIT_SUM_WEIGHT_POWER, UPPER_SHARE_POWER
+
+    for name, text in includes.items():
+        for constant, power in (
+            ("FRESNEL_LTC_UPPER_SHARE_SQUARINGS", UPPER_SHARE_POWER),
+            ("FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS", SPLIT_SUM_WEIGHT_POWER),
+        ):
+            found = re.findall(rf"{constant}\b[^=]*= (\d+);", text)
+            assert found and all(2 ** int(times) == power for times in found), (name, constant, found)

@@ -162,16 +162,27 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
 
+// x^(2^times), by squaring: the powers of the horizon's share and of the Fresnel blend's weight are powers of two
+// (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on CPU rasterisers.
+float fresnelLtcSquared(float x, int times)
+{
+    for (int i = 0; i < times; ++i)
+    {
+        x *= x;
+    }
+    return x;
+}
+
 // The integral taken toward the LTC's share above the shading horizon, H = (1 + n.z) / 2, n the unit normal (M's third
 // row, (-m20, 0, m00) / det) of the plane the table's M^-1 (t, its determinant det) takes the horizon to:
-// I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = FRESNEL_LTC_UPPER_SHARE_POWER (preintegrate.ltc.toward_upper_share,
+// I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = 2^FRESNEL_LTC_UPPER_SHARE_SQUARINGS (preintegrate.ltc.toward_upper_share,
 // ltc_upper_share): the LTC's share below the horizon stands for lobe just above it, which only a light covering nearly
 // all of the lobe holds; H at least 1e-3 (the shipped table's least is 0.84).
 float fresnelLtcTowardUpper(float integral, vec4 t, float det)
 {
     float cosine = t.x * inversesqrt(max(t.x * t.x + t.y * t.y, 1e-37));
     float upper = max(0.5 + 0.5 * ((det < 0.0) ? -cosine : cosine), 1e-3);
-    float share = pow(min(integral / upper, 1.0), FRESNEL_LTC_UPPER_SHARE_POWER);
+    float share = fresnelLtcSquared(min(integral / upper, 1.0), FRESNEL_LTC_UPPER_SHARE_SQUARINGS);
     return min(integral * (1.0 + (1.0 / upper - 1.0) * share), 1.0);
 }
 
@@ -236,11 +247,11 @@ float fresnelLtcVdotH(vec4 light, vec3 view)
 }
 
 // The weight w = a I + (1 - a) I^n of the split sum in a rectangular light's Fresnel, I = light.w the share of the lobe
-// the light covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel).
+// the light covers (fresnelLtcRectVector; preintegrate.ltc.rect_light_fresnel), n = 2^FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS.
 float fresnelLtcSplitSumWeight(vec4 light)
 {
     float share = clamp(light.w, 0.0, 1.0);
-    return FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR) * pow(share, FRESNEL_LTC_SPLIT_SUM_WEIGHT_POWER);
+    return FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR) * fresnelLtcSquared(share, FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS);
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
