@@ -85,14 +85,21 @@ def _as_read(a, b, light=LIGHT, step=1.0):
     return normal, roughness, view, n_dot_v, np.linalg.norm(np.cross(normal, view), axis=-1), corners
 
 
-def _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners, albedo=None):
+def _texel(ltc, n_dot_v, roughness, sine):
+    """The LTC table read at (N·V, r) through |N × V|, as ``fresnelLtcRectVector`` reads it."""
+    return ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
+
+
+def _ltc_integral(ltc, normal, roughness, view, n_dot_v, sine, corners, albedo=None, upper_power=UPPER_SHARE_POWER):
     """``fresnelLtcRect``'s float64 mirror: the table read at (N·V, r) through |N × V|, integrated over the light;
-    with ``albedo`` E, ``fresnelLtcRectVector``'s for E (taken toward the lobe's punctual limit)."""
-    stored = ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
-    if albedo is None:
-        return rect_light_integral(stored, normal, view, np.zeros((len(normal), 3)), corners)
+    with ``albedo`` E, ``fresnelLtcRectVector``'s for E (taken toward the lobe's punctual limit and then, unless
+    ``upper_power`` is None, toward the LTC's share above the horizon)."""
+    stored = _texel(ltc, n_dot_v, roughness, sine)
     position = np.zeros((len(normal), 3))
-    return rect_light_half_cosine(stored, normal, view, position, corners, np.clip(roughness, 0, 1), albedo)[0]
+    if albedo is None:
+        return rect_light_integral(stored, normal, view, position, corners)
+    rough = np.clip(roughness, 0, 1)
+    return rect_light_half_cosine(stored, normal, view, position, corners, rough, albedo, upper_power=upper_power)[0]
 
 
 def _expected(a, b, ltc, basis, schlick):
@@ -123,14 +130,11 @@ def _upper_share_slope(a, b, ltc, schlick):
     """(1024,) per point, 1 + m (1/H − 1) x^m / (1 + (1/H − 1) x^m), x = min(I/H, 1): the relative slope of
     preintegrate.ltc.toward_upper_share at the mirror's integral I before it (the lobe's limit with the Schlick table's
     E), what it multiplies float32's relative rounding of I by; H the texel's ltc_upper_share."""
-    normal, roughness, view, n_dot_v, sine, corners = _as_read(a, b)
-    stored = ltc_grid(ltc.shape[0]).lookup(ltc, n_dot_v, np.clip(roughness, 0, 1), sine)
+    read = _as_read(a, b)
+    _, roughness, _, n_dot_v, sine, _ = read
     albedo = LutGrid(schlick.shape[1], schlick.shape[0]).lookup(schlick, n_dot_v, np.clip(roughness, 0, 1))[:, 2]
-    position = np.zeros((len(a), 3))
-    integral = rect_light_half_cosine(
-        stored, normal, view, position, corners, np.clip(roughness, 0, 1), albedo, upper_power=None
-    )[0]
-    upper = ltc_upper_share(stored)
+    integral = _ltc_integral(ltc, *read, albedo=albedo, upper_power=None)
+    upper = ltc_upper_share(_texel(ltc, n_dot_v, roughness, sine))
     raised = (1.0 / upper - 1.0) * np.minimum(integral / upper, 1.0) ** UPPER_SHARE_POWER
     return 1.0 + UPPER_SHARE_POWER * raised / (1.0 + raised)
 

@@ -68,6 +68,15 @@ def _area_quadrature(corners, density):
     return float(np.sum(weights * solid * density(directions)))
 
 
+def _latitude_longitude(theta, theta_step, phi_count):
+    """(directions (N, 3), solid angles (N,)) of the cells of a latitude-longitude grid: polar angles ``theta`` (the
+    cells' centres, ``theta_step`` apart) by ``phi_count`` azimuths around."""
+    phi = (np.arange(phi_count) + 0.5) * 2 * np.pi / phi_count
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    directions = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
+    return directions, (np.sin(t) * theta_step * (2 * np.pi / phi_count)).reshape(-1)
+
+
 def _random_quads(count, seed):
     """Planar quads (convex, counter-clockwise seen from the origin) above, across and below the horizon."""
     rng = np.random.default_rng(seed)
@@ -358,11 +367,7 @@ def test_the_ltcs_upper_share_is_its_density_above_the_horizon():
     """ltc_upper_share's closed form (1 + n_z) / 2 against the LTC's density summed over the upper hemisphere on a
     1600 × 800 latitude-longitude grid (its own error below 1e-5 for these lobes): M⁻¹ of the identity (1), of lobes
     tilted toward and beyond the horizon, and with a negative determinant; H is 1 for a matrix that keeps the axis."""
-    theta = (np.arange(800) + 0.5) * (0.5 * np.pi) / 800
-    phi = (np.arange(1600) + 0.5) * 2 * np.pi / 1600
-    t, p = np.meshgrid(theta, phi, indexing="ij")
-    directions = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
-    cell = (np.sin(t) * (0.5 * np.pi / 800) * (2 * np.pi / 1600)).reshape(-1)
+    directions, cell = _latitude_longitude((np.arange(800) + 0.5) * (0.5 * np.pi) / 800, 0.5 * np.pi / 800, 1600)
     for stored in ([1.0, 0.0, 0.0, 1.0], [0.9, 0.4, -0.3, 0.8], [0.5, -0.2, 0.7, 0.3], [1.2, 0.9, 0.1, -0.6]):
         stored = np.array(stored)
         numeric = np.sum(cell * stored_density(np.broadcast_to(stored, (len(directions), 4)), directions))
@@ -390,20 +395,10 @@ def test_a_light_over_the_whole_hemisphere_comes_to_the_lobes_integral():
     definition): within 2e-3 of 1 where the LTC keeps nearly all of itself above the horizon, and at N·V 0.08, r 0.3,
     where it keeps 0.84, the LTC's share above the horizon takes it from 0.83 to 0.93 (the lobe's limit there lowers I
     below H, which the share's power then weighs: preintegrate.ltc.toward_upper_share)."""
-    from basis.storage import shipped_path
-    from handoff.exr import read_lut
-    from handoff.shipped import LTC_LUT
-    from tests.references.integration import reference_albedo_grid
-
-    table = read_lut(shipped_path(LTC_LUT))[0]
     # wound so that (c1 − c0) × (c3 − c0) points down, at the shaded point
     quad = np.array([[-1e4, 1e4, 1.0], [1e4, 1e4, 1.0], [1e4, -1e4, 1.0], [-1e4, -1e4, 1.0]])
     normal = np.array([0.0, 0.0, 1.0])
-    for mu_o, roughness in ((0.08, 0.3), (0.5, 0.5), (0.9, 0.8), (0.25, 0.7)):
-        sine = np.sqrt(1.0 - mu_o * mu_o)
-        view = np.array([sine, 0.0, mu_o])
-        stored = ltc_grid(len(table)).lookup(table, mu_o, roughness, sine)
-        albedo = reference_albedo_grid(lambda x: np.ones((x.size, 1)), [mu_o], [roughness**2])[0, 0]
+    for mu_o, roughness, view, _, albedo, stored in _shipped_texels(((0.08, 0.3), (0.5, 0.5), (0.9, 0.8), (0.25, 0.7))):
         got, without = (
             rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo, upper_power=power)[0]
             for power in (UPPER_SHARE_POWER, None)
@@ -419,13 +414,10 @@ def test_the_ltc_density_is_normalised():
     """∫ D dω = 1 over the sphere, on a 4000 x 2000 latitude-longitude grid (its own error ~1e-6 for these lobes),
     summed band by band of θ to keep the memory small."""
     theta = (np.arange(2000) + 0.5) * np.pi / 2000
-    phi = (np.arange(4000) + 0.5) * 2 * np.pi / 4000
     for parameters in ([0.5, 0.2, 0.7, -0.3], [1.0, 0.0, 1.0, 0.0], [0.3, -0.6, 0.4, 0.2]):
         total = 0.0
         for band in np.array_split(theta, 20):
-            t, p = np.meshgrid(band, phi, indexing="ij")
-            directions = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
-            cell = (np.sin(t) * (np.pi / 2000) * (2 * np.pi / 4000)).reshape(-1)
+            directions, cell = _latitude_longitude(band, np.pi / 2000, 4000)
             total += np.sum(cell * ltc_density(directions[None], np.array(parameters)[None])[0])
         assert abs(total - 1.0) < 1e-5, (parameters, total)
 
