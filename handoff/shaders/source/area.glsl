@@ -177,7 +177,7 @@ float fresnelLtcSquared(float x, int times)
 // row, (-m20, 0, m00) / det) of the plane the table's M^-1 (t, its determinant det) takes the horizon to:
 // I (1 + (1/H - 1) min(I/H, 1)^m), at most 1, m = 2^FRESNEL_LTC_UPPER_SHARE_SQUARINGS (preintegrate.ltc.toward_upper_share,
 // ltc_upper_share): the LTC's share below the horizon stands for lobe just above it, which only a light covering nearly
-// all of the lobe holds; H at least 1e-3 (the shipped table's least is 0.84).
+// all of the lobe holds; H at least 1e-3 (the shipped table's least is 0.52, at N.V 0).
 float fresnelLtcTowardUpper(float integral, vec4 t, float det)
 {
     float cosine = t.x * inversesqrt(max(t.x * t.x + t.y * t.y, 1e-37));
