@@ -435,6 +435,47 @@ def test_area_light_set_runs_small(tmp_path):
     assert (tmp_path / "set.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_the_grazing_profile_names_the_fit_each_texel_took():
+    """_texel_fits names, for the four texels a lookup reads, the fit whose float32 value each holds ("?" for none),
+    the nearer row first; grazing_profile gives one row per roughness with those names and each table's statistics,
+    the clamped cosine (M = I, no fit) far off the lobe where the shipped table is not."""
+    from basis.storage import shipped_path
+    from benchmarks.area_light_set import PROFILE_ROUGHNESS, REFERENCE_TOLERANCE, VIEWS, _texel_fits, grazing_profile
+    from handoff.exr import read_lut
+    from handoff.shipped import LTC_LUT
+    from preintegrate.ltc import ltc_grid
+
+    grid = ltc_grid(64)
+    mean, free = np.ones((64, 64, 4)), np.full((64, 64, 4), 2.0)
+    mu_o, roughness = VIEWS[-1], 0.4
+    row = float(grid.view_position(mu_o, np.sqrt(1.0 - mu_o * mu_o)))
+    column = float(grid.roughness_position(roughness))
+    near, far = int(np.floor(row)), int(np.floor(row)) + 1
+    if row - near > far - row:
+        near, far = far, near
+    low = int(np.floor(column))
+    table = mean.copy()
+    table[near, low + 1] = free[near, low + 1]
+    table[far, low] = 7.0
+    assert _texel_fits(table, {"mean": mean, "free": free}, mu_o, roughness) == "mean/free, ?/mean"
+    shipped = read_lut(shipped_path(LTC_LUT))[0]
+    cosine = np.broadcast_to(np.array([1.0, 0.0, 0.0, 1.0], dtype=np.float32), shipped.shape)
+    lines = grazing_profile(1e-3, {"shipped table": shipped, "cosine": cosine}, {"shipped": shipped})
+    assert REFERENCE_TOLERANCE < 1e-3 and len(lines) == 2 + len(PROFILE_ROUGHNESS), lines
+    assert lines[0].split("|")[1:-1] == [
+        " r ",
+        " texels read ",
+        " shipped table, toward the limit ",
+        " shipped table ",
+        " cosine ",
+    ]
+    for line, r in zip(lines[2:], PROFILE_ROUGHNESS):
+        cells = [cell.strip() for cell in line.split("|")[1:-1]]
+        assert cells[0] == f"{r:g}" and cells[1] == "shipped/shipped, shipped/shipped", cells
+        medians = [float(cell.split(" %")[0]) for cell in cells[2:]]
+        assert medians[2] > 2.0 * max(medians[0], 5.0), cells
+
+
 def test_the_radiance_fits_lights_lie_where_the_lobe_reflects():
     """lobe_lights: seeded, in the widths asked for, centred where the lobe reflects: for a sharp lobe (α = 0.05) at
     N·V = 0.5 at least 85 % within 17° of the mirror direction and the median within 8° (tan² θh = α² u / (1 − u):
