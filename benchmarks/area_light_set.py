@@ -164,6 +164,14 @@ def _placements(mu_o: float) -> dict[str, tuple[float, float]]:
     }
 
 
+def _set_lights(mu_o: float):
+    """(placement, width, corners (4, 3)) of each of the set's lights at the view μo: every placement
+    (:func:`_placements`) at every width of :data:`WIDTHS`, :data:`DISTANCE` away (:func:`facing_rectangle`)."""
+    for placement, (theta, phi) in _placements(mu_o).items():
+        for width in WIDTHS:
+            yield placement, width, facing_rectangle(theta, phi, width, DISTANCE)
+
+
 def lobe_albedo(mu_o: float, alpha: float) -> float:
     """E(μo, α): the GGX lobe's directional albedo with F = 1, by the reference's quadrature."""
     return reference_albedo_grid(lambda x: np.ones((x.size, 1)), np.array([mu_o]), np.array([alpha]))[0, 0]
@@ -901,55 +909,51 @@ def lobe_study(
                 starts = list(stored.values())
                 for name, limit in ((RADIANCE_FIT, False), (RADIANCE_FIT_LIMIT, True)):
                     fitted[name] = radiance_fit(starts, view, training, roughness, albedo, lobes, limit)
-            for placement, (theta, phi) in _placements(mu_o).items():
-                for width in WIDTHS:
-                    corners = facing_rectangle(theta, phi, width, DISTANCE)
-                    lobe = lobe_over(view, alpha, [corners], tolerance)[0]
-                    if lobe <= 1e-3:
-                        continue
-                    approximations = {
-                        name: rect_light_integral(texel, normal, view, np.zeros(3), corners)
-                        for name, texel in stored.items()
-                    }
-                    approximations[LOBE_LIMIT] = lobe_limit_integral(first, view, corners, alpha, albedo)
-                    approximations[LOBE_LIMIT_LOWER] = lobe_limit_integral(first, view, corners, alpha, albedo, 1.0)
-                    approximations[LOBE_LIMIT_PREVIOUS] = lobe_limit_integral(
-                        first, view, corners, alpha, albedo, PREVIOUS_RATIO_MAX
-                    )
-                    approximations[LOBE_LIMIT_NO_SPREAD] = lobe_limit_integral(
-                        first, view, corners, alpha, albedo, None
-                    )
-                    approximations[LOBE_LIMIT_HALF] = lobe_limit_integral(
-                        first, view, corners, alpha, albedo, None, PREVIOUS_WEIGHT_POWER
-                    )
-                    approximations[LOBE_LIMIT_NO_UPPER] = rect_light_half_cosine(
-                        first, normal, view, np.zeros(3), corners, roughness, albedo, upper_power=None
+            for placement, width, corners in _set_lights(mu_o):
+                lobe = lobe_over(view, alpha, [corners], tolerance)[0]
+                if lobe <= 1e-3:
+                    continue
+                approximations = {
+                    name: rect_light_integral(texel, normal, view, np.zeros(3), corners)
+                    for name, texel in stored.items()
+                }
+                approximations[LOBE_LIMIT] = lobe_limit_integral(first, view, corners, alpha, albedo)
+                approximations[LOBE_LIMIT_LOWER] = lobe_limit_integral(first, view, corners, alpha, albedo, 1.0)
+                approximations[LOBE_LIMIT_PREVIOUS] = lobe_limit_integral(
+                    first, view, corners, alpha, albedo, PREVIOUS_RATIO_MAX
+                )
+                approximations[LOBE_LIMIT_NO_SPREAD] = lobe_limit_integral(first, view, corners, alpha, albedo, None)
+                approximations[LOBE_LIMIT_HALF] = lobe_limit_integral(
+                    first, view, corners, alpha, albedo, None, PREVIOUS_WEIGHT_POWER
+                )
+                approximations[LOBE_LIMIT_NO_UPPER] = rect_light_half_cosine(
+                    first, normal, view, np.zeros(3), corners, roughness, albedo, upper_power=None
+                )[0]
+                approximations[LOBE_LIMIT_SHIPPED] = rect_light_half_cosine(
+                    first, normal, view, np.zeros(3), corners, roughness, albedo
+                )[0]
+                for name in corrected:
+                    approximations[with_the_limit(name)] = rect_light_half_cosine(
+                        stored[name], normal, view, np.zeros(3), corners, roughness, albedo
                     )[0]
-                    approximations[LOBE_LIMIT_SHIPPED] = rect_light_half_cosine(
-                        first, normal, view, np.zeros(3), corners, roughness, albedo
+                for points in SPREAD_POINTS:
+                    approximations[spread_ratio_row(points)] = spread_ratio_integral(
+                        first, view, corners, roughness, albedo, points
+                    )
+                cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
+                approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
+                if radiance_fits:
+                    approximations[RADIANCE_FIT] = rect_light_integral(
+                        fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
+                    )
+                    approximations[RADIANCE_FIT_LIMIT] = rect_light_half_cosine(
+                        fitted[RADIANCE_FIT_LIMIT], normal, view, np.zeros(3), corners, roughness, albedo
                     )[0]
-                    for name in corrected:
-                        approximations[with_the_limit(name)] = rect_light_half_cosine(
-                            stored[name], normal, view, np.zeros(3), corners, roughness, albedo
-                        )[0]
-                    for points in SPREAD_POINTS:
-                        approximations[spread_ratio_row(points)] = spread_ratio_integral(
-                            first, view, corners, roughness, albedo, points
-                        )
-                    cosine = rect_light_integral(np.array([1.0, 0.0, 0.0, 1.0]), normal, view, np.zeros(3), corners)
-                    approximations[TWO_LOBES] = weights[0] * approximations[name_first] + weights[1] * cosine
-                    if radiance_fits:
-                        approximations[RADIANCE_FIT] = rect_light_integral(
-                            fitted[RADIANCE_FIT], normal, view, np.zeros(3), corners
-                        )
-                        approximations[RADIANCE_FIT_LIMIT] = rect_light_half_cosine(
-                            fitted[RADIANCE_FIT_LIMIT], normal, view, np.zeros(3), corners, roughness, albedo
-                        )[0]
-                    for name, approximation in approximations.items():
-                        error = abs(approximation * albedo - lobe) / lobe
-                        errors.setdefault((name, "all"), []).append(error)
-                        errors.setdefault((name, placement), []).append(error)
-                        errors.setdefault((name, f"width {width:g}"), []).append(error)
+                for name, approximation in approximations.items():
+                    error = abs(approximation * albedo - lobe) / lobe
+                    errors.setdefault((name, "all"), []).append(error)
+                    errors.setdefault((name, placement), []).append(error)
+                    errors.setdefault((name, f"width {width:g}"), []).append(error)
     placements = ["all", *_placements(0.5)]
     widths = [f"width {width:g}" for width in WIDTHS]
     rows = [
@@ -1008,19 +1012,15 @@ def grazing_profile(tolerance: float, tables: dict[str, np.ndarray], fits: dict[
         albedo = lobe_albedo(mu_o, alpha)
         stored = {name: ltc_grid(len(table)).lookup(table, mu_o, roughness, sine) for name, table in tables.items()}
         errors: dict[str, list[float]] = {name: [] for name in columns}
-        for theta, phi in _placements(mu_o).values():
-            for width in WIDTHS:
-                corners = facing_rectangle(theta, phi, width, DISTANCE)
-                lobe = lobe_over(view, alpha, [corners], tolerance)[0]
-                if lobe <= 1e-3:
-                    continue
-                toward = rect_light_half_cosine(
-                    stored[first_name], normal, view, np.zeros(3), corners, roughness, albedo
-                )
-                errors[limited].append(abs(float(toward[0]) * albedo - lobe) / lobe)
-                for name, texel in stored.items():
-                    integral = rect_light_integral(texel, normal, view, np.zeros(3), corners)
-                    errors[name].append(abs(float(integral) * albedo - lobe) / lobe)
+        for _, _, corners in _set_lights(mu_o):
+            lobe = lobe_over(view, alpha, [corners], tolerance)[0]
+            if lobe <= 1e-3:
+                continue
+            toward = rect_light_half_cosine(stored[first_name], normal, view, np.zeros(3), corners, roughness, albedo)
+            errors[limited].append(abs(float(toward[0]) * albedo - lobe) / lobe)
+            for name, texel in stored.items():
+                integral = rect_light_integral(texel, normal, view, np.zeros(3), corners)
+                errors[name].append(abs(float(integral) * albedo - lobe) / lobe)
         cells = [_statistics(np.array(errors[name])) for name in columns]
         lines.append(f"| {roughness:g} | {_texel_fits(first, fits, mu_o, roughness)} | " + " | ".join(cells) + " |")
     return lines
@@ -1160,21 +1160,19 @@ def run(
             # once per light: the lobe over it (F = 1, and its V·H summed), each material's reference and each table's
             # integral, alone and toward the lobe's limit with V·H* (three.js's as its code takes it)
             lights = []
-            for theta, phi in _placements(mu_o).values():
-                for width in WIDTHS:
-                    corners = facing_rectangle(theta, phi, width, DISTANCE)
-                    lobe_and_v_dot_h, *values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
-                    exacts = dict(zip(materials, values))
-                    integrals = {
-                        table_name: (
-                            rect_light_integral(stored, normal, view, np.zeros(3), corners),
-                            *rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo),
-                        )
-                        for table_name, stored in tables.items()
-                    }
-                    if not isinstance(public, str):
-                        integrals["three.js"] = cosine_space_integral(tables["public fit"], normal, view, corners)
-                    lights.append((width, corners, lobe_and_v_dot_h, exacts, integrals))
+            for _, width, corners in _set_lights(mu_o):
+                lobe_and_v_dot_h, *values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
+                exacts = dict(zip(materials, values))
+                integrals = {
+                    table_name: (
+                        rect_light_integral(stored, normal, view, np.zeros(3), corners),
+                        *rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo),
+                    )
+                    for table_name, stored in tables.items()
+                }
+                if not isinstance(public, str):
+                    integrals["three.js"] = cosine_space_integral(tables["public fit"], normal, view, corners)
+                lights.append((width, corners, lobe_and_v_dot_h, exacts, integrals))
             for name, (eta, kappa) in materials.items():
                 curve = curves[name]
                 coefficients = coefficients_from_nk(eta, kappa)
