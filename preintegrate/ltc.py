@@ -835,7 +835,8 @@ def ltc_upper_share(stored) -> np.ndarray:
     """(…) H = (1 + n_z) / 2: the share of the LTC of ``stored`` (…, 4) above the shading horizon, n the unit normal
     (M's third row) of the plane that M⁻¹ takes the horizon to. The clamped cosine's integral over the lune between
     its own horizon and that plane, by the lune's vector form factor (π z + π n) / 2 (Arvo 1995: each of its two
-    half great circles adds θ = π times its plane's normal, halved); 1 where M keeps the normal's axis."""
+    half great circles adds θ = π times its plane's normal, halved); 1 where M keeps the normal's axis; at least 1e-3, as
+    the shaders' ``fresnelLtcTowardUpper`` takes it (:func:`toward_upper_share` divides by it)."""
     stored = as_float_array("stored", stored)
     if stored.shape[-1:] != (4,):
         raise ParameterError(f"stored must be (..., 4), got shape {stored.shape}")
@@ -843,7 +844,7 @@ def ltc_upper_share(stored) -> np.ndarray:
     # M = adj(M⁻¹) / det: its third row is (−m20, 0, m00) / det
     length = np.hypot(m00, m20)
     cosine = np.sign(m00 * m22 - m02 * m20) * m00 / np.where(length > 0.0, length, 1.0)
-    return 0.5 * (1.0 + np.where(length > 0.0, cosine, 1.0))
+    return np.maximum(0.5 * (1.0 + np.where(length > 0.0, cosine, 1.0)), 1e-3)
 
 
 def toward_upper_share(integral, upper_share, power=UPPER_SHARE_POWER) -> np.ndarray:
@@ -888,8 +889,8 @@ def rect_light_half_cosine(
         ltc_angle = _solid_angle(stored, vector, back)
         spread = lobe_spread(ltc_angle, disk_solid_angle(local))
         integral = toward_lobe_limit(integral, np.minimum(ratio, lobe_ratio_bound(integral, ltc_angle)), spread=spread)
-        if upper_power is not None:  # H at least 1e-3, as the shaders take it
-            integral = toward_upper_share(integral, np.maximum(ltc_upper_share(stored), 1e-3), upper_power)
+        if upper_power is not None:
+            integral = toward_upper_share(integral, ltc_upper_share(stored), upper_power)
     local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
     half = local_view + direction
     half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)

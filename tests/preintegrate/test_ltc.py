@@ -366,13 +366,15 @@ def test_the_weights_are_the_powers_of_the_integral():
 def test_the_ltcs_upper_share_is_its_density_above_the_horizon():
     """ltc_upper_share's closed form (1 + n_z) / 2 against the LTC's density summed over the upper hemisphere on a
     1600 × 800 latitude-longitude grid (its own error below 1e-5 for these lobes): M⁻¹ of the identity (1), of lobes
-    tilted toward and beyond the horizon, and with a negative determinant; H is 1 for a matrix that keeps the axis."""
+    tilted toward and beyond the horizon, and with a negative determinant; H is 1 for a matrix that keeps the axis and
+    the shaders' floor 1e-3 for one that takes the whole lobe below the horizon."""
     directions, cell = _latitude_longitude((np.arange(800) + 0.5) * (0.5 * np.pi) / 800, 0.5 * np.pi / 800, 1600)
     for stored in ([1.0, 0.0, 0.0, 1.0], [0.9, 0.4, -0.3, 0.8], [0.5, -0.2, 0.7, 0.3], [1.2, 0.9, 0.1, -0.6]):
         stored = np.array(stored)
         numeric = np.sum(cell * stored_density(np.broadcast_to(stored, (len(directions), 4)), directions))
         assert ltc_upper_share(stored) == pytest.approx(numeric, abs=2e-5), stored
     assert ltc_upper_share(np.array([[2.0, 0.0, 0.5, 1.0]]))[0] == 1.0
+    assert ltc_upper_share(np.array([-1.0, 0.0, 0.0, -1.0])) == 1e-3
     with pytest.raises(ParameterError, match="stored"):
         ltc_upper_share(np.zeros(3))
 
