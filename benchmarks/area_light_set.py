@@ -1026,6 +1026,55 @@ def grazing_profile(tolerance: float, tables: dict[str, np.ndarray], fits: dict[
     return lines
 
 
+#: The weights among which :func:`lobe_and_factor` takes each light's best: 0 to 1 in steps of 1/200.
+ORACLE_WEIGHTS = np.linspace(0.0, 1.0, 201)
+
+
+def lobe_and_factor(parts) -> list[str]:
+    """Markdown lines: the include's total error taken apart, conductors and dielectrics. ``parts``: per value
+    (light, kind, reference, lobe, I, E, F̄, E F(V·H*)), the light any hashable key, the reference with F, the lobe
+    (F = 1) over the light, I the LTC integral toward the lobe's limit, E and F̄ the basis table's, as the include
+    takes them (its value I mix(E F(V·H*), F̄, w), w = a I + (1 − a) I^n, preintegrate.ltc.rect_light_fresnel). Rows:
+    the total; the lobe alone, I E against the lobe; the Fresnel factor alone, mix(F(V·H*), F̄ / E, w) against the
+    reference's Fresnel over the light (reference / lobe); that factor and the total with each light's best w of
+    :data:`ORACLE_WEIGHTS` (the least Σ |log(factor / reference's)| over all the light's values, every material's:
+    one w per light, as the include has, chosen by the reference). The factor rows count the values with I > 0."""
+    keys, kind, exact, lobe, integral, albedo, split, punctual = (list(column) for column in zip(*parts))
+    numbers: dict = {}
+    light = np.array([numbers.setdefault(key, len(numbers)) for key in keys])
+    kind, exact, lobe, integral, albedo, split, punctual = map(
+        np.array, (kind, exact, lobe, integral, albedo, split, punctual)
+    )
+    need = exact / lobe
+    lit = integral > 0.0
+    share = np.clip(integral, 0.0, 1.0)
+    weight = SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - SPLIT_SUM_WEIGHT_LINEAR) * share**SPLIT_SUM_WEIGHT_POWER
+    factor = (weight * split + (1.0 - weight) * punctual) / albedo
+    best = np.zeros_like(weight)
+    for number in np.unique(light[lit]):
+        at = lit & (light == number)
+        candidates = ORACLE_WEIGHTS[:, None] * split[at] + (1.0 - ORACLE_WEIGHTS[:, None]) * punctual[at]
+        misses = np.abs(np.log(np.maximum(candidates / albedo[at], 1e-30) / need[at]))
+        best[at] = ORACLE_WEIGHTS[np.argmin(misses.sum(axis=1))]
+    best_factor = (best * split + (1.0 - best) * punctual) / albedo
+    rows = {
+        "the include's total": (np.abs(integral * albedo * factor - exact) / exact, None),
+        "its lobe alone: I E against the lobe (F = 1)": (np.abs(integral * albedo - lobe) / lobe, None),
+        "its Fresnel factor alone: mix(F(V·H*), F̄ / E, w) against the reference's over the light": (
+            np.abs(factor - need) / need,
+            lit,
+        ),
+        "that factor with each light's best w (chosen by the reference)": (np.abs(best_factor - need) / need, lit),
+        "the total with that w": (np.abs(integral * albedo * best_factor - exact) / exact, None),
+    }
+    lines = _table_head(["", "conductors", "dielectrics"])
+    for name, (errors, kept) in rows.items():
+        chosen = np.ones_like(lit) if kept is None else kept
+        cells = [_statistics(errors[chosen & (kind == material)]) for material in ("conductor", "dielectric")]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def _table_head(labels) -> list[str]:
     """A Markdown table's header row of ``labels`` and its separator."""
     labels = list(labels)
@@ -1140,6 +1189,7 @@ def run(
     materials = _materials()
     results: dict[str, dict[str, list]] = {}
     factors: dict[str, dict[str, list]] = {}
+    parts: list[tuple] = []
     by_size: dict[tuple[str, str], dict[str, list]] = {}
     records: list[tuple[str, str, float, float, float]] = []
     normal = np.array([0.0, 0.0, 1.0])
@@ -1179,7 +1229,7 @@ def run(
                 split_basis = coefficients @ terms
                 split_exact = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
                 kind = _kind(name)
-                for width, corners, (lobe, v_dot_h_sum), exacts, integrals in lights:
+                for index, (width, corners, (lobe, v_dot_h_sum), exacts, integrals) in enumerate(lights):
                     exact = exacts[name]
                     keep = exact > 1e-3
                     if not np.any(keep):
@@ -1210,6 +1260,18 @@ def run(
                         integral, toward, v_dot_h = integrals[table_name]
                         approaches[f"split sum, {table_name}"] = (integral * split_basis, integral * split_exact)
                         punctual_basis = albedo * rect_light_punctual(basis_table, coefficients, v_dot_h)
+                        if table_name == "this project":
+                            parts.extend(
+                                ((mu_o, roughness, index), kind, *values)
+                                for values in zip(
+                                    exact[keep],
+                                    np.full(np.sum(keep), lobe),
+                                    np.full(np.sum(keep), float(toward)),
+                                    np.full(np.sum(keep), albedo),
+                                    split_basis[keep],
+                                    punctual_basis[keep],
+                                )
+                            )
                         punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
                         approaches[f"punctual blend, {table_name}"] = (
                             rect_light_fresnel(toward, split_basis, punctual_basis),
@@ -1293,6 +1355,18 @@ def run(
             f"| {form} | {_statistics(np.array(kinds['conductor']))} | {_statistics(np.array(kinds['dielectric']))} |"
             for form, kinds in factors.items()
         ),
+        "",
+        "## The include's error taken apart",
+        "",
+        "Its total (the shipped table, as in the first table) against its two factors (`lobe_and_factor`): the lobe "
+        "alone (F = 1) and the Fresnel factor alone against the reference's Fresnel over the light; then the factor "
+        "and the total with each light's best split-sum weight w, one for every material and channel under that "
+        "light, as the include has one, but chosen by the reference: what a perfect weight from what the include "
+        "knows of one light would give, where the weight it has is a I + (1 − a) I^n of the light's share I alone. "
+        "The weight is the factor's best, not the total's: where the shipped weight's factor error cancels some of "
+        "the lobe's, the total with the best weight is higher:",
+        "",
+        *lobe_and_factor(parts),
     ]
     if fits:
         from preintegrate.ltc import fit_ltc
