@@ -79,6 +79,7 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    MEAN_DIRECTION_SPREAD,
     SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
     UPPER_SHARE_POWER,
@@ -327,7 +328,7 @@ def cost() -> list[str]:
         aco = "– | –"
         if estimates is not None:
             ratio = estimates[name]["Inverse Throughput"] / estimates[BASELINE]["Inverse Throughput"]
-            aco = f"{estimates[name]['Instructions']} | {ratio:.2f}"
+            aco = f"{estimates[name]['Instructions']} | {ratio:.3f}"
         lines.append(f"| {name} | {aco} | {times[name] / times[BASELINE]:.2f} |")
     return [
         *lines,
@@ -465,13 +466,17 @@ CHOICE_VIEWS, CHOICE_ROUGHNESS, CHOICE_LIGHTS = (0.9, 0.5, 0.2, 0.1), (0.25, 0.4
 #: material), by the include's total error: the blend and the share take the same I, and the Fresnel factor's error
 #: under a wide light adds to the lobe's or takes from it. ``BLEND_BEFORE`` is what shipped before, w = I² and no
 #: share. Powers of 64 gave no lower training median (scratch) and would steepen both terms further, whose slope
-#: multiplies float32's rounding of I (tests/luts/test_shaders_area.py).
+#: multiplies float32's rounding of I (tests/luts/test_shaders_area.py). With them, the spread c of the light's
+#: directions (preintegrate.ltc.MEAN_DIRECTION_SPREAD: V·H* along V + (1 − c Ω_L) L*) in ``MEAN_DIRECTION_SPREADS``,
+#: which moves the same factor; ``BLEND_BEFORE`` took L*'s own half vector (c = 0).
 UPPER_SHARE_POWERS = (None, 2.0, 4.0, 8.0, 16.0, 32.0)
 BLEND_LINEARS = (0.0, 0.25, 0.5, 0.75)
 BLEND_POWERS = (2.0, 4.0, 8.0, 16.0, 32.0)
+MEAN_DIRECTION_SPREADS = tuple(k / 200 for k in range(9))
 BLEND_LIGHTS = 96
-Blend = tuple[float | None, float, float]
-BLEND_BEFORE: Blend = (None, 0.0, 2.0)
+Blend = tuple[float | None, float, float, float]
+BLEND_BEFORE: Blend = (None, 0.0, 2.0, 0.0)
+SHIPPED_BLEND: Blend = (UPPER_SHARE_POWER, SPLIT_SUM_WEIGHT_LINEAR, SPLIT_SUM_WEIGHT_POWER, MEAN_DIRECTION_SPREAD)
 
 Key = tuple[float, float, float, float]
 
@@ -685,13 +690,14 @@ def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
 
 
 def blend_errors(tolerance: float) -> dict[Blend, dict[str, np.ndarray]]:
-    """(m, a, n) → {"conductor", "dielectric"} → the relative errors of the include's rectangular light,
+    """(m, a, n, c) → {"conductor", "dielectric"} → the relative errors of the include's rectangular light,
     I' E mix(F(V·H*), F̄ / E, a I' + (1 − a) I'^n), I' the LTC integral toward the lobe's limit as shipped and then
     toward the LTC's share above the horizon with the power m (preintegrate.ltc.toward_upper_share; None: I' = I), V·H*
-    the include's (preintegrate.ltc.rect_light_half_cosine with the shipped table), against the reference, exact
-    curves, E and F̄ the reference's, over :data:`BLEND_LIGHTS` lights per training view and roughness drawn where that
-    lobe reflects (:func:`lobe_lights`) and the set's materials, each value with reference > 1e-3, for each candidate
-    of :data:`UPPER_SHARE_POWERS`, :data:`BLEND_LINEARS` and :data:`BLEND_POWERS`."""
+    the include's with the directions' spread c (preintegrate.ltc.rect_light_half_cosine with the shipped table),
+    against the reference, exact curves, E and F̄ the reference's, over :data:`BLEND_LIGHTS` lights per training view
+    and roughness drawn where that lobe reflects (:func:`lobe_lights`) and the set's materials, each value with
+    reference > 1e-3, for each candidate of :data:`UPPER_SHARE_POWERS`, :data:`BLEND_LINEARS`, :data:`BLEND_POWERS`
+    and :data:`MEAN_DIRECTION_SPREADS`."""
     normal = np.array([0.0, 0.0, 1.0])
     names = ("integral", "upper", "exact", "punctual", "split", "kind")
     parts: dict[str, list] = {name: [] for name in names}
@@ -704,16 +710,19 @@ def blend_errors(tolerance: float) -> dict[Blend, dict[str, np.ndarray]]:
         }
         upper = float(ltc_upper_share(stored))
         for corners in lights:
-            integral, v_dot_h = rect_light_half_cosine(
-                stored, normal, view, np.zeros(3), corners, roughness, albedo, upper_power=None
-            )
+            integral, v_dot_h = np.array(
+                [
+                    rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo, None, spread)
+                    for spread in MEAN_DIRECTION_SPREADS
+                ]
+            ).T
             values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
             for (name, curve), exact in zip(curves.items(), values):
                 keep = exact > 1e-3
-                parts["integral"].append(np.full(np.sum(keep), float(integral)))
+                parts["integral"].append(np.full(np.sum(keep), float(integral[0])))
                 parts["upper"].append(np.full(np.sum(keep), upper))
                 parts["exact"].append(exact[keep])
-                parts["punctual"].append(albedo * curve(np.array([float(v_dot_h)]))[0][keep])
+                parts["punctual"].append(albedo * curve(v_dot_h).T[keep])  # (values, spreads)
                 parts["split"].append(splits[name][keep])
                 parts["kind"].append(np.full(np.sum(keep), _kind(name)))
     integral, upper, exact, punctual, split, kind = (np.concatenate(parts[name]) for name in names)
@@ -722,11 +731,12 @@ def blend_errors(tolerance: float) -> dict[Blend, dict[str, np.ndarray]]:
         raised = integral if upper_power is None else toward_upper_share(integral, upper, upper_power)
         for linear in BLEND_LINEARS:
             for power in BLEND_POWERS:
-                value = rect_light_fresnel(raised, split[:, None], punctual[:, None], power, linear)[:, 0]
-                error = np.abs(value - exact) / exact
-                errors[(upper_power, linear, power)] = {
-                    name: error[kind == name] for name in ("conductor", "dielectric")
-                }
+                values = rect_light_fresnel(raised, split[:, None], punctual, power, linear)  # (values, spreads)
+                for spread, value in zip(MEAN_DIRECTION_SPREADS, values.T):
+                    error = np.abs(value - exact) / exact
+                    errors[(upper_power, linear, power, spread)] = {
+                        name: error[kind == name] for name in ("conductor", "dielectric")
+                    }
     return errors
 
 
@@ -736,7 +746,7 @@ def _worse(errors: dict[str, np.ndarray], percentile: float) -> float:
 
 
 def chosen_blend(errors: dict[Blend, dict[str, np.ndarray]], keys=None) -> Blend | None:
-    """The (m, a, n) of ``errors`` (:func:`blend_errors`; of ``keys`` among them where given) with the lowest median of
+    """The (m, a, n, c) of ``errors`` (:func:`blend_errors`; of ``keys`` among them where given) with the lowest median of
     the worse of conductors and dielectrics, then the lowest p90 of the worse, among those whose p90 of the worse is no
     higher than :data:`BLEND_BEFORE`'s: the median is the target the set missed, the p90 one it met. None where no key
     qualifies."""
@@ -746,9 +756,9 @@ def chosen_blend(errors: dict[Blend, dict[str, np.ndarray]], keys=None) -> Blend
 
 
 def _blend_name(key: Blend) -> str:
-    upper_power, linear, power = key
+    upper_power, linear, power, spread = key
     share = "no share" if upper_power is None else f"m = {upper_power:g}"
-    return f"{share}, a = {linear:g}, n = {power:g}"
+    return f"{share}, a = {linear:g}, n = {power:g}, c = {spread:g}"
 
 
 def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | None = None) -> list[str]:
@@ -757,7 +767,7 @@ def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | N
     the criterion: :func:`chosen_blend`."""
     errors = blend_errors(tolerance) if errors is None else errors
     chosen = chosen_blend(errors)
-    shipped = (UPPER_SHARE_POWER, SPLIT_SUM_WEIGHT_LINEAR, SPLIT_SUM_WEIGHT_POWER)
+    shipped = SHIPPED_BLEND
     counts = {name: len(values) for name, values in errors[BLEND_BEFORE].items()}
 
     def cell(key: Blend) -> str:
@@ -770,13 +780,15 @@ def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | N
         "lobe's limit as shipped and then toward the LTC's share above the horizon H, I (1 + (1/H − 1) min(I/H, 1)^m) "
         "(`preintegrate.ltc.toward_upper_share`, `ltc_upper_share`), against the reference, exact curves, the set's "
         f"materials ({counts['conductor']} conductor and {counts['dielectric']} dielectric values with reference "
-        "> 1e-3), the lobe and the factor together, as both take I'. The chosen (m, a, n) has the lowest median of the "
-        "worse of the two kinds, then p90, among those whose p90 is no higher than that of what shipped before (no "
-        "share, w = I², chosen by the factor's own p90: "
+        "> 1e-3), the lobe and the factor together, as both take I'; H* along V + (1 − c Ω_L) L*, L* the light's "
+        "representative direction and Ω_L its solid angle as the LTC gives it (`preintegrate.ltc.mean_half_v_dot_h`: "
+        "the mean of V + L over the light; c = 0 is L*'s own half vector). The chosen (m, a, n, c) has the lowest "
+        "median of the worse of the two kinds, then p90, among those whose p90 is no higher than that of what shipped "
+        "before (no share, w = I², c = 0, chosen by the factor's own p90: "
         f"{100 * _worse(errors[BLEND_BEFORE], 50):.2f} % / {100 * _worse(errors[BLEND_BEFORE], 90):.1f} %). "
-        "Each m with its best (a, n) by the same criterion, median / p90 / max:",
+        "Each m with its best (a, n, c) by the same criterion, median / p90 / max:",
         "",
-        "| m | a, n | conductors | dielectrics |",
+        "| m | a, n, c | conductors | dielectrics |",
         "|---|---|---|---|",
     ]
     for upper_power in UPPER_SHARE_POWERS:
@@ -786,25 +798,32 @@ def blend_study(tolerance: float, errors: dict[Blend, dict[str, np.ndarray]] | N
             lines.append(f"| {'none' if upper_power is None else f'{upper_power:g}'} | – (every p90 above) | – | – |")
             continue
         lines.append(
-            f"| {'none' if upper_power is None else f'{upper_power:g}'} | {best[1]:g}, {best[2]:g}"
+            f"| {'none' if upper_power is None else f'{upper_power:g}'} | {best[1]:g}, {best[2]:g}, {best[3]:g}"
             f"{_marks(best, chosen, shipped)} | {_statistics(errors[best]['conductor'])} | "
             f"{_statistics(errors[best]['dielectric'])} |"
         )
     lines.append(
-        f"| none, w = I² (shipped before) | 0, 2 | {_statistics(errors[BLEND_BEFORE]['conductor'])} | "
+        f"| none, w = I² (shipped before) | 0, 2, 0 | {_statistics(errors[BLEND_BEFORE]['conductor'])} | "
         f"{_statistics(errors[BLEND_BEFORE]['dielectric'])} |"
     )
-    upper_power = chosen[0] if chosen is not None else UPPER_SHARE_POWER
+    upper_power, linear, power, spread = chosen if chosen is not None else shipped
+    share = "none" if upper_power is None else f"{upper_power:g}"
     lines += [
         "",
-        f"At m = {'none' if upper_power is None else f'{upper_power:g}'}, every (a, n), the worse of the two kinds, "
-        "median / p90:",
+        f"At m = {share} and c = {spread:g}, every (a, n), the worse of the two kinds, median / p90:",
         "",
-        *_table_head(["a", *(f"n = {power:g}" for power in BLEND_POWERS)]),
+        *_table_head(["a", *(f"n = {n:g}" for n in BLEND_POWERS)]),
         *(
-            f"| {linear:g} | " + " | ".join(cell((upper_power, linear, power)) for power in BLEND_POWERS) + " |"
-            for linear in BLEND_LINEARS
+            f"| {a:g} | " + " | ".join(cell((upper_power, a, n, spread)) for n in BLEND_POWERS) + " |"
+            for a in BLEND_LINEARS
         ),
+        "",
+        f"At m = {share}, a = {linear:g}, n = {power:g}, every c, the worse of the two kinds, median / p90:",
+        "",
+        *_table_head(["", *(f"c = {c:g}" for c in MEAN_DIRECTION_SPREADS)]),
+        "| the worse kind | "
+        + " | ".join(cell((upper_power, linear, power, c)) for c in MEAN_DIRECTION_SPREADS)
+        + " |",
     ]
     if chosen != shipped:
         lines += ["", f"The criterion now picks {_blend_name(chosen)}; preintegrate.ltc ships {_blend_name(shipped)}."]

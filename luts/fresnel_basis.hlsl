@@ -67,8 +67,9 @@ static const float FRESNEL_LTC_LOBE_RATIO_MAX = 1.5;  // R0, any light
 static const float FRESNEL_LTC_LOBE_RATIO_PER_SIZE = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
 static const float FRESNEL_LTC_LOBE_SHARE_RAISED = 0.03;  // S, the share of the lobe it may raise I to
 static const float FRESNEL_LTC_LOBE_WEIGHT_POWER = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
-static const float FRESNEL_LTC_SPREAD_POWER = 3.0;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
+static const int FRESNEL_LTC_SPREAD_POWER = 3;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
 static const float FRESNEL_LTC_SPREAD_SHARE = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
+static const float FRESNEL_LTC_MEAN_DIRECTION_SPREAD = 0.0314159265;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
 static const int FRESNEL_LTC_UPPER_SHARE_SQUARINGS = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 static const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
 static const int FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
@@ -540,7 +541,7 @@ float3 fresnelLtcEdge(float3 p, float3 q)
 
 float3 fresnelLtcUnit(float3 v)
 {
-    return v / max(length(v), 1e-30);
+    return v * rsqrt(max(dot(v, v), 1e-37));
 }
 
 // The view's part across the normal N (unit), V - N (N.V), taken twice (float32 leaves a part along N that dominates a
@@ -630,6 +631,17 @@ float3 fresnelLtcClippedVector(float4 t, float3 w[4])
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
+// x^n by n - 1 multiplies, n a whole number (FRESNEL_LTC_SPREAD_POWER): pow's exp2 and log2 cost more.
+float fresnelLtcPowered(float x, int n)
+{
+    float y = x;
+    for (int i = 1; i < n; ++i)
+    {
+        y *= x;
+    }
+    return y;
+}
+
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
 // integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, where that ratio exceeds 1 at least
 // (1 - s^k) min(1, I / c), s = min(omega / solidAngle, 1) the light's spread (solidAngle from fresnelLtcDiskSolidAngle;
@@ -639,12 +651,13 @@ float3 fresnelLtcClippedVector(float4 t, float3 w[4])
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
 // g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
 // representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
-// back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
+// back = |det| M f, with q = |f|^2 / |back|^2 and size = sqrt(omega / pi) (fresnelLtcRectVector's):
+// pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
 // pi g(L) = a2 / d^2 mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so g / D = a2 det^2 q^2 back.z / (2 d^2 smith E
 // f.z), where no factor is a power of the light's size (float32 holds a tiny light). d = sin^2(theta_h) +
 // a2 cos^2(theta_h) from H's components (1 - cos^2 cancels in float32 for a sharp lobe); a2 = r^4, at least the
 // fit's own floor (ALPHA_FLOOR^2).
-float fresnelLtcTowardLobe(float integral, float3 f, float3 back, float det, float3 L, float3 view, float r, float albedo, float solidAngle)
+float fresnelLtcTowardLobe(float integral, float3 f, float3 back, float det, float q, float size, float3 L, float3 view, float r, float albedo, float solidAngle)
 {
     float NdotV = view.z;
     float3 H = fresnelLtcUnit(view + L);
@@ -652,15 +665,13 @@ float fresnelLtcTowardLobe(float integral, float3 f, float3 back, float det, flo
     float d = H.x * H.x + H.y * H.y + a2 * H.z * H.z;
     float mu = max(L.z, 0.0);
     float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
-    float q = dot(f, f) / max(dot(back, back), 1e-30);
-    float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
     float bound = max(FRESNEL_LTC_LOBE_RATIO_MAX, min(FRESNEL_LTC_LOBE_RATIO_PER_SIZE * size, FRESNEL_LTC_LOBE_SHARE_RAISED / max(integral, 1e-30)));
     float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     float density = 2.0 * d * d * smith * albedo * f.z;
     float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / bound), 1e-30) : 1.0;
     float w = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
     float spread = (solidAngle > 0.0) ? min(3.14159265 * size * size / solidAngle, 1.0) : 1.0;
-    float wide = (1.0 - pow(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
+    float wide = (1.0 - fresnelLtcPowered(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
     w = (ratio > 1.0) ? max(w, wide) : w;
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
@@ -705,8 +716,9 @@ float fresnelLtcDiskSolidAngle(float3 P, float3 corners[4])
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
-// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
+// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
+// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
+// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
 // albedo 0.
@@ -734,7 +746,12 @@ float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, 
     float3 L = fresnelLtcUnit(back);
     float integral = max(f.z, 0.0);
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
-    return float4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    float q = dot(f, f) / max(dot(back, back), 1e-30);
+    float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
+    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
+    // V + R L, the mean of V + L over the light
+    float mean = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
+    return float4(L * mean, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -743,7 +760,8 @@ float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 
     return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, the view from fresnelLtcView.
+// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// in the LTC's frame, the view from fresnelLtcView.
 float fresnelLtcVdotH(float4 light, float3 view)
 {
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);

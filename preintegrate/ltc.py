@@ -4,7 +4,8 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``checked_ltc_grid``, ``fit_points``, ``fit_albedo``, ``LtcFit``, ``fit_ltc``, ``ltc_inverse``, ``ltc_density``,
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
-``rect_light_half_cosine``, ``rect_light_fresnel``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
+``rect_light_half_cosine``, ``mean_half_v_dot_h``, ``MEAN_DIRECTION_SPREAD``, ``rect_light_fresnel``,
+``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
 ``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``LOBE_WEIGHT_POWER``,
 ``SPLIT_SUM_WEIGHT_POWER``, ``SPLIT_SUM_WEIGHT_LINEAR``, ``LOBE_SPREAD_POWER``, ``LOBE_SPREAD_SHARE``,
 ``disk_solid_angle``, ``lobe_spread``, ``ltc_upper_share``, ``toward_upper_share``, ``UPPER_SHARE_POWER``,
@@ -45,8 +46,9 @@ texel centres; three.js ``ltc_1`` and ``LTC_Uv``), so an engine's existing area-
 
 The specular of a polygonal light with a Fresnel curve F (Heitz 2016 §4.4): ∫_P f F cos dω ≈
 (∫_P D dω) × E · mix(F(V·H*), F̄ / E, w), F̄ = ∫_Ω f F cos dω the split sum Σ_k c_k b̄_k(μo, r) of the basis table,
-H* the half vector of the light's representative direction (the direction of the transformed polygon's vector form
-factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and w = a I + (1 − a) I^n, I the
+H* along V + R L*, L* the light's representative direction (the direction of the transformed polygon's vector form
+factor, :func:`polygon_vector`, taken back through M: :func:`rect_light_direction`) and R the mean length of its
+directions under the lobe (:data:`MEAN_DIRECTION_SPREAD`: the mean of V + L over the light), and w = a I + (1 − a) I^n, I the
 share of the lobe the light covers (a = :data:`SPLIT_SUM_WEIGHT_LINEAR`, n = :data:`SPLIT_SUM_WEIGHT_POWER`): a small
 light tends to the punctual F(V·H), one that covers the lobe to the split sum (issue 41). The lobe itself does the
 same: ∫_P D dω becomes
@@ -99,6 +101,7 @@ __all__ = [
     "LOBE_WEIGHT_POWER",
     "LTC_CHANNELS",
     "MU_FLOOR",
+    "MEAN_DIRECTION_SPREAD",
     "SPLIT_SUM_WEIGHT_LINEAR",
     "SPLIT_SUM_WEIGHT_POWER",
     "UPPER_SHARE_POWER",
@@ -122,6 +125,7 @@ __all__ = [
     "lobe_density_ratio",
     "lobe_ratio_bound",
     "lobe_spread",
+    "mean_half_v_dot_h",
     "polygon_integral",
     "polygon_vector",
     "rect_light_direction",
@@ -804,6 +808,17 @@ UPPER_SHARE_POWER = 32.0
 LOBE_SPREAD_POWER = 3.0
 LOBE_SPREAD_SHARE = 0.1
 
+#: A rectangular light's directions L, weighed by the lobe, average to R L*, L* its representative direction and
+#: R = max(1 − c Ω_L, 0) their mean resultant length, c = ``MEAN_DIRECTION_SPREAD``, Ω_L the light's solid angle as
+#: the LTC gives it (:func:`ltc_solid_angle`: the light's extent under the lobe, at most about the lobe's own); the
+#: light's Fresnel is taken at V·H with H along V + R L*, the mean of V + L over the light (:func:`mean_half_v_dot_h`),
+#: rather than along V + L*: where V + L is short, a light near the mirror direction at a grazing view, its directions'
+#: half vectors lie far from L*'s, at higher V·H. A uniform cap's R is 1 − Ω / 4π; c is smaller because F's convexity
+#: in V·H raises the light's mean F the other way. Chosen with the Fresnel blend's weight (:data:`SPLIT_SUM_WEIGHT_POWER`),
+#: by its criterion, among c = 0 to 0.04 in steps of 0.005 (``python -m benchmarks.area_light_set``, "The Fresnel
+#: blend's weight and the horizon's share").
+MEAN_DIRECTION_SPREAD = 0.01
+
 
 def toward_lobe_limit(
     integral,
@@ -860,11 +875,21 @@ def toward_upper_share(integral, upper_share, power=UPPER_SHARE_POWER) -> np.nda
 
 
 def rect_light_half_cosine(
-    stored, normal, view, position, corners, roughness=None, albedo=None, upper_power=UPPER_SHARE_POWER
+    stored,
+    normal,
+    view,
+    position,
+    corners,
+    roughness=None,
+    albedo=None,
+    upper_power=UPPER_SHARE_POWER,
+    direction_spread=MEAN_DIRECTION_SPREAD,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(:func:`rect_light_integral`, V·H* (…)): H* the half vector of the light's representative direction
-    (:func:`rect_light_direction`), the view (|N × V|, 0, N·V) in the shading frame with N·V clamped to [0, 1] ((1, 0, 0)
-    below the horizon), as the shaders' ``fresnelLtcView`` and ``fresnelLtcVdotH``. With the perceptual ``roughness`` r ∈ [0, 1] and the lobe's ``albedo`` E > 0
+    """(:func:`rect_light_integral`, V·H* (…)): H* along V + R L*, L* the light's representative direction
+    (:func:`rect_light_direction`) and R its directions' mean length (:func:`mean_half_v_dot_h` with
+    ``direction_spread``, default :data:`MEAN_DIRECTION_SPREAD`; 0 takes L*'s own half vector), the view
+    (|N × V|, 0, N·V) in the shading frame with N·V clamped to [0, 1] ((1, 0, 0) below the horizon), as the shaders'
+    ``fresnelLtcView`` and ``fresnelLtcVdotH``. With the perceptual ``roughness`` r ∈ [0, 1] and the lobe's ``albedo`` E > 0
     (…), the integral is taken toward the lobe's punctual limit, :func:`toward_lobe_limit` with
     min(:func:`lobe_density_ratio`, :func:`lobe_ratio_bound`) and the light's :func:`lobe_spread` (from
     :func:`disk_solid_angle`), α = max(r², :data:`ALPHA_FLOOR`), and then toward the LTC's share above the horizon
@@ -882,19 +907,29 @@ def rect_light_half_cosine(
     sine = np.where(cosine > 0.0, np.linalg.norm(np.cross(normal, view), axis=-1), 1.0)
     if (roughness is None) != (albedo is None):
         raise ParameterError("roughness and albedo go together: both (the lobe's limit) or neither (the LTC's own)")
+    ltc_angle = _solid_angle(stored, vector, back)
     if albedo is not None:
         alpha = np.maximum(check_range("roughness", roughness, 0.0, 1.0) ** 2, ALPHA_FLOOR)
         albedo = check_range("albedo", albedo, 0.0, 1.0, low_open=True)
         ratio = lobe_density_ratio(stored, direction, n_dot_v, alpha, albedo, sine=sine)
-        ltc_angle = _solid_angle(stored, vector, back)
         spread = lobe_spread(ltc_angle, disk_solid_angle(local))
         integral = toward_lobe_limit(integral, np.minimum(ratio, lobe_ratio_bound(integral, ltc_angle)), spread=spread)
         if upper_power is not None:
             integral = toward_upper_share(integral, ltc_upper_share(stored), upper_power)
     local_view = np.stack([sine, np.zeros_like(n_dot_v), n_dot_v], axis=-1)
-    half = local_view + direction
+    return integral, mean_half_v_dot_h(local_view, direction, ltc_angle, direction_spread)
+
+
+def mean_half_v_dot_h(local_view, direction, ltc_angle, spread=MEAN_DIRECTION_SPREAD) -> np.ndarray:
+    """(…) V·H, H along V + R L (:data:`MEAN_DIRECTION_SPREAD`): ``local_view`` V and the light's representative
+    ``direction`` L (…, 3, unit) in the shading frame, ``ltc_angle`` Ω_L its solid angle as the LTC gives it
+    (:func:`ltc_solid_angle`), R = max(1 − c Ω_L, 0), c = ``spread``; clamped to [0, 1] (0 where R L cancels V), as
+    the shaders' ``fresnelLtcVdotH`` of ``fresnelLtcRectVector``'s direction."""
+    spread = check_range("spread", spread, 0.0, 1.0)
+    length = np.maximum(1.0 - spread * np.asarray(ltc_angle, dtype=np.float64), 0.0)
+    half = local_view + length[..., None] * direction
     half = half / np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-30)
-    return integral, np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0)
+    return np.clip(np.sum(local_view * half, axis=-1), 0.0, 1.0)
 
 
 def rect_light_fresnel(

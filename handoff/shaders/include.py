@@ -37,6 +37,7 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    MEAN_DIRECTION_SPREAD,
     SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
     UPPER_SHARE_POWER,
@@ -105,6 +106,14 @@ def _squarings_constant(name: str, power: float, comment: str) -> str:
     if times < 1 or 2.0**times != power:
         raise ParameterError(f"{name}: the shaders raise to {power:g} by squaring, which needs a power of two from 2")
     return f"const int {name} = {times};  // {comment}"
+
+
+def _whole_power_constant(name: str, power: float, comment: str) -> str:
+    """``const int name = power``: the shaders raise to ``power`` by repeated multiplies (``fresnelLtcPowered``), so it
+    must be a whole number from 1."""
+    if not (np.isfinite(power) and power >= 1.0 and float(power).is_integer()):
+        raise ParameterError(f"{name}: the shaders raise to {power:g} by multiplies, which needs a whole number from 1")
+    return f"const int {name} = {int(power)};  // {comment}"
 
 
 def _terms_constants(name: str, values, wide: bool, comment: str) -> list[str]:
@@ -580,12 +589,18 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             LOBE_WEIGHT_POWER,
             "p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)",
         ),
-        _constant(
+        _whole_power_constant(
             "FRESNEL_LTC_SPREAD_POWER",
             LOBE_SPREAD_POWER,
             "k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread",
         ),
         _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
+        _constant(
+            "FRESNEL_LTC_MEAN_DIRECTION_SPREAD",
+            MEAN_DIRECTION_SPREAD * np.pi,
+            "c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as "
+            "1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)",
+        ),
         _squarings_constant(
             "FRESNEL_LTC_UPPER_SHARE_SQUARINGS",
             UPPER_SHARE_POWER,

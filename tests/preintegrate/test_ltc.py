@@ -14,6 +14,7 @@ from preintegrate.ltc import (
     LOBE_SPREAD_POWER,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
+    MEAN_DIRECTION_SPREAD,
     SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
     UPPER_SHARE_POWER,
@@ -31,6 +32,7 @@ from preintegrate.ltc import (
     ltc_inverse,
     ltc_solid_angle,
     ltc_upper_share,
+    mean_half_v_dot_h,
     polygon_integral,
     polygon_vector,
     rect_light_direction,
@@ -311,6 +313,47 @@ def test_the_spread_keeps_the_integral_of_a_light_wider_than_the_lobe():
     for spread in (-0.1, 1.5, float("nan")):
         with pytest.raises(ParameterError, match="spread"):
             toward_lobe_limit(0.2, 1.8, spread=spread)
+
+
+def test_mean_half_v_dot_h_takes_h_along_v_plus_the_lights_mean_direction():
+    """V·H with H along V + R L, R = max(1 − c Ω, 0): the closed form (1 + R V·L) / |V + R L| for V·L = cos γ;
+    L's own half vector, √((1 + V·L) / 2), for Ω = 0 or c = 0; H = V (V·H = 1) once R reaches 0. At a grazing view
+    under a light at the mirror direction, where V + L is short, V·H rises with the light's solid angle; c out of
+    [0, 1] is refused. rect_light_half_cosine takes it with the LTC's solid angle of the light (default c, what
+    ships), and with c = 0 gives the half vector of the light's representative direction."""
+    rng = np.random.default_rng(12)
+    for _ in range(20):
+        mu, gamma = rng.uniform(0.0, 1.0), rng.uniform(0.0, np.pi)
+        view = np.array([np.sqrt(1.0 - mu * mu), 0.0, mu])
+        axis = np.cross(view, [0.0, 1.0, 0.0])
+        light = np.cos(gamma) * view + np.sin(gamma) * axis / np.linalg.norm(axis)
+        angle, spread = rng.uniform(0.0, 6.0), rng.uniform(0.0, 0.1)
+        length = max(1.0 - spread * angle, 0.0)
+        expected = (1.0 + length * np.cos(gamma)) / np.sqrt(1.0 + 2.0 * length * np.cos(gamma) + length**2)
+        assert mean_half_v_dot_h(view, light, angle, spread) == pytest.approx(expected, rel=1e-12, abs=1e-12)
+        plain = np.sqrt(0.5 * (1.0 + np.cos(gamma)))
+        assert mean_half_v_dot_h(view, light, 0.0, spread) == pytest.approx(plain, rel=1e-12, abs=1e-12)
+        assert mean_half_v_dot_h(view, light, angle, 0.0) == pytest.approx(plain, rel=1e-12, abs=1e-12)
+        assert mean_half_v_dot_h(view, light, 1.0 / spread + 1.0, spread) == pytest.approx(1.0, rel=1e-12)
+    view, mirror = np.array([np.sqrt(1.0 - 0.08**2), 0.0, 0.08]), np.array([-np.sqrt(1.0 - 0.08**2), 0.0, 0.08])
+    rising = mean_half_v_dot_h(view, mirror, np.array([0.0, 0.1, 1.0, 3.0]))
+    assert rising[0] == pytest.approx(0.08, rel=1e-9) and np.all(np.diff(rising) > 0.0), rising
+    for spread in (-0.01, 1.5, float("nan")):
+        with pytest.raises(ParameterError, match="spread"):
+            mean_half_v_dot_h(view, mirror, 1.0, spread)
+    quad = np.array([[-1.5, -0.75, 0.4], [-1.5, 0.75, 0.4], [0.5, 0.75, 1.6], [0.5, -0.75, 1.6]])
+    normal, world_view = np.array([0.0, 0.0, 1.0]), np.array([0.6, 0.0, 0.8])
+    stored = np.array([1.4, -0.3, 0.2, 1.1])
+    integral, direction = rect_light_direction(stored, normal, world_view, np.zeros(3), quad)
+    local_view = shading_frame(normal, world_view) @ world_view
+    half = (local_view + direction) / np.linalg.norm(local_view + direction)
+    _, own = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9, direction_spread=0.0)
+    assert own == pytest.approx(float(local_view @ half), rel=1e-12)
+    angle = ltc_solid_angle(stored, horizon_ltc_vector(stored, quad @ shading_frame(normal, world_view).T))
+    _, shipped = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9)
+    assert MEAN_DIRECTION_SPREAD > 0.0 and angle > 0.1 and integral > 0.0
+    assert shipped == pytest.approx(float(mean_half_v_dot_h(local_view, direction, angle)), rel=1e-12)
+    assert shipped != pytest.approx(float(own), rel=1e-6)
 
 
 def test_rect_light_half_cosine_takes_roughness_and_albedo_together():

@@ -37,7 +37,7 @@ vec3 fresnelLtcEdge(vec3 p, vec3 q)
 
 vec3 fresnelLtcUnit(vec3 v)
 {
-    return v / max(length(v), 1e-30);
+    return v * inversesqrt(max(dot(v, v), 1e-37));
 }
 
 // The view's part across the normal N (unit), V - N (N.V), taken twice (float32 leaves a part along N that dominates a
@@ -127,6 +127,17 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
+// x^n by n - 1 multiplies, n a whole number (FRESNEL_LTC_SPREAD_POWER): pow's exp2 and log2 cost more.
+float fresnelLtcPowered(float x, int n)
+{
+    float y = x;
+    for (int i = 1; i < n; ++i)
+    {
+        y *= x;
+    }
+    return y;
+}
+
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
 // integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, where that ratio exceeds 1 at least
 // (1 - s^k) min(1, I / c), s = min(omega / solidAngle, 1) the light's spread (solidAngle from fresnelLtcDiskSolidAngle;
@@ -136,12 +147,13 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
 // g the GGX lobe (height-correlated G2) normalised by its albedo E, D the LTC's density, both at the light's
 // representative direction L (unit, the shading frame). From the vector form factor f in the cosine's space and
-// back = |det| M f, with q = |f|^2 / |back|^2: pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
+// back = |det| M f, with q = |f|^2 / |back|^2 and size = sqrt(omega / pi) (fresnelLtcRectVector's):
+// pi D(L) = f.z |back|^3 / (det^2 |f|^4) (Heitz 2016 eq. 1-3) and
 // pi g(L) = a2 / d^2 mu_i / (2 (mu_i Lambda'_o + mu_o Lambda'_i) E), so g / D = a2 det^2 q^2 back.z / (2 d^2 smith E
 // f.z), where no factor is a power of the light's size (float32 holds a tiny light). d = sin^2(theta_h) +
 // a2 cos^2(theta_h) from H's components (1 - cos^2 cancels in float32 for a sharp lobe); a2 = r^4, at least the
 // fit's own floor (ALPHA_FLOOR^2).
-float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L, vec3 view, float r, float albedo, float solidAngle)
+float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, float q, float size, vec3 L, vec3 view, float r, float albedo, float solidAngle)
 {
     float NdotV = view.z;
     vec3 H = fresnelLtcUnit(view + L);
@@ -149,15 +161,13 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, vec3 L,
     float d = H.x * H.x + H.y * H.y + a2 * H.z * H.z;
     float mu = max(L.z, 0.0);
     float smith = mu * sqrt(NdotV * NdotV * (1.0 - a2) + a2) + NdotV * sqrt(mu * mu * (1.0 - a2) + a2);
-    float q = dot(f, f) / max(dot(back, back), 1e-30);
-    float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
     float bound = max(FRESNEL_LTC_LOBE_RATIO_MAX, min(FRESNEL_LTC_LOBE_RATIO_PER_SIZE * size, FRESNEL_LTC_LOBE_SHARE_RAISED / max(integral, 1e-30)));
     float lobe = a2 * (det * q) * (det * q) * max(back.z, 0.0);
     float density = 2.0 * d * d * smith * albedo * f.z;
     float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / bound), 1e-30) : 1.0;
     float w = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
     float spread = (solidAngle > 0.0) ? min(3.14159265 * size * size / solidAngle, 1.0) : 1.0;
-    float wide = (1.0 - pow(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
+    float wide = (1.0 - fresnelLtcPowered(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
     w = (ratio > 1.0) ? max(w, wide) : w;
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
 }
@@ -202,8 +212,9 @@ float fresnelLtcDiskSolidAngle(vec3 P, vec3 corners[4])
 }
 
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
-// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
+// view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
+// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
+// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
 // albedo 0.
@@ -231,7 +242,12 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     vec3 L = fresnelLtcUnit(back);
     float integral = max(f.z, 0.0);
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
-    return vec4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    float q = dot(f, f) / max(dot(back, back), 1e-30);
+    float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
+    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
+    // V + R L, the mean of V + L over the light
+    float mean = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
+    return vec4(L * mean, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -240,7 +256,8 @@ float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], 
     return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H of the light's representative direction (fresnelLtcRectVector) in the LTC's frame, the view from fresnelLtcView.
+// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// in the LTC's frame, the view from fresnelLtcView.
 float fresnelLtcVdotH(vec4 light, vec3 view)
 {
     return clamp(dot(view, fresnelLtcUnit(view + light.xyz)), 0.0, 1.0);
