@@ -98,6 +98,7 @@ from preintegrate.ltc import (
     rect_light_half_cosine,
     rect_light_integral,
     shading_frame,
+    split_sum_weight,
     stored_density,
     target_lobe,
     toward_lobe_limit,
@@ -1053,7 +1054,7 @@ def lobe_and_factor(parts) -> list[str]:
     """Markdown lines: the include's total error taken apart, conductors and dielectrics. ``parts``: per value
     (light, kind, reference, lobe, I, E, F̄, E F(V·H*)), the light any hashable key, the reference with F, the lobe
     (F = 1) over the light, I the LTC integral toward the lobe's limit, E and F̄ the basis table's, as the include
-    takes them (its value I mix(E F(V·H*), F̄, w), w = a I + (1 − a) I^n, preintegrate.ltc.rect_light_fresnel). Rows:
+    takes them (its value I mix(E F(V·H*), F̄, w), w = preintegrate.ltc.split_sum_weight(I), rect_light_fresnel). Rows:
     the total; the lobe alone, I E against the lobe; the Fresnel factor alone, mix(F(V·H*), F̄ / E, w) against the
     reference's Fresnel over the light (reference / lobe); that factor and the total with each light's best w of
     :data:`ORACLE_WEIGHTS` (the least Σ |log(factor / reference's)| over all the light's values, every material's:
@@ -1066,8 +1067,7 @@ def lobe_and_factor(parts) -> list[str]:
     )
     need = exact / lobe
     lit = integral > 0.0
-    share = np.clip(integral, 0.0, 1.0)
-    weight = SPLIT_SUM_WEIGHT_LINEAR * share + (1.0 - SPLIT_SUM_WEIGHT_LINEAR) * share**SPLIT_SUM_WEIGHT_POWER
+    weight = split_sum_weight(integral)
     factor = (weight * split + (1.0 - weight) * punctual) / albedo
     best = np.zeros_like(weight)
     for number in np.unique(light[lit]):

@@ -5,7 +5,7 @@ Public objects: ``LTC_CHANNELS``, ``ALPHA_FLOOR``, ``MU_FLOOR``, ``AXES``, ``WEI
 ``stored_density``, ``target_lobe``, ``lobe_error``, ``stored_lobe_error``, ``polygon_integral``, ``polygon_vector``,
 ``horizon_ltc_vector``, ``rect_light_integral``, ``rect_light_direction``, ``ltc_direction``,
 ``rect_light_half_cosine``, ``mean_half_v_dot_h``, ``MEAN_DIRECTION_SPREAD``, ``rect_light_fresnel``,
-``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
+``split_sum_weight``, ``lobe_density_ratio``, ``toward_lobe_limit``, ``ltc_solid_angle``,
 ``lobe_ratio_bound``, ``LOBE_RATIO_MAX``, ``LOBE_RATIO_PER_SIZE``, ``LOBE_SHARE_RAISED``, ``LOBE_WEIGHT_POWER``,
 ``SPLIT_SUM_WEIGHT_POWER``, ``SPLIT_SUM_WEIGHT_LINEAR``, ``LOBE_SPREAD_POWER``, ``LOBE_SPREAD_SHARE``,
 ``disk_solid_angle``, ``lobe_spread``, ``ltc_upper_share``, ``toward_upper_share``, ``UPPER_SHARE_POWER``,
@@ -133,6 +133,7 @@ __all__ = [
     "rect_light_half_cosine",
     "rect_light_integral",
     "shading_frame",
+    "split_sum_weight",
     "stored_density",
     "stored_lobe_error",
     "target_lobe",
@@ -940,8 +941,14 @@ def rect_light_fresnel(
     :data:`SPLIT_SUM_WEIGHT_POWER`, :data:`SPLIT_SUM_WEIGHT_LINEAR`); ``punctual`` = E F(V·H*) and ``split_sum`` = F̄
     (…, C) (module docstring; the shaders' ``fresnelBasisRectLight`` and ``fresnelLinearRectLight``)."""
     integral = np.asarray(integral, dtype=np.float64)
+    weight = split_sum_weight(integral, power, linear)[..., None]
+    return integral[..., None] * (weight * np.asarray(split_sum) + (1.0 - weight) * np.asarray(punctual))
+
+
+def split_sum_weight(integral, power=SPLIT_SUM_WEIGHT_POWER, linear=SPLIT_SUM_WEIGHT_LINEAR) -> np.ndarray:
+    """(…) w = a I + (1 − a) I^n, the split sum's weight in :func:`rect_light_fresnel`: the LTC ``integral`` I (…)
+    clamped to [0, 1], n = ``power`` in (0, 64], a = ``linear`` in [0, 1] (the shaders' ``fresnelLtcSplitSumWeight``)."""
     power = check_range("power", power, 0.0, 64.0, low_open=True)
     linear = check_range("linear", linear, 0.0, 1.0)
-    share = np.clip(integral, 0.0, 1.0)
-    weight = (linear * share + (1.0 - linear) * share**power)[..., None]
-    return integral[..., None] * (weight * np.asarray(split_sum) + (1.0 - weight) * np.asarray(punctual))
+    share = np.clip(np.asarray(integral, dtype=np.float64), 0.0, 1.0)
+    return linear * share + (1.0 - linear) * share**power
