@@ -16,9 +16,10 @@ Approaches (all with bilinear lookups of the shipped tables at the shaders' coor
 * **split sum** (the include before issue 41): the LTC integral × F̄ of the basis, Σ c_k b̄_k;
 * **punctual blend** (the include's ``fresnelBasisRectLight``): the LTC integral, taken toward the lobe's own
   punctual limit (the lobe over the LTC's density at the light, at most preintegrate.ltc.lobe_ratio_bound:
-  preintegrate.ltc.rect_light_half_cosine with the table's E), × mix(E · F(V·H*), F̄, w): H* the half vector of the
+  preintegrate.ltc.rect_light_half_cosine with the table's E), × mix(E · F(V·H*), F̄, w): H* along V + R L*, L* the
   light's representative direction (the vector form factor of the transformed polygon taken back through M,
-  preintegrate.ltc.rect_light_direction), F from the same coefficients (the basis table's mirror row,
+  preintegrate.ltc.rect_light_direction) and R its directions' mean length (preintegrate.ltc.mean_half_v_dot_h),
+  F from the same coefficients (the basis table's mirror row,
   handoff.shaders.rect_light_punctual), w the integral itself (the share of the lobe the light covers): a small
   light tends to the punctual limit F(V·H), a light covering the lobe to the split sum;
 * each with the exact curve in place of the basis (their LTC-and-factorisation part), and the public fit (three.js's
@@ -343,9 +344,10 @@ def cost() -> list[str]:
     ]
 
 
-#: The factorisation alone at V·H* of the light's representative direction, as the include takes it from the LTC
-#: (preintegrate.ltc.rect_light_half_cosine), with the exact lobe: F(V·H*) alone and the include's blend.
-FACTOR_AT_STAR = "F at V·H* of the light's representative direction (the include's)"
+#: The factorisation alone at the include's V·H* (H* along V + R L*, L* the light's representative direction), as it
+#: takes it from the LTC (preintegrate.ltc.rect_light_half_cosine), with the exact lobe: F(V·H*) alone and the
+#: include's blend.
+FACTOR_AT_STAR = "F at the include's V·H* (H* along V + R L*, L* the light's representative direction)"
 FACTOR_BLEND_AT_STAR = "the blend by the lobe's share at V·H* (the include's form)"
 
 #: The lobe study's own fits (preintegrate.ltc.fit_ltc): the mean-axis L2 fit alone (the public fit's method, shipped
@@ -1255,8 +1257,7 @@ def run(
                         continue
                     # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
                     # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers (the
-                    # include's weight of it); then at V·H* of the light's representative direction as the include
-                    # takes it (this table's)
+                    # include's weight of it); then at V·H* as the include takes it (this table's)
                     at_star = curve(np.array([float(integrals["this project"][2])]))[0]
                     over_light = exact / lobe
                     at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]

@@ -780,9 +780,9 @@ float fresnelLtcSplitSumWeight(float4 light)
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
 // paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* the half vector of the light's representative direction and w from the share of the
-// lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its direction, a
-// light that covers the lobe to the split sum (issue 41).
+// E mix(F(V.H*), Fbar / E, w), H* along V + R L, the mean of V + L over the light (fresnelLtcVdotH), and w from the
+// share of the lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its
+// direction, a light that covers the lobe to the split sum (issue 41).
 // F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
 // itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
 // tests/luts/test_shaders_area.py measures it).

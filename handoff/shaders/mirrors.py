@@ -313,8 +313,8 @@ def rect_light_specular(
     """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
     with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times
     E mix(F(V·H*), F̄ / E, w): F̄ = Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K), E = b̄0,
-    F the direct-light curves at the light's representative half vector, w the integral, itself taken toward the lobe's
-    punctual limit with E — bilinear fetches as a GPU makes them."""
+    F the direct-light curves at V·H*, H* along V + R L* (preintegrate.ltc.mean_half_v_dot_h), w the integral,
+    itself taken toward the lobe's punctual limit with E — bilinear fetches as a GPU makes them."""
     constants = shader_constants() if constants is None else constants
 
     def albedo_of(n_dot_v, roughness):
