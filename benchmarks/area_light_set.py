@@ -713,16 +713,13 @@ def blend_errors(tolerance: float) -> dict[Blend, dict[str, np.ndarray]]:
         }
         upper = float(ltc_upper_share(stored))
         for corners in lights:
-            integral, v_dot_h = np.array(
-                [
-                    rect_light_half_cosine(stored, normal, view, np.zeros(3), corners, roughness, albedo, None, spread)
-                    for spread in MEAN_DIRECTION_SPREADS
-                ]
-            ).T
+            integral, v_dot_h = rect_light_half_cosine(  # V·H* (spreads,): every candidate c at once
+                stored, normal, view, np.zeros(3), corners, roughness, albedo, None, np.array(MEAN_DIRECTION_SPREADS)
+            )
             values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
             for (name, curve), exact in zip(curves.items(), values):
                 keep = exact > 1e-3
-                parts["integral"].append(np.full(np.sum(keep), float(integral[0])))
+                parts["integral"].append(np.full(np.sum(keep), float(integral)))
                 parts["upper"].append(np.full(np.sum(keep), upper))
                 parts["exact"].append(exact[keep])
                 parts["punctual"].append(albedo * curve(v_dot_h).T[keep])  # (values, spreads)
@@ -1069,15 +1066,18 @@ def lobe_and_factor(parts) -> list[str]:
     )
     need = exact / lobe
     lit = integral > 0.0
-    weight = split_sum_weight(integral)
-    factor = (weight * split + (1.0 - weight) * punctual) / albedo
-    best = np.zeros_like(weight)
+
+    def factor_at(weight, at=slice(None)):
+        """mix(F(V·H*), F̄ / E, ``weight``) of the values ``at``."""
+        return (weight * split[at] + (1.0 - weight) * punctual[at]) / albedo[at]
+
+    factor = factor_at(split_sum_weight(integral))
+    best = np.zeros_like(integral)
     for number in np.unique(light[lit]):
         at = lit & (light == number)
-        candidates = ORACLE_WEIGHTS[:, None] * split[at] + (1.0 - ORACLE_WEIGHTS[:, None]) * punctual[at]
-        misses = np.abs(np.log(np.maximum(candidates / albedo[at], 1e-30) / need[at]))
+        misses = np.abs(np.log(np.maximum(factor_at(ORACLE_WEIGHTS[:, None], at), 1e-30) / need[at]))
         best[at] = ORACLE_WEIGHTS[np.argmin(misses.sum(axis=1))]
-    best_factor = (best * split + (1.0 - best) * punctual) / albedo
+    best_factor = factor_at(best)
     rows = {
         "the include's total": (np.abs(integral * albedo * factor - exact) / exact, None),
         "its lobe alone: I E against the lobe (F = 1)": (np.abs(integral * albedo - lobe) / lobe, None),
@@ -1282,15 +1282,8 @@ def run(
                         punctual_basis = albedo * rect_light_punctual(basis_table, coefficients, v_dot_h)
                         if table_name == "this project":
                             parts.extend(
-                                ((mu_o, roughness, index), kind, *values)
-                                for values in zip(
-                                    exact[keep],
-                                    np.full(np.sum(keep), lobe),
-                                    np.full(np.sum(keep), float(toward)),
-                                    np.full(np.sum(keep), albedo),
-                                    split_basis[keep],
-                                    punctual_basis[keep],
-                                )
+                                ((mu_o, roughness, index), kind, value, lobe, float(toward), albedo, split, punctual)
+                                for value, split, punctual in zip(exact[keep], split_basis[keep], punctual_basis[keep])
                             )
                         punctual_exact = albedo * curve(np.array([float(v_dot_h)]))[0]
                         approaches[f"punctual blend, {table_name}"] = (

@@ -924,8 +924,9 @@ def rect_light_half_cosine(
 def mean_half_v_dot_h(local_view, direction, ltc_angle, spread=MEAN_DIRECTION_SPREAD) -> np.ndarray:
     """(…) V·H, H along V + R L (:data:`MEAN_DIRECTION_SPREAD`): ``local_view`` V and the light's representative
     ``direction`` L (…, 3, unit) in the shading frame, ``ltc_angle`` Ω_L its solid angle as the LTC gives it
-    (:func:`ltc_solid_angle`), R = max(1 − c Ω_L, 0), c = ``spread``; clamped to [0, 1] (0 where R L cancels V), as
-    the shaders' ``fresnelLtcVdotH`` of ``fresnelLtcRectVector``'s direction."""
+    (:func:`ltc_solid_angle`), R = max(1 − c Ω_L, 0), c = ``spread`` (broadcast against Ω_L: several c for one light
+    give V·H for each); clamped to [0, 1] (0 where R L cancels V), as the shaders' ``fresnelLtcVdotH`` of
+    ``fresnelLtcRectVector``'s direction."""
     spread = check_range("spread", spread, 0.0, 1.0)
     length = np.maximum(1.0 - spread * np.asarray(ltc_angle, dtype=np.float64), 0.0)
     half = local_view + length[..., None] * direction
