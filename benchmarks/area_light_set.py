@@ -1049,7 +1049,7 @@ def grazing_profile(tolerance: float, tables: dict[str, np.ndarray], fits: dict[
 ORACLE_WEIGHTS = np.linspace(0.0, 1.0, 201)
 
 
-def lobe_and_factor(parts) -> list[str]:
+def lobe_and_factor(parts, group=None, by: str = "group") -> list[str]:
     """Markdown lines: the include's total error taken apart, conductors and dielectrics. ``parts``: per value
     (light, kind, reference, lobe, I, E, F̄, E F(V·H*)), the light any hashable key, the reference with F, the lobe
     (F = 1) over the light, I the LTC integral toward the lobe's limit, E and F̄ the basis table's, as the include
@@ -1057,7 +1057,9 @@ def lobe_and_factor(parts) -> list[str]:
     the total; the lobe alone, I E against the lobe; the Fresnel factor alone, mix(F(V·H*), F̄ / E, w) against the
     reference's Fresnel over the light (reference / lobe); that factor and the total with each light's best w of
     :data:`ORACLE_WEIGHTS` (the least Σ |log(factor / reference's)| over all the light's values, every material's:
-    one w per light, as the include has, chosen by the reference). The factor rows count the values with I > 0."""
+    one w per light, as the include has, chosen by the reference). The factor rows count the values with I > 0. With
+    ``group`` (a light's key → a label, such as its roughness, named ``by``), a second table gives the first three
+    rows per label, in the order the labels first come: where a miss lives."""
     keys, kind, exact, lobe, integral, albedo, split, punctual = (list(column) for column in zip(*parts))
     numbers: dict = {}
     light = np.array([numbers.setdefault(key, len(numbers)) for key in keys])
@@ -1088,11 +1090,25 @@ def lobe_and_factor(parts) -> list[str]:
         "that factor with each light's best w (chosen by the reference)": (np.abs(best_factor - need) / need, lit),
         "the total with that w": (np.abs(integral * albedo * best_factor - exact) / exact, None),
     }
+    kinds = ("conductor", "dielectric")
+
+    def cell(name: str, at: np.ndarray, material: str) -> str:
+        errors, kept = rows[name]
+        return _statistics(errors[at & (kind == material) & (np.ones_like(lit) if kept is None else kept)])
+
+    everywhere = np.ones_like(lit)
     lines = _table_head(["", "conductors", "dielectrics"])
-    for name, (errors, kept) in rows.items():
-        chosen = np.ones_like(lit) if kept is None else kept
-        cells = [_statistics(errors[chosen & (kind == material)]) for material in ("conductor", "dielectric")]
-        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    for name in rows:
+        lines.append(f"| {name} | " + " | ".join(cell(name, everywhere, material) for material in kinds) + " |")
+    if group is None:
+        return lines
+    labels = np.array([group(key) for key in keys])
+    shown = list(rows)[:3]
+    heads = [f"{material}s: {part}" for material in kinds for part in ("total", "lobe", "factor")]
+    lines += ["", f"The first three rows by {by}:", "", *_table_head([by, *heads])]
+    for label in dict.fromkeys(labels.tolist()):
+        cells = [cell(name, labels == label, material) for material in kinds for name in shown]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -1379,7 +1395,7 @@ def run(
         "The weight is the factor's best, not the total's: where the shipped weight's factor error cancels some of "
         "the lobe's, the total with the best weight is higher:",
         "",
-        *lobe_and_factor(parts),
+        *lobe_and_factor(parts, lambda key: f"{key[1]:g}", "roughness"),
     ]
     if fits:
         from preintegrate.ltc import fit_ltc

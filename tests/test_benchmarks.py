@@ -548,3 +548,24 @@ def test_lobe_and_factor_takes_the_total_apart_and_finds_each_lights_best_weight
     assert best_total[1] == lobe[1] and total[1].endswith("/ 100 %"), cells
     # the shipped weight at I = 0.3 and 0.8 is not the one the values were made with: its factor misses there
     assert all(float(cell.split(" %")[0]) > 1.0 for cell in (factor[1], total[1])), cells
+    # by light: the first three rows per group, in the order the groups first come; the I = 0 light's only
+    # value is out of its factor cells and all of its lobe's (I E = 0 against a lobe of 0.01)
+    grouped = lobe_and_factor(parts, lambda key: f"light {key[1]}", "light")
+    assert grouped[: len(lines)] == lines and grouped[len(lines) : len(lines) + 2] == [
+        "",
+        "The first three rows by light:",
+    ]
+    head, _, *rows = grouped[len(lines) + 3 :]
+    assert head.split("|")[1].strip() == "light" and [row.split("|")[1].strip() for row in rows] == [
+        f"light {number}" for number in range(3)
+    ], grouped
+    by_light = [[cell.strip() for cell in row.split("|")[2:-1]] for row in rows]
+    assert all(row[1] == zero and row[4] == zero for row in by_light[:2]), by_light  # both kinds' lobe, exact there
+    assert by_light[2][:3] == ["–"] * 3 and by_light[2][3:] == [
+        "100.00 % / 100.0 % / 100 %",
+        "100.00 % / 100.0 % / 100 %",
+        "–",
+    ]
+    assert by_light[0][0] == by_light[0][2] and by_light[1][3] == by_light[1][5], (
+        by_light
+    )  # total = factor where I E is
