@@ -78,6 +78,7 @@ from preintegrate.ltc import (
     LOBE_RATIO_PER_SIZE,
     LOBE_SHARE_RAISED,
     LOBE_SPREAD_POWER,
+    LOBE_SPREAD_RATIO,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
     MEAN_DIRECTION_SPREAD,
@@ -382,8 +383,8 @@ LOBE_LIMIT_SHIPPED = (
     f"this project as shipped: the ratio at most max({LOBE_RATIO_MAX:g}, min({LOBE_RATIO_PER_SIZE:g} √Ω, "
     f"{LOBE_SHARE_RAISED:g} / I)), the weight with the light's spread, then the LTC's share above the horizon"
 )
-#: The same without the LTC's share above the horizon (preintegrate.ltc.toward_upper_share), as it shipped before.
-LOBE_LIMIT_NO_UPPER = "the shipped limit without the LTC's share above the horizon (shipped before, not shipped)"
+#: The same without the LTC's share above the horizon (preintegrate.ltc.toward_upper_share).
+LOBE_LIMIT_NO_UPPER = "the shipped limit without the LTC's share above the horizon (not shipped)"
 #: The same without the spread term (preintegrate.ltc.LOBE_SPREAD_POWER), as it shipped before.
 LOBE_LIMIT_NO_SPREAD = "the shipped bound and weight I^p without the spread (shipped before, not shipped)"
 #: What shipped before the bound grew with the light (at 1988e1a): the ratio at most 2 for any light.
@@ -626,69 +627,100 @@ def ratio_bound(tolerance: float) -> list[str]:
     return lines
 
 
-#: The candidates for the spread term's power k and share c (preintegrate.ltc.LOBE_SPREAD_POWER), with the bound and p
-#: as shipped, on :data:`SPREAD_LIGHTS` seeded lights per training view and roughness drawn where its lobe reflects
-#: (:func:`lobe_lights`, 0.02 to 10 wide): the term acts where the ratio raises a light that the lobe's peak lights,
-#: which few of the hemisphere's training lights (:func:`ratio_bound`'s) are.
-SPREAD_POWERS, SPREAD_SHARES, SPREAD_LIGHTS = (2.0, 3.0, 4.0, 6.0, 8.0), (0.003, 0.01, 0.03, 0.1, 0.3), 256
+#: The candidates for the spread term's power k, share c and ratio ρ (preintegrate.ltc.LOBE_SPREAD_POWER), with the bound
+#: and p as shipped, on :data:`SPREAD_LIGHTS` seeded lights per training view and roughness drawn where its lobe
+#: reflects (:func:`lobe_lights`, 0.02 to 10 wide): the term acts on lights that the lobe's peak lights, which few of
+#: the hemisphere's training lights (:func:`ratio_bound`'s) are; those hold the LTC's density where the lobe has little
+#: (the viewer's side at grazing views), which ρ guards, so the criterion also reads them (:func:`chosen_spread`).
+#: ``SPREAD_BEFORE`` is what shipped before: the term only where the ratio exceeds 1 (k = 3, c = 0.1). The powers are
+#: those the shaders square to (``fresnelLtcSquared``; 3 and 6 were no better among the earlier candidates).
+SPREAD_POWERS, SPREAD_SHARES, SPREAD_LIGHTS = (2.0, 4.0, 8.0), (0.003, 0.01, 0.03, 0.1, 0.3), 256
+SPREAD_RATIOS = (0.125, 0.25, 0.5, 1.0)
+SPREAD_BEFORE = (3.0, 0.1, None)
+Spread = tuple[float, float, float | None]
+SPREAD_LIGHT_SETS = ("where the lobe reflects", "over the hemisphere")
 
 
-def spread_errors(tolerance: float) -> dict[tuple[float, float] | None, np.ndarray]:
-    """(k, c) → the lobe's relative errors (F = 1) with the shipped table over the spread's training lights
-    (:data:`SPREAD_LIGHTS`), taken toward the lobe's limit with the shipped weight and bound and the spread term with
-    that k and c (preintegrate.ltc.toward_lobe_limit, the spread from preintegrate.ltc.disk_solid_angle), for each
-    candidate (:data:`SPREAD_POWERS` × :data:`SPREAD_SHARES`); None → without the spread term."""
-    terms = _lobe_terms(tolerance, lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPREAD_LIGHTS))
-    integral, spread, lobe, albedo = (terms[name] for name in ("integral", "spread", "lobe", "albedo"))
-    ratio = np.minimum(terms["ratio"], lobe_ratio_bound(integral, terms["solid angle"]))
+def spread_errors(tolerance: float) -> dict[Spread | None, tuple[np.ndarray, np.ndarray]]:
+    """(k, c, ρ) → the lobe's relative errors (F = 1) with the shipped table over the spread's training lights
+    (:data:`SPREAD_LIGHTS`) and over the bound's (:func:`_lobe_terms`' default, uniform over the hemisphere), taken
+    toward the lobe's limit with the shipped weight and bound and the spread term with that k, c and ρ
+    (preintegrate.ltc.toward_lobe_limit, the spread from preintegrate.ltc.disk_solid_angle), for each candidate
+    (:data:`SPREAD_POWERS` × :data:`SPREAD_SHARES` × :data:`SPREAD_RATIOS`) and :data:`SPREAD_BEFORE` (ρ None: the term
+    only where the ratio exceeds 1, as s = 1 elsewhere with ρ = 1 gives it); None → without the term."""
+    light_sets = (
+        _lobe_terms(tolerance, lambda mu_o, alpha: lobe_lights(mu_o, alpha, SPREAD_LIGHTS)),
+        _lobe_terms(tolerance),
+    )
 
-    def error(key):
-        power, share = key if key is not None else (1.0, 1.0)
-        value = toward_lobe_limit(
-            integral, ratio, spread=None if key is None else spread, spread_power=power, spread_share=share
-        )
+    def error(terms, key):
+        integral, spread, lobe, albedo = (terms[name] for name in ("integral", "spread", "lobe", "albedo"))
+        ratio = np.minimum(terms["ratio"], lobe_ratio_bound(integral, terms["solid angle"]))
+        if key is None:
+            value = toward_lobe_limit(integral, ratio)
+        else:
+            power, share, below = key
+            if below is None:
+                spread, below = np.where(ratio > 1.0, spread, 1.0), 1.0
+            value = toward_lobe_limit(
+                integral, ratio, spread=spread, spread_power=power, spread_share=share, spread_ratio=below
+            )
         return np.abs(value * albedo - lobe) / lobe
 
-    keys = [None, *((power, share) for power in SPREAD_POWERS for share in SPREAD_SHARES)]
-    return {key: error(key) for key in keys}
+    candidates = [
+        (power, share, below) for power in SPREAD_POWERS for share in SPREAD_SHARES for below in SPREAD_RATIOS
+    ]
+    return {key: tuple(error(terms, key) for terms in light_sets) for key in [None, SPREAD_BEFORE, *candidates]}
 
 
-def chosen_spread(errors: dict[tuple[float, float] | None, np.ndarray]) -> tuple[float, float]:
-    """The candidate (k, c) of ``errors`` (:func:`spread_errors`) with the lowest p90, then median (the bound's
-    criterion, :func:`chosen_bound`, without its guard on the worst: no candidate's is above the worst without the
-    term)."""
-    return min((key for key in errors if key is not None), key=lambda key: _p90_then_median(errors[key]))
+def chosen_spread(errors: dict[Spread | None, tuple[np.ndarray, np.ndarray]]) -> Spread | None:
+    """The candidate (k, c, ρ) of ``errors`` (:func:`spread_errors`) with the lowest p90, then median, over the lights
+    where the lobe reflects (the bound's criterion, :func:`chosen_bound`, without its guard on the worst: no
+    candidate's is above the worst without the term), among those whose p90 over the hemisphere's lights is no higher
+    than :data:`SPREAD_BEFORE`'s; None where none is."""
+    limit = float(np.percentile(errors[SPREAD_BEFORE][1], 90))
+    allowed = [
+        key for key in errors if key not in (None, SPREAD_BEFORE) and float(np.percentile(errors[key][1], 90)) <= limit
+    ]
+    return min(allowed, key=lambda key: _p90_then_median(errors[key][0]), default=None)
 
 
 def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
-    """Markdown lines: the lobe's error (F = 1) over the spread's training lights for each candidate (k, c) and
-    without the term (``errors``, by default :func:`spread_errors` at ``tolerance``); the criterion:
-    :func:`chosen_spread`."""
+    """Markdown lines: the lobe's error (F = 1) over the spread's training lights and the hemisphere's p90 for each
+    candidate (k, c, ρ), without the term and as shipped before (``errors``, by default :func:`spread_errors` at
+    ``tolerance``); the criterion: :func:`chosen_spread`."""
     errors = spread_errors(tolerance) if errors is None else errors
-    chosen, shipped = chosen_spread(errors), (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE)
+    chosen, shipped = chosen_spread(errors), (LOBE_SPREAD_POWER, LOBE_SPREAD_SHARE, LOBE_SPREAD_RATIO)
 
     def cell(key):
-        return _statistics(errors[key]) + _marks(key, chosen, shipped)
+        near, hemisphere = errors[key]
+        return f"{_statistics(near)}; {100 * np.percentile(hemisphere, 90):.1f} %" + _marks(key, chosen, shipped)
 
     lines = [
         f"The lobe's spread, on {SPREAD_LIGHTS} seeded lights 0.02 to 10 wide per training view and roughness (N·V "
         f"{list(CHOICE_VIEWS)}, r {list(CHOICE_ROUGHNESS)}), drawn where that lobe reflects (`lobe_lights`, not this "
-        f"set's), {len(errors[chosen])} values with the lobe above 1e-3: the shipped table's integral taken toward "
-        "the lobe's limit with the shipped weight and bound, and where the ratio raises it a weight of at least "
-        "(1 − s^k) min(1, I / c), s = min(Ω_L / Ω, 1) the light's spread, Ω_L its solid angle as the LTC's Jacobian at "
-        "L* gives it, Ω its own as a disk's (`preintegrate.ltc.lobe_spread`, `disk_solid_angle`): s is the LTC's "
-        "mean density over the light against its density at L*, small for a light much wider than the lobe, for "
-        "which the ratio at L* does not stand. The chosen (k, c) has the lowest p90, then median (the bound's "
-        f"criterion). Without the term: {_statistics(errors[None])}.",
+        f"set's), {len(errors[SPREAD_BEFORE][0])} values with the lobe above 1e-3, and on the bound's training lights "
+        f"over the hemisphere ({len(errors[SPREAD_BEFORE][1])} values): the shipped table's integral taken toward "
+        "the lobe's limit with the shipped weight and bound, and a weight of at least "
+        "(1 − s^k) min(1, I / c) min(1, ratio / ρ), s = min(Ω_L / Ω, 1) the light's spread, Ω_L its solid angle as the "
+        "LTC's Jacobian at L* gives it, Ω its own as a disk's (`preintegrate.ltc.lobe_spread`, `disk_solid_angle`): s "
+        "is the LTC's mean density over the light against its density at L*, small for a light much wider than the "
+        "lobe, for which the ratio at L* does not stand, unless the ratio is below ρ: the LTC holds several times the "
+        "lobe there, density where the lobe has little. Each cell: median / p90 / max over the lights where the lobe "
+        "reflects; p90 over the hemisphere's. The chosen (k, c, ρ) has the lowest p90, then median, over the first, "
+        "among those with the second no higher than what shipped before (the term only where the ratio exceeds 1, "
+        f"k = {SPREAD_BEFORE[0]:g}, c = {SPREAD_BEFORE[1]:g}: "
+        f"{cell(SPREAD_BEFORE)}). Without the term: {cell(None)}.",
         "",
-        *_table_head(["k", *(f"c = {share:g}" for share in SPREAD_SHARES)]),
+        *_table_head(["k, ρ", *(f"c = {share:g}" for share in SPREAD_SHARES)]),
         *(
-            f"| {power:g} | " + " | ".join(cell((power, share)) for share in SPREAD_SHARES) + " |"
+            f"| {power:g}, {below:g} | " + " | ".join(cell((power, share, below)) for share in SPREAD_SHARES) + " |"
             for power in SPREAD_POWERS
+            for below in SPREAD_RATIOS
         ),
     ]
     if chosen != shipped:
-        lines += ["", f"The criterion now picks (k, c) = {chosen}; preintegrate.ltc ships {shipped}."]
+        lines += ["", f"The criterion now picks (k, c, ρ) = {chosen}; preintegrate.ltc ships {shipped}."]
     return lines
 
 

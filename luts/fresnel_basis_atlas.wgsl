@@ -67,9 +67,10 @@ const FRESNEL_LTC_LOBE_RATIO_MAX: f32 = 1.5;  // R0, any light
 const FRESNEL_LTC_LOBE_RATIO_PER_SIZE: f32 = 177.245385;  // K sqrt(pi): K per unit of sqrt(the light's solid angle), which the shader has over sqrt(pi)
 const FRESNEL_LTC_LOBE_SHARE_RAISED: f32 = 0.03;  // S, the share of the lobe it may raise I to
 const FRESNEL_LTC_LOBE_WEIGHT_POWER: f32 = 0.375;  // p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)
-const FRESNEL_LTC_SPREAD_POWER: i32 = 3;  // k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread
+const FRESNEL_LTC_SPREAD_SQUARINGS: i32 = 2;  // log2 k: w is at least (1 - s^k) min(1, I / c) min(1, ratio / rho), s the light's spread
 const FRESNEL_LTC_SPREAD_SHARE: f32 = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
-const FRESNEL_LTC_MEAN_DIRECTION_SPREAD: f32 = 0.0314159265;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
+const FRESNEL_LTC_SPREAD_RATIO: f32 = 0.5;  // rho (preintegrate.ltc.LOBE_SPREAD_POWER)
+const FRESNEL_LTC_MEAN_DIRECTION_SPREAD: f32 = 0.0471238898;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
 const FRESNEL_LTC_UPPER_SHARE_SQUARINGS: i32 = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 const FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR: f32 = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
 const FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS: i32 = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
@@ -630,21 +631,23 @@ fn fresnelLtcClippedVector(t: vec4f, w: array<vec3f, 4>) -> vec3f
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// x^n by n - 1 multiplies, n a whole number (FRESNEL_LTC_SPREAD_POWER): pow's exp2 and log2 cost more.
-fn fresnelLtcPowered(x: f32, n: i32) -> f32
+// x^(2^times), by squaring: the powers of the light's spread, of the horizon's share and of the Fresnel blend's weight
+// are powers of two (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on
+// CPU rasterisers.
+fn fresnelLtcSquared(xIn: f32, times: i32) -> f32
 {
-    var y: f32 = x;
-    for (var i = 1; i < n; i++)
+    var x = xIn;
+    for (var i = 0; i < times; i++)
     {
-        y *= x;
+        x *= x;
     }
-    return y;
+    return x;
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, where that ratio exceeds 1 at least
-// (1 - s^k) min(1, I / c), s = min(omega / solidAngle, 1) the light's spread (solidAngle from fresnelLtcDiskSolidAngle;
-// preintegrate.ltc.lobe_spread, LOBE_SPREAD_POWER), R = max(R0, min(K sqrt(omega), S / I)) (issue
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, at least (1 - s^k) min(1, I / c) min(1, ratio / rho)
+// for a light wider than the lobe, s = min(omega / solidAngle, 1) the light's spread (solidAngle from
+// fresnelLtcDiskSolidAngle; preintegrate.ltc.lobe_spread, LOBE_SPREAD_POWER), R = max(R0, min(K sqrt(omega), S / I)) (issue
 // 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
 // rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
@@ -670,21 +673,9 @@ fn fresnelLtcTowardLobe(integral: f32, f: vec3f, back: vec3f, det: f32, q: f32, 
     let ratio: f32 = select(1.0, lobe / max(max(density, lobe / bound), 1e-30), (albedo > 0.0 && f.z > 0.0));
     var w: f32 = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
     let spread: f32 = select(1.0, min(3.14159265 * size * size / solidAngle, 1.0), (solidAngle > 0.0));
-    let wide: f32 = (1.0 - fresnelLtcPowered(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
-    w = select(w, max(w, wide), (ratio > 1.0));
+    let wide: f32 = (1.0 - fresnelLtcSquared(spread, FRESNEL_LTC_SPREAD_SQUARINGS)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
+    w = max(w, wide * min(ratio / FRESNEL_LTC_SPREAD_RATIO, 1.0));
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
-}
-
-// x^(2^times), by squaring: the powers of the horizon's share and of the Fresnel blend's weight are powers of two
-// (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on CPU rasterisers.
-fn fresnelLtcSquared(xIn: f32, times: i32) -> f32
-{
-    var x = xIn;
-    for (var i = 0; i < times; i++)
-    {
-        x *= x;
-    }
-    return x;
 }
 
 // The integral taken toward the LTC's share above the shading horizon, H = (1 + n.z) / 2, n the unit normal (M's third

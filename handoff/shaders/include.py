@@ -35,6 +35,7 @@ from preintegrate.ltc import (
     LOBE_RATIO_PER_SIZE,
     LOBE_SHARE_RAISED,
     LOBE_SPREAD_POWER,
+    LOBE_SPREAD_RATIO,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
     MEAN_DIRECTION_SPREAD,
@@ -106,14 +107,6 @@ def _squarings_constant(name: str, power: float, comment: str) -> str:
     if times < 1 or 2.0**times != power:
         raise ParameterError(f"{name}: the shaders raise to {power:g} by squaring, which needs a power of two from 2")
     return f"const int {name} = {times};  // {comment}"
-
-
-def _whole_power_constant(name: str, power: float, comment: str) -> str:
-    """``const int name = power``: the shaders raise to ``power`` by repeated multiplies (``fresnelLtcPowered``), so it
-    must be a whole number from 1."""
-    if not (np.isfinite(power) and power >= 1.0 and float(power).is_integer()):
-        raise ParameterError(f"{name}: the shaders raise to {power:g} by multiplies, which needs a whole number from 1")
-    return f"const int {name} = {int(power)};  // {comment}"
 
 
 def _terms_constants(name: str, values, wide: bool, comment: str) -> list[str]:
@@ -589,12 +582,13 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
             LOBE_WEIGHT_POWER,
             "p: I keeps the weight I^p against that ratio (preintegrate.ltc.toward_lobe_limit)",
         ),
-        _whole_power_constant(
-            "FRESNEL_LTC_SPREAD_POWER",
+        _squarings_constant(
+            "FRESNEL_LTC_SPREAD_SQUARINGS",
             LOBE_SPREAD_POWER,
-            "k: where the ratio raises I, w is at least (1 - s^k) min(1, I / c), s the light's spread",
+            "log2 k: w is at least (1 - s^k) min(1, I / c) min(1, ratio / rho), s the light's spread",
         ),
         _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
+        _constant("FRESNEL_LTC_SPREAD_RATIO", LOBE_SPREAD_RATIO, "rho (preintegrate.ltc.LOBE_SPREAD_POWER)"),
         _constant(
             "FRESNEL_LTC_MEAN_DIRECTION_SPREAD",
             MEAN_DIRECTION_SPREAD * np.pi,

@@ -12,6 +12,7 @@ from preintegrate.ltc import (
     LOBE_RATIO_MAX,
     LOBE_SHARE_RAISED,
     LOBE_SPREAD_POWER,
+    LOBE_SPREAD_RATIO,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
     MEAN_DIRECTION_SPREAD,
@@ -240,8 +241,8 @@ def test_toward_the_lobes_limit_a_light_that_is_not_tiny_is_raised_closer_to_the
             ratio = lobe_density_ratio(stored, direction, mu_o, alpha, albedo, sine=view[0])
             capped = toward_lobe_limit(plain, min(ratio, LOBE_RATIO_MAX))
             assert got <= max(LOBE_RATIO_MAX * plain, LOBE_SHARE_RAISED) * (1.0 + 1e-12), (got, plain)
-            if got <= capped * (1.0 + 1e-12):
-                continue
+            if ratio <= LOBE_RATIO_MAX or got <= capped * (1.0 + 1e-12):
+                continue  # the bound not at work (below LOBE_RATIO_MAX the spread term raises the integral too)
             lobe = rect_light_reference(normal, view, np.zeros(3), quad, alpha, ones, 48)[0] / albedo
             errors.append((abs(got - lobe) / lobe, abs(capped - lobe) / lobe))
     errors = np.array(errors)
@@ -299,20 +300,34 @@ def test_the_disk_solid_angle_is_a_lights():
 
 
 def test_the_spread_keeps_the_integral_of_a_light_wider_than_the_lobe():
-    """lobe_spread is min(Ω_L / Ω, 1), 1 where Ω is 0; toward_lobe_limit with a spread s: where the ratio raises the
-    integral, the weight is max(I^p, (1 − s^k) min(1, I / c)) (k = LOBE_SPREAD_POWER, c = LOBE_SPREAD_SHARE): s = 1
-    (a small light) leaves I^p, s = 0 keeps all of an integral of at least c; where the ratio lowers it, the spread
-    changes nothing; a spread outside [0, 1] is refused."""
+    """lobe_spread is min(Ω_L / Ω, 1), 1 where Ω is 0; toward_lobe_limit with a spread s: the weight is
+    max(I^p, (1 − s^k) min(1, I / c) min(1, ratio / ρ)) (k = LOBE_SPREAD_POWER, c = LOBE_SPREAD_SHARE,
+    ρ = LOBE_SPREAD_RATIO), the closed form on either side of 1 and below ρ: s = 1 (a small light) leaves I^p, s = 0
+    keeps all of an integral of at least c where the ratio is at least ρ, and less of it as the ratio falls below ρ
+    (the LTC holding several times the lobe there), none at a ratio of 0; a spread, power, share or ratio out of range
+    is refused."""
     assert np.array_equal(lobe_spread([0.2, 3.0, 0.5], [0.4, 1.0, 0.0]), [0.5, 1.0, 1.0])
-    assert toward_lobe_limit(0.05, 1.8, spread=1.0) == toward_lobe_limit(0.05, 1.8)
+    for ratio in (1.8, 0.6, 0.1):
+        assert toward_lobe_limit(0.05, ratio, spread=1.0) == toward_lobe_limit(0.05, ratio)
     assert toward_lobe_limit(0.2, 1.8, spread=0.0) == 0.2
-    assert toward_lobe_limit(0.05, 0.6, spread=0.0) == toward_lobe_limit(0.05, 0.6)
-    s, integral = 0.3, 0.08  # the spread's weight 0.78 over I^p 0.39
-    w = max(integral**LOBE_WEIGHT_POWER, (1.0 - s**LOBE_SPREAD_POWER) * min(1.0, integral / LOBE_SPREAD_SHARE))
-    assert toward_lobe_limit(integral, 1.8, spread=s) == pytest.approx(integral * (w + (1.0 - w) * 1.8), rel=1e-15)
+    assert toward_lobe_limit(0.2, LOBE_SPREAD_RATIO, spread=0.0) == pytest.approx(0.2, rel=1e-15)
+    assert toward_lobe_limit(0.2, 0.0, spread=0.0) == toward_lobe_limit(0.2, 0.0) == 0.2**LOBE_WEIGHT_POWER * 0.2
+    s, integral = 0.3, 0.08  # the spread's weight 0.79 over I^p 0.39
+    for ratio in (1.8, 0.7, 0.3, 0.05):
+        wide = (
+            (1.0 - s**LOBE_SPREAD_POWER) * min(1.0, integral / LOBE_SPREAD_SHARE) * min(1.0, ratio / LOBE_SPREAD_RATIO)
+        )
+        w = max(integral**LOBE_WEIGHT_POWER, wide)
+        want = integral * (w + (1.0 - w) * ratio)
+        assert toward_lobe_limit(integral, ratio, spread=s) == pytest.approx(want, rel=1e-15), ratio
+    assert toward_lobe_limit(integral, 0.3, spread=s) > toward_lobe_limit(integral, 0.3)  # 0.3 / ρ of 0.79 > 0.39
+    assert toward_lobe_limit(integral, 0.05, spread=s) == toward_lobe_limit(integral, 0.05)  # 0.1 of 0.79 < 0.39
     for spread in (-0.1, 1.5, float("nan")):
         with pytest.raises(ParameterError, match="spread"):
             toward_lobe_limit(0.2, 1.8, spread=spread)
+    for name, value in (("spread_power", 9.0), ("spread_share", 0.0), ("spread_ratio", 0.0), ("spread_ratio", 1.5)):
+        with pytest.raises(ParameterError, match=name):
+            toward_lobe_limit(0.2, 1.8, spread=0.5, **{name: value})
 
 
 def test_mean_half_v_dot_h_takes_h_along_v_plus_the_lights_mean_direction():

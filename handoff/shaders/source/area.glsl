@@ -127,21 +127,22 @@ vec3 fresnelLtcClippedVector(vec4 t, vec3 w[4])
     return -sum * 0.159154943;  // 1 / (2 pi)
 }
 
-// x^n by n - 1 multiplies, n a whole number (FRESNEL_LTC_SPREAD_POWER): pow's exp2 and log2 cost more.
-float fresnelLtcPowered(float x, int n)
+// x^(2^times), by squaring: the powers of the light's spread, of the horizon's share and of the Fresnel blend's weight
+// are powers of two (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on
+// CPU rasterisers.
+float fresnelLtcSquared(float x, int times)
 {
-    float y = x;
-    for (int i = 1; i < n; ++i)
+    for (int i = 0; i < times; ++i)
     {
-        y *= x;
+        x *= x;
     }
-    return y;
+    return x;
 }
 
 // The LTC integral I of a rectangular light taken toward the lobe's own punctual limit: at most 1 (the normalised lobe
-// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, where that ratio exceeds 1 at least
-// (1 - s^k) min(1, I / c), s = min(omega / solidAngle, 1) the light's spread (solidAngle from fresnelLtcDiskSolidAngle;
-// preintegrate.ltc.lobe_spread, LOBE_SPREAD_POWER), R = max(R0, min(K sqrt(omega), S / I)) (issue
+// integrates to 1), I (w + (1 - w) min(g(L) / D(L), R)), w = I^p, at least (1 - s^k) min(1, I / c) min(1, ratio / rho)
+// for a light wider than the lobe, s = min(omega / solidAngle, 1) the light's spread (solidAngle from
+// fresnelLtcDiskSolidAngle; preintegrate.ltc.lobe_spread, LOBE_SPREAD_POWER), R = max(R0, min(K sqrt(omega), S / I)) (issue
 // 41; preintegrate.ltc.toward_lobe_limit and lobe_ratio_bound: R also bounds what the ratio multiplies of float32's
 // rounding of I, which grows as the light shrinks), omega the light's solid angle as the LTC's Jacobian at L gives it,
 // pi det^2 |f|^4 / |back|^3 (preintegrate.ltc.ltc_solid_angle),
@@ -167,20 +168,9 @@ float fresnelLtcTowardLobe(float integral, vec3 f, vec3 back, float det, float q
     float ratio = (albedo > 0.0 && f.z > 0.0) ? lobe / max(max(density, lobe / bound), 1e-30) : 1.0;
     float w = pow(min(integral, 1.0), FRESNEL_LTC_LOBE_WEIGHT_POWER);
     float spread = (solidAngle > 0.0) ? min(3.14159265 * size * size / solidAngle, 1.0) : 1.0;
-    float wide = (1.0 - fresnelLtcPowered(spread, FRESNEL_LTC_SPREAD_POWER)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
-    w = (ratio > 1.0) ? max(w, wide) : w;
+    float wide = (1.0 - fresnelLtcSquared(spread, FRESNEL_LTC_SPREAD_SQUARINGS)) * min(integral / FRESNEL_LTC_SPREAD_SHARE, 1.0);
+    w = max(w, wide * min(ratio / FRESNEL_LTC_SPREAD_RATIO, 1.0));
     return min(integral * (w + (1.0 - w) * ratio), 1.0);
-}
-
-// x^(2^times), by squaring: the powers of the horizon's share and of the Fresnel blend's weight are powers of two
-// (their generated FRESNEL_LTC_*_SQUARINGS), which multiplies cost less than pow's exp2 and log2 on CPU rasterisers.
-float fresnelLtcSquared(float x, int times)
-{
-    for (int i = 0; i < times; ++i)
-    {
-        x *= x;
-    }
-    return x;
 }
 
 // The integral taken toward the LTC's share above the shading horizon, H = (1 + n.z) / 2, n the unit normal (M's third
