@@ -654,8 +654,7 @@ def spread_errors(tolerance: float) -> dict[Spread | None, tuple[np.ndarray, np.
     )
 
     def error(terms, key):
-        integral, spread, lobe, albedo = (terms[name] for name in ("integral", "spread", "lobe", "albedo"))
-        ratio = np.minimum(terms["ratio"], lobe_ratio_bound(integral, terms["solid angle"]))
+        integral, spread, lobe, albedo, ratio = terms
         if key is None:
             value = toward_lobe_limit(integral, ratio)
         else:
@@ -670,7 +669,14 @@ def spread_errors(tolerance: float) -> dict[Spread | None, tuple[np.ndarray, np.
     candidates = [
         (power, share, below) for power in SPREAD_POWERS for share in SPREAD_SHARES for below in SPREAD_RATIOS
     ]
-    return {key: tuple(error(terms, key) for terms in light_sets) for key in [None, SPREAD_BEFORE, *candidates]}
+    bounded = [
+        (
+            *(terms[name] for name in ("integral", "spread", "lobe", "albedo")),
+            np.minimum(terms["ratio"], lobe_ratio_bound(terms["integral"], terms["solid angle"])),
+        )
+        for terms in light_sets
+    ]
+    return {key: tuple(error(terms, key) for terms in bounded) for key in [None, SPREAD_BEFORE, *candidates]}
 
 
 def chosen_spread(errors: dict[Spread | None, tuple[np.ndarray, np.ndarray]]) -> Spread | None:
@@ -1112,23 +1118,23 @@ def lobe_and_factor(parts, group=None, by: str = "group") -> list[str]:
         misses = np.abs(np.log(np.maximum(factor_at(ORACLE_WEIGHTS[:, None], at), 1e-30) / need[at]))
         best[at] = ORACLE_WEIGHTS[np.argmin(misses.sum(axis=1))]
     best_factor = factor_at(best)
+    everywhere = np.ones_like(lit)
     rows = {
-        "the include's total": (np.abs(integral * albedo * factor - exact) / exact, None),
-        "its lobe alone: I E against the lobe (F = 1)": (np.abs(integral * albedo - lobe) / lobe, None),
+        "the include's total": (np.abs(integral * albedo * factor - exact) / exact, everywhere),
+        "its lobe alone: I E against the lobe (F = 1)": (np.abs(integral * albedo - lobe) / lobe, everywhere),
         "its Fresnel factor alone: mix(F(V·H*), F̄ / E, w) against the reference's over the light": (
             np.abs(factor - need) / need,
             lit,
         ),
         "that factor with each light's best w (chosen by the reference)": (np.abs(best_factor - need) / need, lit),
-        "the total with that w": (np.abs(integral * albedo * best_factor - exact) / exact, None),
+        "the total with that w": (np.abs(integral * albedo * best_factor - exact) / exact, everywhere),
     }
     kinds = ("conductor", "dielectric")
 
     def cell(name: str, at: np.ndarray, material: str) -> str:
         errors, kept = rows[name]
-        return _statistics(errors[at & (kind == material) & (np.ones_like(lit) if kept is None else kept)])
+        return _statistics(errors[at & (kind == material) & kept])
 
-    everywhere = np.ones_like(lit)
     lines = _table_head(["", "conductors", "dielectrics"])
     for name in rows:
         lines.append(f"| {name} | " + " | ".join(cell(name, everywhere, material) for material in kinds) + " |")
