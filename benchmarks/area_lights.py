@@ -14,12 +14,13 @@ report: ``--out report/area_lights.md``, which also writes ``report/area_lights.
 3. **Rectangular light**: spheres under the renderer's soft box (``fresnel_lut.render.RECT_LIGHT``), the Figure 2
    material, gold, chromium and beryllium (ACEScg), the error split into its three sources, as max and mean
    ΔE2000 over the lit pixels (tone-mapped as the renders are): the **LTC's shape** (the LTC with the exact curve
-   through the include's factorisation, E mix(F(V·H*), F̄ / E, w), :func:`fresnel_lut.render.render_rect_light`
+   through the include's factorisation, E mix(F̃, F̄ / E, w), :func:`fresnel_lut.render.render_rect_light`
    against the reference: the exact BRDF and curve over the light's area, ``tests/references/area_light.py``,
    Gauss-Legendre), the **basis' Fresnel** (``fresnelBasisRectLight`` against that) and **Schlick's** (LTC × Schlick
-   against that). Target: the basis' Fresnel part at the lit pixels (over the LTC integral: w ΔF̄ + (1 − w) E ΔF(V·H*),
+   against that). Target: the basis' Fresnel part at the lit pixels (over the LTC integral: w ΔF̄ + (1 − w) E ΔF̃,
    issue 41's blend) no larger than the larger of its own errors for the material: the split sum's
-   (max |F̄_basis − F̄_exact| over the table at that roughness) and the direct light's (max E |F_basis − F_exact|).
+   (max |F̄_basis − F̄_exact| over the table at that roughness) and F̃'s (max E |F̃_basis − F̃_exact| over every V·H and
+   r' from 0 to that roughness, F̃ the curve averaged over a GGX lobe of roughness r' at V·H).
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ from handoff.exr import read_lut
 from handoff.shaders import rect_light_punctual
 from handoff.shipped import BASIS_LUT, LTC_LUT, SCHLICK_LUT
 from preintegrate.ggx import roughness_to_alpha
-from preintegrate.ltc import fit_ltc, ltc_grid, stored_lobe_error
+from preintegrate.ltc import fit_ltc, ltc_grid, smoothed_fresnel, stored_lobe_error
 from preintegrate.ltc_choice import (
     CHOICE_NODES,
     CHOICE_ROUGHNESS_MIN,
@@ -147,10 +148,13 @@ def light_rows(size: int, nodes: int, others: dict[str, np.ndarray]):
         exact = directional_albedo(material.curve, mu, roughness_to_alpha(roughness), workers=1)
         terms = lut_lookup(basis, mu, roughness)
         own = float(np.max(np.abs(terms @ material.coefficients.T - exact)))
-        # the blend's other factor, E F(V·H*), as the include reads F (the basis table's mirror row), at any V·H
-        cosine = np.linspace(0.0, 1.0, 1025)
+        # the blend's other factor, E F̃, as the include reads F̃ (the basis table at (V·H, r')), at any V·H and r' ≤ r
+        cosine, spread = (
+            axis.ravel() for axis in np.meshgrid(np.linspace(0.0, 1.0, 257), np.linspace(0.0, roughness, 5))
+        )
         coefficients = np.broadcast_to(material.coefficients, cosine.shape + material.coefficients.shape)
-        direct = rect_light_punctual(basis, coefficients, cosine) - material.curve(cosine)
+        smoothed = rect_light_punctual(basis, coefficients, cosine, spread=spread)
+        direct = smoothed - smoothed_fresnel(material.curve, cosine, spread, workers=1)
         own_direct = float(terms[:, 0].max() * np.max(np.abs(direct)))
         errors = {name: (m[lit].max(), m[lit].mean()) for name, m in maps.items()}
         rows.append((material.name, roughness, errors, at_pixels, own, own_direct))
@@ -259,10 +263,11 @@ def main(argv=None) -> int:
         "",
         "dE2000 over the lit pixels (where the reference, or the LTC integral of any table compared, exceeds 1e-4), "
         "max / mean. 'own split-sum error' is max |Fbar_basis - "
-        "Fbar_exact| over the table's view angles at that roughness; 'own direct-light error' max E |F_basis - "
-        "F_exact| over every V.H, F as the include reads it (the basis table's mirror row) and E the table's largest "
-        "at that roughness; 'at the lit pixels' the Fresnel part as the area light carries it (divided by the LTC "
-        "integral): w dFbar + (1 - w) E dF(V.H*), issue 41's blend of the split sum with the punctual limit, w the "
+        "Fbar_exact| over the table's view angles at that roughness; 'own direct-light error' max E |F~_basis - "
+        "F~_exact| over every V.H and r' from 0 to that roughness, F~ the curve averaged over a GGX lobe of roughness "
+        "r' seen at V.H as the include reads it (the basis table at (V.H, r'), over its albedo there; r' = 0 its "
+        "mirror row, F itself) and E the table's largest at that roughness; 'at the lit pixels' the Fresnel part as "
+        "the area light carries it (divided by the LTC integral): w dFbar + (1 - w) E dF~, issue 41's blend of the split sum with the punctual limit, w the "
         "share of the lobe the light covers, so its target is at most the larger of the two own errors (issue 24's "
         "was the split sum's alone, from before the blend). "
         "The last columns: the LTC's shape error with the other tables under the same light. Every table's integral "

@@ -51,7 +51,7 @@ from basis.validation import check_choice, check_positive_int, check_range
 from handoff.shaders import direct_fresnel, rect_light_specular
 from preintegrate.estimators import contributions
 from preintegrate.ggx import VISIBILITIES, ndf, roughness_to_alpha
-from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
+from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine, smoothed_fresnel
 from preintegrate.lut import lut_lookup, texel_centres
 from preintegrate.multiple_scattering import compensate_lookup
 from preintegrate.quadrature import directional_albedo
@@ -295,8 +295,9 @@ def render_rect_light(
 ) -> dict[str, np.ndarray]:
     """Linear RGB images (S, S, 3) of a rectangular light of ``radiance`` on the unit sphere by linearly transformed
     cosines (:mod:`preintegrate.ltc`, the shaders' ``fresnelLtcRectVector``), its Fresnel three ways: the exact
-    curve's (the LTC integral, taken toward the lobe's punctual limit, × E mix(F(V·H*), F̄ / E, w) with the exact F
-    and F̄: what the LTC and that factorisation alone cost), the basis' (``fresnelBasisRectLight``,
+    curve's (the LTC integral, taken toward the lobe's punctual limit, × E mix(F̃, F̄ / E, w) with the exact F̃ (the
+    curve averaged over a GGX lobe of roughness r' at V·H*, :func:`preintegrate.ltc.smoothed_fresnel`) and F̄: what the
+    LTC and that factorisation alone cost), the basis' (``fresnelBasisRectLight``,
     :func:`handoff.shaders.rect_light_specular`) and Schlick's F0 s + b (``fresnelSchlickRectLight``), all three on
     the same integral; and that integral, the one their Fresnel factors multiply (``ltc``, one channel)."""
     roughness = float(check_range("roughness", roughness, 0.0, 1.0))
@@ -308,7 +309,9 @@ def render_rect_light(
     grid = ltc_grid(ltc_lut.shape[0], visibility)
     stored = grid.lookup(ltc_lut, mu_o, roughness, sine)
     schlick = lut_lookup(schlick_lut, mu_o, roughness)
-    toward, v_dot_h = rect_light_half_cosine(stored, normals, view, normals, corners, roughness, schlick[..., 2])
+    toward, v_dot_h, spread = rect_light_half_cosine(
+        stored, normals, view, normals, corners, roughness, schlick[..., 2]
+    )
     nodes = texel_centres(256)
     exact_table = directional_albedo(
         material.curve, nodes, roughness_to_alpha(roughness), visibility=visibility, workers=1
@@ -318,7 +321,10 @@ def render_rect_light(
     coefficients = np.broadcast_to(material.coefficients, normals.shape[:-1] + material.coefficients.shape)
     basis = rect_light_specular(ltc_lut, basis_lut, normals, view, normals, corners, roughness, coefficients)
     images = {
-        "exact": radiance * rect_light_fresnel(toward, exact, schlick[..., 2:3] * material.curve(v_dot_h)),
+        "exact": radiance
+        * rect_light_fresnel(
+            toward, exact, schlick[..., 2:3] * smoothed_fresnel(material.curve, v_dot_h, spread, workers=1)
+        ),
         "basis": radiance * basis,
         "schlick": radiance * toward[..., None] * (schlick[..., :1] * f0 + schlick[..., 1:2]),
     }

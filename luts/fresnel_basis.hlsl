@@ -70,10 +70,10 @@ static const float FRESNEL_LTC_LOBE_WEIGHT_POWER = 0.375;  // p: I keeps the wei
 static const int FRESNEL_LTC_SPREAD_SQUARINGS = 2;  // log2 k: w is at least (1 - s^k) min(1, I / c) min(1, ratio / rho), s the light's spread
 static const float FRESNEL_LTC_SPREAD_SHARE = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
 static const float FRESNEL_LTC_SPREAD_RATIO = 0.5;  // rho (preintegrate.ltc.LOBE_SPREAD_POWER)
-static const float FRESNEL_LTC_MEAN_DIRECTION_SPREAD = 0.0471238898;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
+static const float FRESNEL_LTC_PUNCTUAL_SPREAD = 0.531736155;  // k sqrt(pi): a rect light's Fresnel is that of a GGX lobe of roughness min(r, k sqrt(solid angle)), which the shader has as k sqrt(pi) size (preintegrate.ltc.PUNCTUAL_SPREAD)
 static const int FRESNEL_LTC_UPPER_SHARE_SQUARINGS = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 static const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
-static const int FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
+static const int FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS = 4;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 static const float4 FRESNEL_LTC_EDGE = float4(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 static const float4 FRESNEL_LTC_EDGE_HI = float4(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
@@ -443,6 +443,22 @@ float3 fresnelBasisSplitSum(Texture2D<float4> lut, SamplerState linearClamp, flo
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
+// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+float2 fresnelMirrorLutUV(float x, float r)
+{
+    return float2(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+}
+
+// F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
+// [0, 1].
+float3 fresnelBasisSmoothed(Texture2D<float4> lut, SamplerState linearClamp, float x, float r, float albedo, float4 cR, float4 cG, float4 cB)
+{
+    float4 b = fresnelBasisTerms(lut, linearClamp, fresnelMirrorLutUV(x, r));
+    return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b)) * (albedo / max(b.x, 1e-4));
+}
+
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 float3 fresnelSchlickSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 f0)
 {
@@ -486,6 +502,13 @@ float3 fresnelLinearWeigh(float4 t, float3 wR, float3 wG, float3 wB)
 float3 fresnelLinearSplitSum(Texture2D<float4> schlickLut, SamplerState linearClamp, float NdotV, float r, float3 wR, float3 wG, float3 wB)
 {
     return fresnelLinearWeigh(schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0), wR, wG, wB);
+}
+
+// fresnelBasisSmoothed for a linear model's weights, from the Schlick table (its B is E').
+float3 fresnelLinearSmoothed(Texture2D<float4> schlickLut, SamplerState linearClamp, float x, float r, float albedo, float3 wR, float3 wG, float3 wB)
+{
+    float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelMirrorLutUV(x, r)), 0);
+    return fresnelLinearWeigh(t, wR, wG, wB) * (albedo / max(t.z, 1e-4));
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -706,14 +729,21 @@ float fresnelLtcDiskSolidAngle(float3 P, float3 corners[4])
     return 2.0 * projected / (root * (1.0 + root));
 }
 
+// A rectangular light as fresnelLtcRectLight gives it.
+struct FresnelLtcLight
+{
+    float4 light;  // the representative direction L (xyz) and the integral I (w)
+    float spread;  // r', the roughness of the lobe whose Fresnel average stands for the light's
+};
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
-// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
-// albedo 0.
-float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float albedo)
+// albedo 0 (light); and r' = min(r, k sqrt(omega)), omega the light's solid angle as the LTC gives it: the roughness of
+// the GGX lobe whose Fresnel average at V.H stands for the light's (spread; preintegrate.ltc.punctual_roughness).
+FresnelLtcLight fresnelLtcRectLight(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float albedo)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     float3 T1 = fresnelLtcTangent(N, V);
@@ -739,10 +769,16 @@ float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, 
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
     float q = dot(f, f) / max(dot(back, back), 1e-30);
     float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
-    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
-    // V + R L, the mean of V + L over the light
-    float mean = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
-    return float4(L * mean, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    FresnelLtcLight result;
+    result.light = float4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    result.spread = min(rough, FRESNEL_LTC_PUNCTUAL_SPREAD * size);
+    return result;
+}
+
+// fresnelLtcRectLight's light alone.
+float4 fresnelLtcRectVector(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float albedo)
+{
+    return fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, albedo).light;
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -751,7 +787,7 @@ float fresnelLtcRect(Texture2D<float4> ltcLut, SamplerState linearClamp, float3 
     return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// V.H*, H* along V + L, L the light's representative direction (fresnelLtcRectVector's; preintegrate.ltc.mean_half_v_dot_h),
 // in the LTC's frame, the view from fresnelLtcView.
 float fresnelLtcVdotH(float4 light, float3 view)
 {
@@ -767,21 +803,23 @@ float fresnelLtcSplitSumWeight(float4 light)
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* along V + R L, the mean of V + L over the light (fresnelLtcVdotH), and w from the
-// share of the lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its
-// direction, a light that covers the lobe to the split sum (issue 41).
-// F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
-// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
-// tests/luts/test_shaders_area.py measures it).
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectLight) times
+// E mix(F~, Fbar / E, w), F~ F averaged over the light: that of a GGX lobe of roughness r' (fresnelLtcRectLight) seen
+// at V.H*, H* along V + L (fresnelLtcVdotH), and w from the share of the lobe it covers (fresnelLtcSplitSumWeight): a
+// small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the split sum
+// (issue 41). F~: the basis table at (V.H*, r'), over its albedo there (one fetch; at r' = 0 the
+// table's mirror row, the curve itself; bilinear between the table's columns: tests/luts/test_shaders_area.py
+// measures it).
 float3 fresnelBasisRectLight(Texture2D<float4> ltcLut, Texture2D<float4> lut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float4 cR, float4 cG, float4 cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     float4 b = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
-    float4 light = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, b.x);
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, b.x);
+    float4 light = rect.light;
+    float spread = rect.spread;
     float3 average = float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
     float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
-    float3 punctual = b.x * fresnelBasisSplitSum(lut, linearClamp, VdotH, 0.0, cR, cG, cB);
+    float3 punctual = fresnelBasisSmoothed(lut, linearClamp, VdotH, spread, b.x, cR, cG, cB);
     return light.w * lerp(punctual, average, fresnelLtcSplitSumWeight(light));
 }
 
@@ -795,12 +833,15 @@ float3 fresnelSchlickRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schli
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
-// and its exact curve.
+// and F~ from the Schlick table, exact for the model too (the Schlick table at (V.H*, r'), over its B there).
 float3 fresnelLinearRectLight(Texture2D<float4> ltcLut, Texture2D<float4> schlickLut, SamplerState linearClamp, float3 N, float3 V, float3 P, float3 corners[4], float r, float3 wR, float3 wG, float3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     float4 t = schlickLut.SampleLevel(linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0);
-    float4 light = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z);
-    float3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, t.z);
+    float4 light = rect.light;
+    float spread = rect.spread;
+    float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    float3 punctual = fresnelLinearSmoothed(schlickLut, linearClamp, VdotH, spread, t.z, wR, wG, wB);
     return light.w * lerp(punctual, fresnelLinearWeigh(t, wR, wG, wB), fresnelLtcSplitSumWeight(light));
 }

@@ -70,10 +70,10 @@ const FRESNEL_LTC_LOBE_WEIGHT_POWER: f32 = 0.375;  // p: I keeps the weight I^p 
 const FRESNEL_LTC_SPREAD_SQUARINGS: i32 = 2;  // log2 k: w is at least (1 - s^k) min(1, I / c) min(1, ratio / rho), s the light's spread
 const FRESNEL_LTC_SPREAD_SHARE: f32 = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
 const FRESNEL_LTC_SPREAD_RATIO: f32 = 0.5;  // rho (preintegrate.ltc.LOBE_SPREAD_POWER)
-const FRESNEL_LTC_MEAN_DIRECTION_SPREAD: f32 = 0.0471238898;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
+const FRESNEL_LTC_PUNCTUAL_SPREAD: f32 = 0.531736155;  // k sqrt(pi): a rect light's Fresnel is that of a GGX lobe of roughness min(r, k sqrt(solid angle)), which the shader has as k sqrt(pi) size (preintegrate.ltc.PUNCTUAL_SPREAD)
 const FRESNEL_LTC_UPPER_SHARE_SQUARINGS: i32 = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 const FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR: f32 = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
-const FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS: i32 = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
+const FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS: i32 = 4;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 const FRESNEL_LTC_EDGE: vec4f = vec4f(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 const FRESNEL_LTC_EDGE_HI: vec4f = vec4f(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
@@ -442,6 +442,22 @@ fn fresnelBasisSplitSum(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, 
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
+// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+fn fresnelMirrorLutUV(x: f32, r: f32) -> vec2f
+{
+    return vec2f(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+}
+
+// F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
+// [0, 1].
+fn fresnelBasisSmoothed(lut: texture_2d<f32>, linearClamp: sampler, x: f32, r: f32, albedo: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
+{
+    let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelMirrorLutUV(x, r));
+    return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b)) * (albedo / max(b.x, 1e-4));
+}
+
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 fn fresnelSchlickSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, f0: vec3f) -> vec3f
 {
@@ -485,6 +501,13 @@ fn fresnelLinearWeigh(t: vec4f, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 fn fresnelLinearSplitSum(schlickLut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
     return fresnelLinearWeigh(textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
+}
+
+// fresnelBasisSmoothed for a linear model's weights, from the Schlick table (its B is E').
+fn fresnelLinearSmoothed(schlickLut: texture_2d<f32>, linearClamp: sampler, x: f32, r: f32, albedo: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
+{
+    let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelMirrorLutUV(x, r)), 0.0);
+    return fresnelLinearWeigh(t, wR, wG, wB) * (albedo / max(t.z, 1e-4));
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -706,14 +729,21 @@ fn fresnelLtcDiskSolidAngle(P: vec3f, corners: array<vec3f, 4>) -> f32
     return 2.0 * projected / (root * (1.0 + root));
 }
 
+// A rectangular light as fresnelLtcRectLight gives it.
+struct FresnelLtcLight
+{
+    light: vec4f,  // the representative direction L (xyz) and the integral I (w)
+    spread: f32,  // r', the roughness of the lobe whose Fresnel average stands for the light's
+}
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
-// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
-// albedo 0.
-fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, albedo: f32) -> vec4f
+// albedo 0 (light); and r' = min(r, k sqrt(omega)), omega the light's solid angle as the LTC gives it: the roughness of
+// the GGX lobe whose Fresnel average at V.H stands for the light's (spread; preintegrate.ltc.punctual_roughness).
+fn fresnelLtcRectLight(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, albedo: f32) -> FresnelLtcLight
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
     var T1: vec3f = fresnelLtcTangent(N, V);
@@ -739,10 +769,16 @@ fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f,
     let rough: f32 = fresnelSanitize(r, 0.5, 0.0, 1.0);
     let q: f32 = dot(f, f) / max(dot(back, back), 1e-30);
     let size: f32 = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
-    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
-    // V + R L, the mean of V + L over the light
-    let mean: f32 = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
-    return vec4f(L * mean, select(integral, fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det), (albedo > 0.0)));
+    var result: FresnelLtcLight;
+    result.light = vec4f(L, select(integral, fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det), (albedo > 0.0)));
+    result.spread = min(rough, FRESNEL_LTC_PUNCTUAL_SPREAD * size);
+    return result;
+}
+
+// fresnelLtcRectLight's light alone.
+fn fresnelLtcRectVector(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, albedo: f32) -> vec4f
+{
+    return fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, albedo).light;
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -751,7 +787,7 @@ fn fresnelLtcRect(ltcLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: ve
     return fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// V.H*, H* along V + L, L the light's representative direction (fresnelLtcRectVector's; preintegrate.ltc.mean_half_v_dot_h),
 // in the LTC's frame, the view from fresnelLtcView.
 fn fresnelLtcVdotH(light: vec4f, view: vec3f) -> f32
 {
@@ -767,21 +803,23 @@ fn fresnelLtcSplitSumWeight(light: vec4f) -> f32
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* along V + R L, the mean of V + L over the light (fresnelLtcVdotH), and w from the
-// share of the lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its
-// direction, a light that covers the lobe to the split sum (issue 41).
-// F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
-// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
-// tests/luts/test_shaders_area.py measures it).
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectLight) times
+// E mix(F~, Fbar / E, w), F~ F averaged over the light: that of a GGX lobe of roughness r' (fresnelLtcRectLight) seen
+// at V.H*, H* along V + L (fresnelLtcVdotH), and w from the share of the lobe it covers (fresnelLtcSplitSumWeight): a
+// small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the split sum
+// (issue 41). F~: the basis table at (V.H*, r'), over its albedo there (one fetch; at r' = 0 the
+// table's mirror row, the curve itself; bilinear between the table's columns: tests/luts/test_shaders_area.py
+// measures it).
 fn fresnelBasisRectLight(ltcLut: texture_2d<f32>, lut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
     let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelBasisLutUV(NdotV, r));
-    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, b.x);
+    let rect: FresnelLtcLight = fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, b.x);
+    let light: vec4f = rect.light;
+    let spread: f32 = rect.spread;
     let average: vec3f = vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
     let VdotH: f32 = fresnelLtcVdotH(light, fresnelLtcView(N, V));
-    let punctual: vec3f = b.x * fresnelBasisSplitSum(lut, linearClamp, VdotH, 0.0, cR, cG, cB);
+    let punctual: vec3f = fresnelBasisSmoothed(lut, linearClamp, VdotH, spread, b.x, cR, cG, cB);
     return light.w * mix(punctual, average, fresnelLtcSplitSumWeight(light));
 }
 
@@ -795,12 +833,15 @@ fn fresnelSchlickRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>,
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
-// and its exact curve.
+// and F~ from the Schlick table, exact for the model too (the Schlick table at (V.H*, r'), over its B there).
 fn fresnelLinearRectLight(ltcLut: texture_2d<f32>, schlickLut: texture_2d<f32>, linearClamp: sampler, N: vec3f, V: vec3f, P: vec3f, corners: array<vec3f, 4>, r: f32, wR: vec3f, wG: vec3f, wB: vec3f) -> vec3f
 {
     let NdotV: f32 = clamp(dot(N, V), 0.0, 1.0);
     let t: vec4f = textureSampleLevel(schlickLut, linearClamp, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    let light: vec4f = fresnelLtcRectVector(ltcLut, linearClamp, N, V, P, corners, r, t.z);
-    let punctual: vec3f = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
+    let rect: FresnelLtcLight = fresnelLtcRectLight(ltcLut, linearClamp, N, V, P, corners, r, t.z);
+    let light: vec4f = rect.light;
+    let spread: f32 = rect.spread;
+    let VdotH: f32 = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    let punctual: vec3f = fresnelLinearSmoothed(schlickLut, linearClamp, VdotH, spread, t.z, wR, wG, wB);
     return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), fresnelLtcSplitSumWeight(light));
 }

@@ -38,7 +38,7 @@ from preintegrate.ltc import (
     LOBE_SPREAD_RATIO,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
-    MEAN_DIRECTION_SPREAD,
+    PUNCTUAL_SPREAD,
     SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
     UPPER_SHARE_POWER,
@@ -339,6 +339,8 @@ def _curve_table_parts(c: ShaderConstants) -> tuple[str, str]:
 
 
 #: The functions that read the per-pixel tables (or choose them), left out of an include whose basis has none.
+#: The functions that read the tables at (V·H*, r') down to r = 0: only where the grid holds that row.
+MIRROR_ROW_FUNCTIONS = ("fresnelMirrorLutUV", "fresnelBasisSmoothed", "fresnelLinearSmoothed")
 PIXEL_TABLE_FUNCTIONS = (
     "fresnelCoefficientsTableRead",
     "fresnelCoefficientsGulbrandsenTable",
@@ -490,19 +492,24 @@ def _record(wide: bool) -> str:
     )
 
 
-def _rect_punctual_parts(grid: LutGrid) -> dict[str, str]:
-    """``fresnelBasisRectLight``'s F(V·H*): from the basis table's mirror row where the grid holds it
-    (:attr:`preintegrate.lut.LutGrid.holds_mirror`), else the direct-light polynomial."""
+def _rect_punctual_parts(grid: LutGrid, albedo: str) -> dict[str, str]:
+    """``fresnelBasisRectLight``'s and ``fresnelLinearRectLight``'s F averaged over the light, times E (``albedo``):
+    from their table at (V·H*, r') where the grid holds the mirror row (:attr:`preintegrate.lut.LutGrid.holds_mirror`),
+    else F(V·H*) from the direct-light polynomial (r' left out: such a table has no rows near r = 0)."""
     if grid.holds_mirror:
         return {
-            "rect_punctual": "fresnelBasisSplitSum(lut, lut2, VdotH, 0.0, cR, cG, cB)",
-            "rect_punctual_note": "the basis table's mirror row (r = 0, where the split sum is the curve\n"
-            "// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:\n"
-            "// tests/luts/test_shaders_area.py measures it).",
+            "rect_punctual": f"fresnelBasisSmoothed(lut, lut2, VdotH, spread, {albedo}, cR, cG, cB)",
+            "rect_punctual_note": "the basis table at (V.H*, r'), over its albedo there (one fetch; at r' = 0 the\n"
+            "// table's mirror row, the curve itself; bilinear between the table's columns: tests/luts/test_shaders_area.py\n"
+            "// measures it).",
+            "linear_rect_punctual": "fresnelLinearSmoothed(schlickLut, VdotH, spread, t.z, wR, wG, wB)",
+            "linear_rect_punctual_note": "the Schlick table at (V.H*, r'), over its B there",
         }
     return {
-        "rect_punctual": "fresnelBasisDirect(VdotH, cR, cG, cB)",
-        "rect_punctual_note": "the direct-light polynomial (this table's rows start above r = 0).",
+        "rect_punctual": f"{albedo} * fresnelBasisDirect(VdotH, cR, cG, cB)",
+        "rect_punctual_note": "F(V.H*) from the direct-light polynomial (this table's rows start above r = 0).",
+        "linear_rect_punctual": "t.z * fresnelLinearDirect(VdotH, wR, wG, wB)",
+        "linear_rect_punctual_note": "F(V.H*) itself: this table's rows start above r = 0",
     }
 
 
@@ -548,7 +555,8 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         if wide
         else "FRESNEL_BASIS_AVERAGES",
         "albedo": "b.lo.x" if wide else "b.x",
-        **_rect_punctual_parts(grid),
+        "mirror_column": "sqrt(x)" if grid.columns == "root-endpoints" else "x",
+        **_rect_punctual_parts(grid, "b.lo.x" if wide else "b.x"),
     }
     preamble = [
         f"const uint FRESNEL_BASIS_HASH = 0x{c.basis_hash[:8]}u;  // the first 8 hex digits of {c.basis_hash}",
@@ -590,10 +598,10 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
         _constant("FRESNEL_LTC_SPREAD_SHARE", LOBE_SPREAD_SHARE, "c (preintegrate.ltc.LOBE_SPREAD_POWER)"),
         _constant("FRESNEL_LTC_SPREAD_RATIO", LOBE_SPREAD_RATIO, "rho (preintegrate.ltc.LOBE_SPREAD_POWER)"),
         _constant(
-            "FRESNEL_LTC_MEAN_DIRECTION_SPREAD",
-            MEAN_DIRECTION_SPREAD * np.pi,
-            "c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as "
-            "1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)",
+            "FRESNEL_LTC_PUNCTUAL_SPREAD",
+            PUNCTUAL_SPREAD * np.sqrt(np.pi),
+            "k sqrt(pi): a rect light's Fresnel is that of a GGX lobe of roughness min(r, k sqrt(solid angle)), which "
+            "the shader has as k sqrt(pi) size (preintegrate.ltc.PUNCTUAL_SPREAD)",
         ),
         _squarings_constant(
             "FRESNEL_LTC_UPPER_SHARE_SQUARINGS",
@@ -622,6 +630,8 @@ def shader_source(constants: ShaderConstants, command: str = "fresnel-lut build"
     text = re.sub(r"\{\{(\w+)\}\}", lambda match: placeholders[match.group(1)], text)
     if not c.pixel_tables:
         text = _without_functions(text, PIXEL_TABLE_FUNCTIONS)
+    if not grid.holds_mirror:  # no rows near r = 0: the rect lights take F(V·H*) from the polynomials
+        text = _without_functions(text, MIRROR_ROW_FUNCTIONS)
     if not wide:  # the second table exists only for five to eight terms
         text = re.sub(r",\s*(?:sampler2D\s+)?lut2\b", "", text)
     return text

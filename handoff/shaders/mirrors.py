@@ -32,7 +32,7 @@ import numpy as np
 
 from basis.coefficient_table import coefficients_from_coefficient_table
 from basis.models.formulas import adobe_dip_weight, f82_dip_weight
-from basis.validation import ParameterError, as_float_array, check_choice
+from basis.validation import ParameterError, as_float_array, check_choice, check_range
 from preintegrate.ltc import ltc_grid, rect_light_fresnel, rect_light_half_cosine
 from preintegrate.multiple_scattering import weigh_schlick_texels
 
@@ -294,8 +294,8 @@ def ltc_coordinates(n_dot_v, roughness, constants: ShaderConstants | None = None
 
 
 def _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants):
-    """(LTC integral (…), V·H* (…), table texels (…, C)) as ``fresnelLtcRectVector`` and ``fresnelLtcVdotH`` compute
-    them (:func:`preintegrate.ltc.rect_light_half_cosine`), the integral toward the lobe's limit with E =
+    """(LTC integral (…), V·H* (…), r' (…), table texels (…, C)) as ``fresnelLtcRectLight`` and ``fresnelLtcVdotH``
+    compute them (:func:`preintegrate.ltc.rect_light_half_cosine`), the integral toward the lobe's limit with E =
     ``albedo_of(n_dot_v, roughness)``, which returns (E (…), the table's texels)."""
     normal, view = as_float_array("normal", normal), as_float_array("view", view)
     n_dot_v = np.clip(np.sum(normal * view, axis=-1), 0.0, 1.0)
@@ -303,8 +303,8 @@ def _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of
     roughness = sanitize_unit(roughness, 0.5)
     albedo, texels = albedo_of(n_dot_v, roughness)
     stored = ltc_grid(constants.ltc_size).lookup(ltc_table, n_dot_v, roughness, sine)
-    integral, v_dot_h = rect_light_half_cosine(stored, normal, view, position, corners, roughness, albedo)
-    return integral, v_dot_h, texels
+    integral, v_dot_h, spread = rect_light_half_cosine(stored, normal, view, position, corners, roughness, albedo)
+    return integral, v_dot_h, spread, texels
 
 
 def rect_light_specular(
@@ -312,50 +312,65 @@ def rect_light_specular(
 ) -> np.ndarray:
     """(…, 3) ``fresnelBasisRectLight``: the LTC integral of the quad ``corners`` (…, 4, 3) seen from ``position``
     with ``normal`` and ``view`` (…, 3), read from ``ltc_table`` (the LTC table, :mod:`preintegrate.ltc`), times
-    E mix(F(V·H*), F̄ / E, w): F̄ = Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K), E = b̄0,
-    F the direct-light curves at V·H*, H* along V + R L* (preintegrate.ltc.mean_half_v_dot_h), w the integral,
-    itself taken toward the lobe's punctual limit with E — bilinear fetches as a GPU makes them."""
+    E mix(F̃, F̄ / E, w): F̄ = Σ_k c_k b̄_k of ``basis_table`` (H, W, K) for ``coefficients`` (…, 3, K), E = b̄0, F̃ F
+    averaged over the light (:func:`rect_light_punctual` at V·H* and r', preintegrate.ltc.punctual_roughness), w the
+    integral, itself taken toward the lobe's punctual limit with E — bilinear fetches as a GPU makes them."""
     constants = shader_constants() if constants is None else constants
 
     def albedo_of(n_dot_v, roughness):
         terms = _table_texels("basis_table", basis_table, n_dot_v, roughness, constants)
         return terms[..., 0], terms
 
-    integral, v_dot_h, terms = _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants)
+    integral, v_dot_h, spread, terms = _rect_light(
+        ltc_table, normal, view, position, corners, roughness, albedo_of, constants
+    )
     coefficients = as_float_array("coefficients", coefficients)
     average = np.einsum("...ck,...k->...c", coefficients, terms)
-    punctual = terms[..., :1] * rect_light_punctual(basis_table, coefficients, v_dot_h, constants)
+    punctual = terms[..., :1] * rect_light_punctual(basis_table, coefficients, v_dot_h, constants, spread)
     return rect_light_fresnel(integral, average, punctual)
 
 
-def rect_light_punctual(basis_table, coefficients, v_dot_h, constants=None) -> np.ndarray:
-    """(…, 3) F(V·H*) of ``fresnelBasisRectLight`` for coefficients (…, 3, K): the split sum at (V·H*, r = 0) of
-    ``basis_table`` where its grid holds the mirror (:attr:`preintegrate.lut.LutGrid.holds_mirror`: there the split
-    sum is the curve itself), bilinear as a GPU reads it; else the direct-light polynomial (:func:`direct_fresnel`)."""
+def rect_light_punctual(basis_table, coefficients, v_dot_h, constants=None, spread=0.0) -> np.ndarray:
+    """(…, 3) F̃ of ``fresnelBasisRectLight`` for coefficients (…, 3, K): F averaged over a GGX lobe of perceptual
+    roughness ``spread`` r' (…, in [0, 1]; 0, the default, is F(V·H*) itself) seen at ``v_dot_h``, the split sum of
+    ``basis_table`` at (V·H*, r') over its albedo there, bilinear as a GPU reads it (``fresnelBasisSmoothed``), where
+    its grid holds the mirror row (:attr:`preintegrate.lut.LutGrid.holds_mirror`: there, at r' = 0, the split sum is
+    the curve itself); else F(V·H*) from the direct-light polynomial (:func:`direct_fresnel`), r' left out."""
     constants = shader_constants() if constants is None else constants
     coefficients = as_float_array("coefficients", coefficients)
     v_dot_h = as_float_array("v_dot_h", v_dot_h)
     if not constants.grid.holds_mirror:
         return direct_fresnel(coefficients, v_dot_h[..., None], constants)
-    mirror = _table_texels("basis_table", basis_table, v_dot_h, np.zeros_like(v_dot_h), constants)
-    return np.einsum("...ck,...k->...c", coefficients, mirror)
+    spread = np.broadcast_to(check_range("spread", spread, 0.0, 1.0), v_dot_h.shape)
+    terms = _table_texels("basis_table", basis_table, v_dot_h, spread, constants)
+    return np.einsum("...ck,...k->...c", coefficients, terms) / np.maximum(terms[..., :1], 1e-4)
 
 
 def linear_rect_light_specular(
     ltc_table, schlick_table, normal, view, position, corners, roughness, weights, constants=None
 ) -> np.ndarray:
     """(…, 3) ``fresnelLinearRectLight``: as :func:`rect_light_specular` for a linear model's weights (…, 3, 3), with
-    its exact split sum and curve (E the Schlick table's B)."""
+    its exact split sum and F̃ from the same Schlick table at (V·H*, r') over its B there (``fresnelLinearSmoothed``;
+    F(V·H*) itself where the grid does not hold the mirror row), E the table's B."""
     constants = shader_constants() if constants is None else constants
 
     def albedo_of(n_dot_v, roughness):
         texels = _table_texels("schlick_table", schlick_table, n_dot_v, roughness, constants)
         return texels[..., 2], texels
 
-    integral, v_dot_h, texels = _rect_light(ltc_table, normal, view, position, corners, roughness, albedo_of, constants)
+    integral, v_dot_h, spread, texels = _rect_light(
+        ltc_table, normal, view, position, corners, roughness, albedo_of, constants
+    )
     weights = as_float_array("weights", weights)
-    average = weigh_schlick_texels(np.insert(weights, 2, 0.0, axis=-1), texels, multiple_scattering=False)
-    punctual = texels[..., 2:3] * linear_direct(weights, v_dot_h)
+    with_dip = np.insert(weights, 2, 0.0, axis=-1)
+    average = weigh_schlick_texels(with_dip, texels, multiple_scattering=False)
+    if constants.grid.holds_mirror:
+        smoothed = _table_texels("schlick_table", schlick_table, v_dot_h, spread, constants)
+        punctual = weigh_schlick_texels(with_dip, smoothed, multiple_scattering=False) * (
+            texels[..., 2:3] / np.maximum(smoothed[..., 2:3], 1e-4)
+        )
+    else:
+        punctual = texels[..., 2:3] * linear_direct(weights, v_dot_h)
     return rect_light_fresnel(integral, average, punctual)
 
 

@@ -70,10 +70,10 @@ const float FRESNEL_LTC_LOBE_WEIGHT_POWER = 0.375;  // p: I keeps the weight I^p
 const int FRESNEL_LTC_SPREAD_SQUARINGS = 2;  // log2 k: w is at least (1 - s^k) min(1, I / c) min(1, ratio / rho), s the light's spread
 const float FRESNEL_LTC_SPREAD_SHARE = 0.1;  // c (preintegrate.ltc.LOBE_SPREAD_POWER)
 const float FRESNEL_LTC_SPREAD_RATIO = 0.5;  // rho (preintegrate.ltc.LOBE_SPREAD_POWER)
-const float FRESNEL_LTC_MEAN_DIRECTION_SPREAD = 0.0471238898;  // c pi: the light's directions average to R L, R = max(1 - c solid angle, 0), which the shader has as 1 - (c pi) size^2 (preintegrate.ltc.MEAN_DIRECTION_SPREAD)
+const float FRESNEL_LTC_PUNCTUAL_SPREAD = 0.531736155;  // k sqrt(pi): a rect light's Fresnel is that of a GGX lobe of roughness min(r, k sqrt(solid angle)), which the shader has as k sqrt(pi) size (preintegrate.ltc.PUNCTUAL_SPREAD)
 const int FRESNEL_LTC_UPPER_SHARE_SQUARINGS = 5;  // log2 m: the LTC's share below the horizon counts as min(I / H, 1)^m (preintegrate.ltc.toward_upper_share)
 const float FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR = 0.5;  // a: the split sum's weight a I + (1 - a) I^n in a rect light's Fresnel (preintegrate.ltc.rect_light_fresnel)
-const int FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS = 5;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
+const int FRESNEL_LTC_SPLIT_SUM_WEIGHT_SQUARINGS = 4;  // log2 n (FRESNEL_LTC_SPLIT_SUM_WEIGHT_LINEAR)
 // theta / sin(theta) = sum_p c_p u^p, u = 1 - cos(theta) in [0, 1], c_0 .. c_7 (preintegrate.ltc.edge_factor_polynomial).
 const vec4 FRESNEL_LTC_EDGE = vec4(1.0, 0.333355668, 0.132607002, 0.0639415782);  // c_0 .. c_3
 const vec4 FRESNEL_LTC_EDGE_HI = vec4(-0.00227934075, 0.0677026245, -0.0518852374, 0.0273540324);  // c_4 .. c_7
@@ -446,6 +446,22 @@ vec3 fresnelBasisSplitSum(sampler2D lut, float NdotV, float r, vec4 cR, vec4 cG,
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
+// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+vec2 fresnelMirrorLutUV(float x, float r)
+{
+    return vec2(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+}
+
+// F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
+// [0, 1].
+vec3 fresnelBasisSmoothed(sampler2D lut, float x, float r, float albedo, vec4 cR, vec4 cG, vec4 cB)
+{
+    vec4 b = fresnelBasisTerms(lut, fresnelMirrorLutUV(x, r));
+    return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b)) * (albedo / max(b.x, 1e-4));
+}
+
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 f0)
 {
@@ -489,6 +505,13 @@ vec3 fresnelLinearWeigh(vec4 t, vec3 wR, vec3 wG, vec3 wB)
 vec3 fresnelLinearSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
     return fresnelLinearWeigh(textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
+}
+
+// fresnelBasisSmoothed for a linear model's weights, from the Schlick table (its B is E').
+vec3 fresnelLinearSmoothed(sampler2D schlickLut, float x, float r, float albedo, vec3 wR, vec3 wG, vec3 wB)
+{
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelMirrorLutUV(x, r)), 0.0);
+    return fresnelLinearWeigh(t, wR, wG, wB) * (albedo / max(t.z, 1e-4));
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
@@ -709,14 +732,21 @@ float fresnelLtcDiskSolidAngle(vec3 P, vec3 corners[4])
     return 2.0 * projected / (root * (1.0 + root));
 }
 
+// A rectangular light as fresnelLtcRectLight gives it.
+struct FresnelLtcLight
+{
+    vec4 light;  // the representative direction L (xyz) and the integral I (w)
+    float spread;  // r', the roughness of the lobe whose Fresnel average stands for the light's
+};
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
-// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
-// albedo 0.
-vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
+// albedo 0 (light); and r' = min(r, k sqrt(omega)), omega the light's solid angle as the LTC gives it: the roughness of
+// the GGX lobe whose Fresnel average at V.H stands for the light's (spread; preintegrate.ltc.punctual_roughness).
+FresnelLtcLight fresnelLtcRectLight(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec3 T1 = fresnelLtcTangent(N, V);
@@ -742,10 +772,16 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
     float q = dot(f, f) / max(dot(back, back), 1e-30);
     float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
-    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
-    // V + R L, the mean of V + L over the light
-    float mean = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
-    return vec4(L * mean, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    FresnelLtcLight result;
+    result.light = vec4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    result.spread = min(rough, FRESNEL_LTC_PUNCTUAL_SPREAD * size);
+    return result;
+}
+
+// fresnelLtcRectLight's light alone.
+vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
+{
+    return fresnelLtcRectLight(ltcLut, N, V, P, corners, r, albedo).light;
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -754,7 +790,7 @@ float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], 
     return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// V.H*, H* along V + L, L the light's representative direction (fresnelLtcRectVector's; preintegrate.ltc.mean_half_v_dot_h),
 // in the LTC's frame, the view from fresnelLtcView.
 float fresnelLtcVdotH(vec4 light, vec3 view)
 {
@@ -770,21 +806,23 @@ float fresnelLtcSplitSumWeight(vec4 light)
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* along V + R L, the mean of V + L over the light (fresnelLtcVdotH), and w from the
-// share of the lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its
-// direction, a light that covers the lobe to the split sum (issue 41).
-// F(V.H*): the basis table's mirror row (r = 0, where the split sum is the curve
-// itself), one fetch in place of the direct-light polynomial (bilinear between the table's columns:
-// tests/luts/test_shaders_area.py measures it).
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectLight) times
+// E mix(F~, Fbar / E, w), F~ F averaged over the light: that of a GGX lobe of roughness r' (fresnelLtcRectLight) seen
+// at V.H*, H* along V + L (fresnelLtcVdotH), and w from the share of the lobe it covers (fresnelLtcSplitSumWeight): a
+// small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the split sum
+// (issue 41). F~: the basis table at (V.H*, r'), over its albedo there (one fetch; at r' = 0 the
+// table's mirror row, the curve itself; bilinear between the table's columns: tests/luts/test_shaders_area.py
+// measures it).
 vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec4 cR, vec4 cG, vec4 cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec4 b = fresnelBasisTerms(lut, fresnelBasisLutUV(NdotV, r));
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, b.x);
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, N, V, P, corners, r, b.x);
+    vec4 light = rect.light;
+    float spread = rect.spread;
     vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
     float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
-    vec3 punctual = b.x * fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB);
+    vec3 punctual = fresnelBasisSmoothed(lut, VdotH, spread, b.x, cR, cG, cB);
     return light.w * mix(punctual, average, fresnelLtcSplitSumWeight(light));
 }
 
@@ -798,12 +836,15 @@ vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
-// and its exact curve.
+// and F~ from the Schlick table, exact for the model too (the Schlick table at (V.H*, r'), over its B there).
 vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 wR, vec3 wG, vec3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z);
-    vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, N, V, P, corners, r, t.z);
+    vec4 light = rect.light;
+    float spread = rect.spread;
+    float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    vec3 punctual = fresnelLinearSmoothed(schlickLut, VdotH, spread, t.z, wR, wG, wB);
     return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), fresnelLtcSplitSumWeight(light));
 }

@@ -155,8 +155,8 @@ def _assert(outputs, expected, where, slope=None):
 
 
 def test_the_rect_lights_fresnel_reads_the_curves_on_the_basis_tables_mirror_row():
-    """``fresnelBasisRectLight`` reads F(V·H*) from the basis table's r = 0 row (``rect_light_punctual``), where the
-    split sum is the curve itself: there b̄0 = 1 exactly and the terms match the basis' own spline curves to float32 at
+    """``fresnelBasisRectLight`` reads F̃ from the basis table at (V·H*, r') (``rect_light_punctual``), F(V·H*) itself
+    for a small light (r' = 0), where the split sum is the curve itself: there b̄0 = 1 exactly and the terms match the basis' own spline curves to float32 at
     the columns and within 7e-4 between them (bilinear; measured 6.7e-4, b3 near μ = 0.06, 1e-4 for b1), against the
     direct-light polynomial's 2.2e-5."""
     from basis.eigenbasis import default_basis

@@ -59,7 +59,8 @@ def test_the_scene_writes_the_includes_of_its_own_basis(built):
 
 def test_a_scene_whose_rows_start_above_the_mirror_takes_the_rect_lights_fresnel_from_the_polynomial(built):
     """The scene's rows start at r = 0.15, so its table has no mirror row: its ``fresnelBasisRectLight`` evaluates the
-    direct-light polynomial at V·H* (the default build's reads the table's r = 0 row), and so does the mirror."""
+    direct-light polynomial at V·H* (the default build's reads the table at (V·H*, r'), down to its r = 0 row), and so
+    does the mirror; the functions that read down to r = 0 are left out of its include."""
     from handoff.shaders import direct_fresnel, rect_light_punctual, shader_includes
 
     plan, out = built
@@ -68,9 +69,10 @@ def test_a_scene_whose_rows_start_above_the_mirror_takes_the_rect_lights_fresnel
     text = (out / "fresnel_basis_scene.glsl").read_text(encoding="utf-8")
     body = text[text.index("vec3 fresnelBasisRectLight(") :]
     assert "fresnelBasisDirect(VdotH, cR, cG, cB)" in body[: body.index("\n}")]
+    assert "fresnelBasisSmoothed" not in text and "fresnelMirrorLutUV" not in text
     default = dict(shader_includes())["fresnel_basis.glsl"]
     body = default[default.index("vec3 fresnelBasisRectLight(") :]
-    assert "fresnelBasisSplitSum(lut, VdotH, 0.0, cR, cG, cB)" in body[: body.index("\n}")]
+    assert "fresnelBasisSmoothed(lut, VdotH, spread, b.x, cR, cG, cB)" in body[: body.index("\n}")]
     coefficients, v_dot_h = np.full((5, 3, 4), 0.2), np.linspace(0.0, 1.0, 5)
     (table_path,) = [path for path in out.glob("*.exr") if "basis" in path.name]
     table = read_lut(table_path)[0]

@@ -15,7 +15,7 @@ from preintegrate.ltc import (
     LOBE_SPREAD_RATIO,
     LOBE_SPREAD_SHARE,
     LOBE_WEIGHT_POWER,
-    MEAN_DIRECTION_SPREAD,
+    PUNCTUAL_SPREAD,
     SPLIT_SUM_WEIGHT_LINEAR,
     SPLIT_SUM_WEIGHT_POWER,
     UPPER_SHARE_POWER,
@@ -36,11 +36,13 @@ from preintegrate.ltc import (
     mean_half_v_dot_h,
     polygon_integral,
     polygon_vector,
+    punctual_roughness,
     rect_light_direction,
     rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
     shading_frame,
+    smoothed_fresnel,
     stored_density,
     toward_lobe_limit,
     toward_upper_share,
@@ -200,7 +202,7 @@ def test_toward_the_lobes_limit_a_small_light_gets_the_lobes_own_integral():
         for _ in range(24):
             _, quad = _small_light(rng, 0.01, 0.05)
             plain = rect_light_integral(stored, normal, view, np.zeros(3), quad)
-            got, _ = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)
+            got = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)[0]
             assert lobe_ratio_bound(plain, ltc_solid_angle(stored, horizon_ltc_vector(stored, quad))) == LOBE_RATIO_MAX
             assert got <= LOBE_RATIO_MAX * plain * (1.0 + 1e-12)
             if abs(got - plain) <= 1e-9 * plain:
@@ -237,7 +239,7 @@ def test_toward_the_lobes_limit_a_light_that_is_not_tiny_is_raised_closer_to_the
         for _ in range(48):
             _, quad = _small_light(rng, np.exp(rng.uniform(np.log(0.1), np.log(1.0))), 0.05)
             plain, direction = rect_light_direction(stored, normal, view, np.zeros(3), quad)
-            got, _ = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)
+            got = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad, roughness, albedo)[0]
             ratio = lobe_density_ratio(stored, direction, mu_o, alpha, albedo, sine=view[0])
             capped = toward_lobe_limit(plain, min(ratio, LOBE_RATIO_MAX))
             assert got <= max(LOBE_RATIO_MAX * plain, LOBE_SHARE_RAISED) * (1.0 + 1e-12), (got, plain)
@@ -334,8 +336,8 @@ def test_mean_half_v_dot_h_takes_h_along_v_plus_the_lights_mean_direction():
     """V·H with H along V + R L, R = max(1 − c Ω, 0): the closed form (1 + R V·L) / |V + R L| for V·L = cos γ;
     L's own half vector, √((1 + V·L) / 2), for Ω = 0 or c = 0; H = V (V·H = 1) once R reaches 0. At a grazing view
     under a light at the mirror direction, where V + L is short, V·H rises with the light's solid angle; c out of
-    [0, 1] is refused. rect_light_half_cosine takes it with the LTC's solid angle of the light (default c, what
-    ships), and with c = 0 gives the half vector of the light's representative direction."""
+    [0, 1] is refused. rect_light_half_cosine takes the half vector of the light's representative direction (c = 0, as
+    the shaders do) unless given c, which it takes with the LTC's solid angle of the light."""
     rng = np.random.default_rng(12)
     for _ in range(20):
         mu, gamma = rng.uniform(0.0, 1.0), rng.uniform(0.0, np.pi)
@@ -351,7 +353,7 @@ def test_mean_half_v_dot_h_takes_h_along_v_plus_the_lights_mean_direction():
         assert mean_half_v_dot_h(view, light, angle, 0.0) == pytest.approx(plain, rel=1e-12, abs=1e-12)
         assert mean_half_v_dot_h(view, light, 1.0 / spread + 1.0, spread) == pytest.approx(1.0, rel=1e-12)
     view, mirror = np.array([np.sqrt(1.0 - 0.08**2), 0.0, 0.08]), np.array([-np.sqrt(1.0 - 0.08**2), 0.0, 0.08])
-    rising = mean_half_v_dot_h(view, mirror, np.array([0.0, 0.1, 1.0, 3.0]))
+    rising = mean_half_v_dot_h(view, mirror, np.array([0.0, 0.1, 1.0, 3.0]), 0.02)
     assert rising[0] == pytest.approx(0.08, rel=1e-9) and np.all(np.diff(rising) > 0.0), rising
     for spread in (-0.01, 1.5, float("nan")):
         with pytest.raises(ParameterError, match="spread"):
@@ -362,13 +364,72 @@ def test_mean_half_v_dot_h_takes_h_along_v_plus_the_lights_mean_direction():
     integral, direction = rect_light_direction(stored, normal, world_view, np.zeros(3), quad)
     local_view = shading_frame(normal, world_view) @ world_view
     half = (local_view + direction) / np.linalg.norm(local_view + direction)
-    _, own = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9, direction_spread=0.0)
+    own = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9)[1]
     assert own == pytest.approx(float(local_view @ half), rel=1e-12)
     angle = ltc_solid_angle(stored, horizon_ltc_vector(stored, quad @ shading_frame(normal, world_view).T))
-    _, shipped = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9)
-    assert MEAN_DIRECTION_SPREAD > 0.0 and angle > 0.1 and integral > 0.0
-    assert shipped == pytest.approx(float(mean_half_v_dot_h(local_view, direction, angle)), rel=1e-12)
-    assert shipped != pytest.approx(float(own), rel=1e-6)
+    spread = rect_light_half_cosine(stored, normal, world_view, np.zeros(3), quad, 0.5, 0.9, direction_spread=0.02)[1]
+    assert angle > 0.1 and integral > 0.0
+    assert spread == pytest.approx(float(mean_half_v_dot_h(local_view, direction, angle, 0.02)), rel=1e-12)
+    assert spread != pytest.approx(float(own), rel=1e-6)
+
+
+def test_a_lights_fresnel_lobe_is_as_wide_as_the_light_up_to_the_surfaces_own():
+    """punctual_roughness: r' = min(r, k √Ω_L) in closed form, 0 for k = 0 or a light of no extent, r for a light as
+    wide as the lobe; every argument's range refused. rect_light_half_cosine's third value is it for the light's
+    Ω_L as the LTC gives it, which a small light's own solid angle (a 0.02 × 0.01 quad two units away, 5e-5 sr) meets
+    to 1e-3 (ltc_solid_angle is exact as the light shrinks): r' = k √Ω; a light over the whole hemisphere gives r; no
+    roughness gives 0."""
+    rng = np.random.default_rng(23)
+    roughness, angle, spread = rng.uniform(0.0, 1.0, 50), rng.uniform(0.0, 7.0, 50), rng.uniform(0.0, 1.0, 50)
+    got = punctual_roughness(roughness, angle, spread)
+    assert np.array_equal(got, np.minimum(roughness, spread * np.sqrt(angle)))
+    assert np.all(punctual_roughness(roughness, angle, 0.0) == 0.0) and np.all(
+        punctual_roughness(roughness, 0.0) == 0.0
+    )
+    assert punctual_roughness(0.4, 10.0) == 0.4 and PUNCTUAL_SPREAD * np.sqrt(10.0) > 0.4
+    for arguments, name in (
+        ((1.5, 1.0), "roughness"),
+        ((0.5, -1.0), "ltc_angle"),
+        ((0.5, np.inf), "ltc_angle"),
+        ((0.5, 1.0, 1.5), "spread"),
+        ((float("nan"), 1.0), "roughness"),
+    ):
+        with pytest.raises(ParameterError, match=name):
+            punctual_roughness(*arguments)
+    normal, view = np.array([0.0, 0.0, 1.0]), np.array([0.6, 0.0, 0.8])
+    stored = np.array([1.4, -0.3, 0.2, 1.1])
+    centre = 2.0 * np.array([-0.6, 0.0, 0.8])
+    tangent, bitangent = np.array([0.8, 0.0, 0.6]), np.array([0.0, 1.0, 0.0])
+    quad = np.array(
+        [centre + a * 0.01 * tangent + b * 0.005 * bitangent for a, b in ((-1, -1), (-1, 1), (1, 1), (1, -1))]
+    )
+    solid_angle = 0.02 * 0.01 / 4.0
+    small = rect_light_half_cosine(stored, normal, view, np.zeros(3), quad[::-1], 0.5, 0.9)[2]
+    assert small == pytest.approx(PUNCTUAL_SPREAD * np.sqrt(solid_angle), rel=1e-3)
+    sky = 1e4 * np.array([[-1.0, -1.0, 0.01], [-1.0, 1.0, 0.01], [1.0, 1.0, 0.01], [1.0, -1.0, 0.01]])[::-1]
+    assert rect_light_half_cosine(stored, normal, view, np.zeros(3), sky, 0.4, 0.9)[2] == 0.4
+    assert rect_light_half_cosine(stored, normal, view, np.zeros(3), quad[::-1])[2] == 0.0
+
+
+def test_smoothed_fresnel_is_the_split_sum_of_the_lobe_over_its_albedo():
+    """smoothed_fresnel against the independent quadrature of tests/references/integration.py (the reference's
+    F̄ and E of the same lobe, their ratio) for glass and a conductor at (V·H, r') from grazing to normal and r' from 0.05
+    to 1, to 1e-6 relative; at r' = 0 the curve itself, exactly; a constant's average the constant."""
+    from basis.fresnel import fresnel_conductor
+    from tests.references.integration import reference_albedo_grid
+
+    def curve(x):
+        return np.stack([fresnel_conductor(x, 1.5, 0.0), fresnel_conductor(x, 0.2, 3.0)], axis=-1)
+
+    v_dot_h = np.array([0.02, 0.1, 0.3, 0.6, 0.95, 1.0])
+    for roughness in (0.05, 0.3, 0.6, 1.0):
+        got = smoothed_fresnel(curve, v_dot_h, roughness)
+        both = reference_albedo_grid(
+            lambda x: np.concatenate([np.ones((x.size, 1)), curve(x)], axis=-1), v_dot_h, np.full(6, roughness**2)
+        )
+        assert got == pytest.approx(both[:, 1:] / both[:, :1], rel=1e-6), roughness
+    assert np.array_equal(smoothed_fresnel(curve, v_dot_h, 0.0), curve(v_dot_h))
+    assert smoothed_fresnel(lambda x: np.full((x.size, 1), 0.25), 0.3, 0.7)[0] == pytest.approx(0.25, rel=1e-12)
 
 
 def test_rect_light_half_cosine_takes_roughness_and_albedo_together():

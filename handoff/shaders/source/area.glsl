@@ -201,14 +201,21 @@ float fresnelLtcDiskSolidAngle(vec3 P, vec3 corners[4])
     return 2.0 * projected / (root * (1.0 + root));
 }
 
+// A rectangular light as fresnelLtcRectLight gives it.
+struct FresnelLtcLight
+{
+    vec4 light;  // the representative direction L (xyz) and the integral I (w)
+    float spread;  // r', the roughness of the lobe whose Fresnel average stands for the light's
+};
+
 // The LTC of a rectangular light with corners (world space) seen from P with normal N and view V: the frame T1 (the
 // view's tangential part), T2 = N x T1, N, then the table's M^-1. Returns the light's representative direction L in
-// that frame (the direction of the transformed quad's vector form factor taken back through M) times its directions'
-// mean length R = max(1 - c omega, 0), omega its solid angle as the LTC gives it, and, in w, the LTC
+// that frame (the direction of the transformed quad's vector form factor taken back through M) and, in w, the LTC
 // integral (the share of the lobe the light covers), taken toward the lobe's punctual limit (fresnelLtcTowardLobe)
 // and then toward the LTC's share above the horizon (fresnelLtcTowardUpper) for albedo E > 0, the LTC's own for
-// albedo 0.
-vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
+// albedo 0 (light); and r' = min(r, k sqrt(omega)), omega the light's solid angle as the LTC gives it: the roughness of
+// the GGX lobe whose Fresnel average at V.H stands for the light's (spread; preintegrate.ltc.punctual_roughness).
+FresnelLtcLight fresnelLtcRectLight(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec3 T1 = fresnelLtcTangent(N, V);
@@ -234,10 +241,16 @@ vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners
     float rough = fresnelSanitize(r, 0.5, 0.0, 1.0);
     float q = dot(f, f) / max(dot(back, back), 1e-30);
     float size = abs(det * q) * sqrt(sqrt(dot(back, back)));  // sqrt(omega / pi) = |det| q |back|^(1/2)
-    // the light's directions average to R L (preintegrate.ltc.MEAN_DIRECTION_SPREAD): fresnelLtcVdotH takes H along
-    // V + R L, the mean of V + L over the light
-    float mean = clamp(1.0 - FRESNEL_LTC_MEAN_DIRECTION_SPREAD * size * size, 0.0, 1.0);
-    return vec4(L * mean, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    FresnelLtcLight result;
+    result.light = vec4(L, (albedo > 0.0) ? fresnelLtcTowardUpper(fresnelLtcTowardLobe(integral, f, back, det, q, size, L, fresnelLtcView(N, V), rough, albedo, fresnelLtcDiskSolidAngle(P, corners)), t, det) : integral);
+    result.spread = min(rough, FRESNEL_LTC_PUNCTUAL_SPREAD * size);
+    return result;
+}
+
+// fresnelLtcRectLight's light alone.
+vec4 fresnelLtcRectVector(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, float albedo)
+{
+    return fresnelLtcRectLight(ltcLut, N, V, P, corners, r, albedo).light;
 }
 
 // The LTC's own integral over a rectangular light (fresnelLtcRectVector's w for albedo 0).
@@ -246,7 +259,7 @@ float fresnelLtcRect(sampler2D ltcLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], 
     return fresnelLtcRectVector(ltcLut, N, V, P, corners, r, 0.0).w;
 }
 
-// V.H, H along V + R L, the mean of V + L over the light (fresnelLtcRectVector's R L; preintegrate.ltc.mean_half_v_dot_h),
+// V.H*, H* along V + L, L the light's representative direction (fresnelLtcRectVector's; preintegrate.ltc.mean_half_v_dot_h),
 // in the LTC's frame, the view from fresnelLtcView.
 float fresnelLtcVdotH(vec4 light, vec3 view)
 {
@@ -262,19 +275,21 @@ float fresnelLtcSplitSumWeight(vec4 light)
 }
 
 // Specular of a rectangular light per colour channel, from the same coefficients as the image-based and punctual
-// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectVector) times
-// E mix(F(V.H*), Fbar / E, w), H* along V + R L, the mean of V + L over the light (fresnelLtcVdotH), and w from the
-// share of the lobe it covers (fresnelLtcSplitSumWeight): a small light tends to the punctual limit F(V.H) of its
-// direction, a light that covers the lobe to the split sum (issue 41).
-// F(V.H*): {{rect_punctual_note}}
+// paths: the LTC integral (taken toward the lobe's punctual limit with E, fresnelLtcRectLight) times
+// E mix(F~, Fbar / E, w), F~ F averaged over the light: that of a GGX lobe of roughness r' (fresnelLtcRectLight) seen
+// at V.H*, H* along V + L (fresnelLtcVdotH), and w from the share of the lobe it covers (fresnelLtcSplitSumWeight): a
+// small light tends to the punctual limit F(V.H) of its direction, a light that covers the lobe to the split sum
+// (issue 41). F~: {{rect_punctual_note}}
 vec3 fresnelBasisRectLight(sampler2D ltcLut, sampler2D lut, sampler2D lut2, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, {{terms}} cR, {{terms}} cG, {{terms}} cB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelBasisLutUV(NdotV, r));
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, {{albedo}});
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, N, V, P, corners, r, {{albedo}});
+    vec4 light = rect.light;
+    float spread = rect.spread;
     vec3 average = vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
     float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
-    vec3 punctual = {{albedo}} * {{rect_punctual}};
+    vec3 punctual = {{rect_punctual}};
     return light.w * mix(punctual, average, fresnelLtcSplitSumWeight(light));
 }
 
@@ -288,12 +303,15 @@ vec3 fresnelSchlickRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec
 }
 
 // Specular of a rectangular light for a linear model's weights: as fresnelBasisRectLight, with its exact split sum
-// and its exact curve.
+// and F~ from the Schlick table, exact for the model too ({{linear_rect_punctual_note}}).
 vec3 fresnelLinearRectLight(sampler2D ltcLut, sampler2D schlickLut, vec3 N, vec3 V, vec3 P, vec3 corners[4], float r, vec3 wR, vec3 wG, vec3 wB)
 {
     float NdotV = clamp(dot(N, V), 0.0, 1.0);
     vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0);
-    vec4 light = fresnelLtcRectVector(ltcLut, N, V, P, corners, r, t.z);
-    vec3 punctual = t.z * fresnelLinearDirect(fresnelLtcVdotH(light, fresnelLtcView(N, V)), wR, wG, wB);
+    FresnelLtcLight rect = fresnelLtcRectLight(ltcLut, N, V, P, corners, r, t.z);
+    vec4 light = rect.light;
+    float spread = rect.spread;
+    float VdotH = fresnelLtcVdotH(light, fresnelLtcView(N, V));
+    vec3 punctual = {{linear_rect_punctual}};
     return light.w * mix(punctual, fresnelLinearWeigh(t, wR, wG, wB), fresnelLtcSplitSumWeight(light));
 }

@@ -22,6 +22,22 @@ vec3 fresnelBasisSplitSum(sampler2D lut, sampler2D lut2, float NdotV, float r, {
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
+// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
+// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+vec2 fresnelMirrorLutUV(float x, float r)
+{
+    return vec2({{mirror_column}} * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+}
+
+// F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
+// [0, 1].
+vec3 fresnelBasisSmoothed(sampler2D lut, sampler2D lut2, float x, float r, float albedo, {{terms}} cR, {{terms}} cG, {{terms}} cB)
+{
+    {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelMirrorLutUV(x, r));
+    return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b)) * (albedo / max({{albedo}}, 1e-4));
+}
+
 // Schlick's split sum for comparison (Karis 2013): F0 * scale + bias from the Schlick table (R, G).
 vec3 fresnelSchlickSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 f0)
 {
@@ -65,6 +81,13 @@ vec3 fresnelLinearWeigh(vec4 t, vec3 wR, vec3 wG, vec3 wB)
 vec3 fresnelLinearSplitSum(sampler2D schlickLut, float NdotV, float r, vec3 wR, vec3 wG, vec3 wB)
 {
     return fresnelLinearWeigh(textureLod(schlickLut, fresnelAtlasSchlick(fresnelBasisLutUV(NdotV, r)), 0.0), wR, wG, wB);
+}
+
+// fresnelBasisSmoothed for a linear model's weights, from the Schlick table (its B is E').
+vec3 fresnelLinearSmoothed(sampler2D schlickLut, float x, float r, float albedo, vec3 wR, vec3 wG, vec3 wB)
+{
+    vec4 t = textureLod(schlickLut, fresnelAtlasSchlick(fresnelMirrorLutUV(x, r)), 0.0);
+    return fresnelLinearWeigh(t, wR, wG, wB) * (albedo / max(t.z, 1e-4));
 }
 
 // A linear model's hemispherical average F_avg = dot(w, averages of its three functions), exact (20/21, 1/21, 1/126),
