@@ -132,8 +132,8 @@ __all__ = [
     "lobe_spread",
     "mean_half_v_dot_h",
     "polygon_integral",
-    "punctual_roughness",
     "polygon_vector",
+    "punctual_roughness",
     "rect_light_direction",
     "rect_light_fresnel",
     "rect_light_half_cosine",
@@ -941,8 +941,8 @@ def rect_light_half_cosine(
 
 
 def mean_half_v_dot_h(local_view, direction, ltc_angle, spread=0.0) -> np.ndarray:
-    """(…) V·H, H along V + R L (the mean of V + L over a light whose directions average to R L): ``local_view`` V and the light's representative
-    ``direction`` L (…, 3, unit) in the shading frame, ``ltc_angle`` Ω_L its solid angle as the LTC gives it
+    """(…) V·H, H along V + R L (the mean of V + L over a light whose directions average to R L): ``local_view`` V
+    and the light's representative ``direction`` L (…, 3, unit) in the shading frame, ``ltc_angle`` Ω_L its solid angle as the LTC gives it
     (:func:`ltc_solid_angle`), R = max(1 − c Ω_L, 0), c = ``spread`` (broadcast against Ω_L: several c for one light
     give V·H for each); clamped to [0, 1] (0 where R L cancels V), as the shaders' ``fresnelLtcVdotH`` of
     ``fresnelLtcRectVector``'s direction."""
@@ -996,7 +996,7 @@ def rect_light_fresnel(
 ) -> np.ndarray:
     """(…, C) a rectangular light's specular per unit radiance: the LTC ``integral`` I (…) × mix(``punctual``,
     ``split_sum``, w), w = a I + (1 − a) I^n with I clamped to [0, 1], n = ``power`` and a = ``linear`` (default
-    :data:`SPLIT_SUM_WEIGHT_POWER`, :data:`SPLIT_SUM_WEIGHT_LINEAR`); ``punctual`` = E F(V·H*) and ``split_sum`` = F̄
+    :data:`SPLIT_SUM_WEIGHT_POWER`, :data:`SPLIT_SUM_WEIGHT_LINEAR`); ``punctual`` = E F̃ and ``split_sum`` = F̄
     (…, C) (module docstring; the shaders' ``fresnelBasisRectLight`` and ``fresnelLinearRectLight``)."""
     integral = np.asarray(integral, dtype=np.float64)
     weight = split_sum_weight(integral, power, linear)[..., None]

@@ -338,9 +338,9 @@ def _curve_table_parts(c: ShaderConstants) -> tuple[str, str]:
     return constant, _terms_value(["1.0", *(f"t.{axis}" for axis in "xyzw"[: k - 1])], k > 4)
 
 
-#: The functions that read the per-pixel tables (or choose them), left out of an include whose basis has none.
-#: The functions that read the tables at (V·H*, r') down to r = 0: only where the grid holds that row.
+#: The functions that read the tables at (V·H*, r') down to r = 0, left out where the grid does not hold that row.
 MIRROR_ROW_FUNCTIONS = ("fresnelMirrorLutUV", "fresnelBasisSmoothed", "fresnelLinearSmoothed")
+#: The functions that read the per-pixel tables (or choose them), left out of an include whose basis has none.
 PIXEL_TABLE_FUNCTIONS = (
     "fresnelCoefficientsTableRead",
     "fresnelCoefficientsGulbrandsenTable",
