@@ -35,7 +35,8 @@ _TYPES = {
     "float": "float", "f32": "float", "int": "int", "i32": "int", "uint": "uint", "u32": "uint", "bool": "bool",
     "vec2": "vec2", "float2": "vec2", "vec2f": "vec2", "vec3": "vec3", "float3": "vec3", "vec3f": "vec3",
     "vec4": "vec4", "float4": "vec4", "vec4f": "vec4", "sampler2D": "texture", "Texture2D<float4>": "texture",
-    "texture_2d<f32>": "texture", "FresnelTerms8": "FresnelTerms8", "void": "void",
+    "texture_2d<f32>": "texture", "FresnelTerms8": "FresnelTerms8", "FresnelLtcLight": "FresnelLtcLight",
+    "void": "void",
 }  # fmt: skip
 
 
