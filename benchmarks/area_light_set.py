@@ -744,24 +744,23 @@ def spread_study(tolerance: float, errors: dict | None = None) -> list[str]:
 Statistics = dict[str, np.ndarray]
 
 
-def blend_errors(tolerance: float) -> dict[Blend, Statistics]:
-    """(m, a, n, c, k) → {"conductor", "dielectric"} → (median, p90, max) of the relative errors of the include's
-    rectangular light, I' E mix(F̃, F̄ / E, a I' + (1 − a) I'^n), I' the LTC integral toward the lobe's limit as
-    shipped and then toward the LTC's share above the horizon with the power m (preintegrate.ltc.toward_upper_share;
-    None: I' = I), F̃ the exact curve averaged over a GGX lobe of roughness min(r, k √Ω_L) seen at V·H*
-    (preintegrate.ltc.smoothed_fresnel), V·H* the include's with the directions' spread c
-    (preintegrate.ltc.rect_light_half_cosine with the shipped table), against the reference, exact curves, E and F̄
-    the reference's, over both sets of training lights (:data:`BLEND_LIGHTS`) and the set's materials, each value with
-    reference > 1e-3, for each candidate of :data:`UPPER_SHARE_POWERS`, :data:`BLEND_LINEARS`, :data:`BLEND_POWERS`,
-    :data:`MEAN_DIRECTION_SPREADS` and :data:`PUNCTUAL_SPREADS`."""
+#: The blend study's two sets of training lights, in the order :func:`blend_values` labels them.
+BLEND_LIGHT_SETS = ("drawn where the lobe reflects", "uniform over the hemisphere")
+
+
+def blend_values(tolerance: float) -> dict[str, np.ndarray]:
+    """What :func:`blend_errors` takes, per value (light, material, channel) of both sets of training lights: the LTC
+    integral toward the lobe's limit as shipped ("integral"), the LTC's share above the horizon ("upper"), the
+    reference ("exact"), E F̃ for every candidate c and k ("punctual", (values, c, k)), F̄ ("split"), the kind and the
+    light set (an index into :data:`BLEND_LIGHT_SETS`); see :func:`blend_errors`."""
     normal = np.array([0.0, 0.0, 1.0])
-    names = ("integral", "upper", "exact", "punctual", "split", "kind")
+    names = ("integral", "upper", "exact", "punctual", "split", "kind", "lights")
     parts: dict[str, list] = {name: [] for name in names}
     curves = _curves()
     every, cuts = _joined(curves)
     spreads, smoothings = np.array(MEAN_DIRECTION_SPREADS), np.array(PUNCTUAL_SPREADS)
     draws = (lambda mu_o, alpha: lobe_lights(mu_o, alpha, BLEND_LIGHTS), None)
-    for draw in draws:
+    for light_set, draw in enumerate(draws):
         for mu_o, roughness, view, alpha, albedo, stored, lights, _ in _training_texels(tolerance, draw):
             splits = {
                 name: reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
@@ -790,7 +789,25 @@ def blend_errors(tolerance: float) -> dict[Blend, Statistics]:
                     parts["punctual"].append(albedo * np.moveaxis(smoothed[light], -1, 0)[keep])  # (values, c, k)
                     parts["split"].append(splits[name][keep])
                     parts["kind"].append(np.full(np.sum(keep), _kind(name)))
-    integral, upper, exact, punctual, split, kind = (np.concatenate(parts[name]) for name in names)
+                    parts["lights"].append(np.full(np.sum(keep), light_set))
+    return {name: np.concatenate(parts[name]) for name in names}
+
+
+def blend_errors(values: dict[str, np.ndarray], light_set: int | None = None) -> dict[Blend, Statistics]:
+    """(m, a, n, c, k) → {"conductor", "dielectric"} → (median, p90, max) of the relative errors of the include's
+    rectangular light, I' E mix(F̃, F̄ / E, a I' + (1 − a) I'^n), I' the LTC integral toward the lobe's limit as
+    shipped and then toward the LTC's share above the horizon with the power m (preintegrate.ltc.toward_upper_share;
+    None: I' = I), F̃ the exact curve averaged over a GGX lobe of roughness min(r, k √Ω_L) seen at V·H*
+    (preintegrate.ltc.smoothed_fresnel), V·H* the include's with the directions' spread c
+    (preintegrate.ltc.rect_light_half_cosine with the shipped table), against the reference, exact curves, E and F̄
+    the reference's, over both sets of training lights (:data:`BLEND_LIGHTS`; ``light_set``, an index into
+    :data:`BLEND_LIGHT_SETS`, one of them) and the set's materials, each value with reference > 1e-3, for each
+    candidate of :data:`UPPER_SHARE_POWERS`, :data:`BLEND_LINEARS`, :data:`BLEND_POWERS`,
+    :data:`MEAN_DIRECTION_SPREADS` and :data:`PUNCTUAL_SPREADS`; ``values`` from :func:`blend_values`."""
+    chosen = np.ones(len(values["exact"]), dtype=bool) if light_set is None else values["lights"] == light_set
+    integral, upper, exact, punctual, split, kind = (
+        values[name][chosen] for name in ("integral", "upper", "exact", "punctual", "split", "kind")
+    )
     kinds = {name: kind == name for name in ("conductor", "dielectric")}
     errors = {}
     for upper_power in UPPER_SHARE_POWERS:
@@ -844,11 +861,14 @@ def _blend_name(key: Blend) -> str:
     return f"{share}, a = {linear:g}, n = {power:g}, c = {spread:g}, k = {smoothing:g}"
 
 
-def blend_study(tolerance: float, errors: dict[Blend, Statistics] | None = None) -> list[str]:
+def blend_study(tolerance: float, values: dict[str, np.ndarray] | None = None) -> list[str]:
     """Markdown lines: the include's rectangular light on the blend's training lights for each candidate of the
     Fresnel blend's weight, of the LTC's share above the horizon, of the light's F average and of V·H*
-    (:func:`blend_errors`, computed here unless given); the criterion: :func:`chosen_blend`."""
-    errors = blend_errors(tolerance) if errors is None else errors
+    (:func:`blend_errors` of ``values``, :func:`blend_values` computed here unless given); the criterion:
+    :func:`chosen_blend`; and the shipped form against F(V·H*) and what shipped before the share on each set of
+    lights apart."""
+    values = blend_values(tolerance) if values is None else values
+    errors = blend_errors(values)
     chosen = chosen_blend(errors)
     shipped = SHIPPED_BLEND
 
@@ -913,6 +933,23 @@ def blend_study(tolerance: float, errors: dict[Blend, Statistics] | None = None)
             + " | ".join(cell((upper_power, linear, power, c, k)) for c in MEAN_DIRECTION_SPREADS)
             + " |"
             for k in PUNCTUAL_SPREADS
+        ),
+    ]
+    by_set = [blend_errors(values, index) for index in range(len(BLEND_LIGHT_SETS))]
+    point = (*shipped[:4], 0.0)
+    lines += [
+        "",
+        "Each set of lights apart, conductors; dielectrics, median / p90 / max:",
+        "",
+        *_table_head(["lights", "shipped", "with F(V·H*) (k = 0)", "w = I², F(V·H*), no share (shipped before)"]),
+        *(
+            f"| {name} | "
+            + " | ".join(
+                f"{_stated(e[key]['conductor'])}; {_stated(e[key]['dielectric'])}"
+                for key in (shipped, point, BLEND_BEFORE)
+            )
+            + " |"
+            for name, e in zip(BLEND_LIGHT_SETS, by_set)
         ),
     ]
     if chosen != shipped:
