@@ -443,16 +443,17 @@ float3 fresnelBasisSplitSum(Texture2D<float4> lut, SamplerState linearClamp, flo
     return float3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
-// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
-// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+// The tables' coordinates of (x, r), x = N.V, where the grid holds r = 0 (fresnelBasisSmoothed,
+// fresnelLinearSmoothed): both clamped to [0, 1] in one integer clamp of their bits each (fresnelUnitClamp: NaN to an
+// end), not sanitised to a fallback as fresnelBasisLutUV does.
 float2 fresnelMirrorLutUV(float x, float r)
 {
-    return float2(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    x = fresnelUnitClamp(x, 1.0);
+    return float2(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, fresnelUnitClamp(r, 1.0) * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 // F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
-// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
-// [0, 1].
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1).
 float3 fresnelBasisSmoothed(Texture2D<float4> lut, SamplerState linearClamp, float x, float r, float albedo, float4 cR, float4 cG, float4 cB)
 {
     float4 b = fresnelBasisTerms(lut, linearClamp, fresnelMirrorLutUV(x, r));

@@ -442,16 +442,18 @@ fn fresnelBasisSplitSum(lut: texture_2d<f32>, linearClamp: sampler, NdotV: f32, 
     return vec3f(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
-// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
-// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
-fn fresnelMirrorLutUV(x: f32, r: f32) -> vec2f
+// The tables' coordinates of (x, r), x = N.V, where the grid holds r = 0 (fresnelBasisSmoothed,
+// fresnelLinearSmoothed): both clamped to [0, 1] in one integer clamp of their bits each (fresnelUnitClamp: NaN to an
+// end), not sanitised to a fallback as fresnelBasisLutUV does.
+fn fresnelMirrorLutUV(xIn: f32, r: f32) -> vec2f
 {
-    return vec2f(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    var x = xIn;
+    x = fresnelUnitClamp(x, 1.0);
+    return vec2f(sqrt(x) * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, fresnelUnitClamp(r, 1.0) * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 // F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
-// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
-// [0, 1].
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1).
 fn fresnelBasisSmoothed(lut: texture_2d<f32>, linearClamp: sampler, x: f32, r: f32, albedo: f32, cR: vec4f, cG: vec4f, cB: vec4f) -> vec3f
 {
     let b: vec4f = fresnelBasisTerms(lut, linearClamp, fresnelMirrorLutUV(x, r));

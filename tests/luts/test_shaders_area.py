@@ -375,3 +375,60 @@ def test_glsl_the_lights_spread_on_llvmpipe():
         bound = lobe_ratio_bound(integral, ltc_solid_angle(stored, vector))
         moved = np.sum(np.abs(want - toward_lobe_limit(integral, np.minimum(ratio, bound))) > 1e-3)
         assert moved >= 100, (scale, moved)
+
+
+SMOOTHED_MAIN = """
+uniform sampler2D basisLut;
+uniform sampler2D schlickLut;
+uniform sampler2D inputs;
+uniform vec4 cR; uniform vec4 cG; uniform vec4 cB;
+uniform vec3 wR; uniform vec3 wG; uniform vec3 wB;
+layout(location = 0) out vec4 basis;
+layout(location = 1) out vec4 linear;
+void main() {
+    vec4 a = texelFetch(inputs, ivec2(gl_FragCoord.xy), 0);
+    basis = vec4(fresnelBasisSmoothed(basisLut, a.x, a.y, 0.8, cR, cG, cB), 0.0);
+    linear = vec4(fresnelLinearSmoothed(schlickLut, a.x, a.y, 0.8, wR, wG, wB), 0.0);
+}
+"""
+
+
+def _bits_clamped(values: np.ndarray) -> np.ndarray:
+    """What ``fresnelUnitClamp(x, 1.0)`` makes of float32 ``values``: [0, 1], ±inf to an end, NaN to 1 or, with its
+    sign bit set, to 0."""
+    return np.where(np.isnan(values), np.where(np.signbit(values), 0.0, 1.0), np.clip(values, 0.0, 1.0))
+
+
+def test_glsl_the_rect_lights_fresnel_average_takes_any_input_into_the_tables():
+    """``fresnelBasisSmoothed`` and ``fresnelLinearSmoothed`` (F̃ of the rect lights, times E = 0.8) on llvmpipe at
+    (x, r) over [0, 1], beyond it, ±inf and ±NaN: finite everywhere and, at the inputs clamped to [0, 1] as the
+    shaders clamp them (an integer clamp of the bits: NaN to an end by its sign), their mirrors' values
+    (``rect_light_punctual``; the Schlick table's split sum over its B, ``linear_split_sum``) to 1e-5 relative to
+    max(1, value): E / E' grows where E' is small, at large r (up to 2.6 here, E' 0.31 at x = r = 1)."""
+    from handoff.shaders import linear_split_sum, rect_light_punctual
+
+    _, basis_table, schlick = _tables()
+    rng = np.random.default_rng(41)
+    odd = np.array([-0.5, -0.0, 0.0, 1.0, 1.5, np.inf, -np.inf, np.nan, -np.nan], dtype=np.float32)
+    pairs = rng.uniform(0.0, 1.0, (1024, 2)).astype(np.float32)
+    pairs[: odd.size**2] = np.stack(np.meshgrid(odd, odd, indexing="ij"), axis=-1).reshape(-1, 2)
+    inputs = np.concatenate([pairs, np.zeros((1024, 2), np.float32)], axis=1)
+    uniforms = {"basisLut": 0, "schlickLut": 1, "inputs": 2}
+    uniforms.update({f"c{colour}": tuple(COEFFICIENTS[k]) for k, colour in enumerate("RGB")})
+    uniforms.update({f"w{colour}": tuple(WEIGHTS[k]) for k, colour in enumerate("RGB")})
+    basis, linear = gl_draw(
+        "#version 330\n" + INCLUDES["fresnel_basis.glsl"] + SMOOTHED_MAIN,
+        [basis_table, schlick, inputs.reshape(32, 32, 4)],
+        uniforms,
+        2,
+    )
+    assert np.all(np.isfinite(basis)) and np.all(np.isfinite(linear))
+    x, r = (_bits_clamped(pairs[:, k]).astype(np.float64) for k in (0, 1))
+    coefficients = np.broadcast_to(COEFFICIENTS, (len(x), *COEFFICIENTS.shape))
+    want_basis = 0.8 * rect_light_punctual(basis_table, coefficients, x, spread=r)
+    grid = LutGrid(schlick.shape[1], schlick.shape[0])
+    albedo = np.maximum(grid.lookup(schlick, x, r)[:, 2:3], 1e-4)
+    want_linear = 0.8 * linear_split_sum(schlick, x, r, np.broadcast_to(WEIGHTS, (len(x), *WEIGHTS.shape))) / albedo
+    for name, got, want in (("basis", basis[:, :3], want_basis), ("linear", linear[:, :3], want_linear)):
+        error = np.abs(got - want) / np.maximum(1.0, np.abs(want))
+        assert np.max(error) <= 1e-5, (name, float(np.max(error)), float(np.max(np.abs(want))))

@@ -22,16 +22,17 @@ vec3 fresnelBasisSplitSum(sampler2D lut, sampler2D lut2, float NdotV, float r, {
     return vec3(fresnelTermsDot(cR, b), fresnelTermsDot(cG, b), fresnelTermsDot(cB, b));
 }
 
-// The tables' coordinates of (x, r) for x = N.V and r in [0, 1] already (no sanitising or clamping): where the
-// grid holds r = 0 (fresnelBasisSmoothed, fresnelLinearSmoothed).
+// The tables' coordinates of (x, r), x = N.V, where the grid holds r = 0 (fresnelBasisSmoothed,
+// fresnelLinearSmoothed): both clamped to [0, 1] in one integer clamp of their bits each (fresnelUnitClamp: NaN to an
+// end), not sanitised to a fallback as fresnelBasisLutUV does.
 vec2 fresnelMirrorLutUV(float x, float r)
 {
-    return vec2({{mirror_column}} * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, r * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
+    x = fresnelUnitClamp(x, 1.0);
+    return vec2({{mirror_column}} * FRESNEL_LUT_COLUMNS.x + FRESNEL_LUT_COLUMNS.y, fresnelUnitClamp(r, 1.0) * FRESNEL_LUT_ROWS.z + FRESNEL_LUT_ROWS.w);
 }
 
 // F averaged over a GGX lobe of perceptual roughness r seen at N.V = x, times the albedo E (the split sum of that lobe
-// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1). x and r in
-// [0, 1].
+// over its own albedo E' = b0, times E): at r = 0, the table's mirror row, the curve itself (E' = 1).
 vec3 fresnelBasisSmoothed(sampler2D lut, sampler2D lut2, float x, float r, float albedo, {{terms}} cR, {{terms}} cG, {{terms}} cB)
 {
     {{terms}} b = fresnelBasisTerms(lut, lut2, fresnelMirrorLutUV(x, r));
