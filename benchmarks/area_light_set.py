@@ -96,7 +96,6 @@ from preintegrate.ltc import (
     ltc_solid_angle,
     ltc_upper_share,
     polygon_integral,
-    punctual_roughness,
     rect_light_fresnel,
     rect_light_half_cosine,
     rect_light_integral,
@@ -769,13 +768,12 @@ def blend_values(tolerance: float) -> dict[str, np.ndarray]:
             upper = float(ltc_upper_share(stored))
             integrals, stars, roughs, values = [], [], [], []
             for corners in lights:  # V·H* (spreads,) and r' (smoothings,): every candidate c and k at once
-                integral, v_dot_h, _ = rect_light_half_cosine(
-                    stored, normal, view, np.zeros(3), corners, roughness, albedo, None, spreads
+                integral, v_dot_h, smoothing = rect_light_half_cosine(
+                    stored, normal, view, np.zeros(3), corners, roughness, albedo, None, spreads, smoothings
                 )
-                angle = ltc_solid_angle(stored, horizon_ltc_vector(stored, corners))
                 integrals.append(float(integral))
                 stars.append(v_dot_h)
-                roughs.append(punctual_roughness(roughness, angle, smoothings))
+                roughs.append(smoothing)
                 values.append(np.split(reference(view, corners, alpha, every, tolerance), cuts))
             stars, roughs = np.array(stars)[:, :, None], np.array(roughs)[:, None, :]  # (lights, c, k)
             for index, (name, curve) in enumerate(curves.items()):
@@ -815,8 +813,8 @@ def blend_errors(values: dict[str, np.ndarray], light_set: int | None = None) ->
         for linear in BLEND_LINEARS:
             for power in BLEND_POWERS:
                 weight = split_sum_weight(raised, power, linear)[:, None, None]
-                values = raised[:, None, None] * (weight * split[:, None, None] + (1.0 - weight) * punctual)
-                error = np.abs(values - exact[:, None, None]) / exact[:, None, None]  # (values, c, k)
+                estimate = raised[:, None, None] * (weight * split[:, None, None] + (1.0 - weight) * punctual)
+                error = np.abs(estimate - exact[:, None, None]) / exact[:, None, None]  # (values, c, k)
                 for name, mask in kinds.items():
                     stats = np.concatenate(
                         [np.percentile(error[mask], [50, 90], axis=0), error[mask].max(axis=0)[None]]
@@ -834,7 +832,7 @@ def _worse(errors: Statistics, percentile: float) -> float:
 
 
 def _stated(stats: np.ndarray) -> str:
-    """median / p90 / max in per cent of ``stats`` (median, p90, max), as :func:`_statistics` states errors."""
+    """median / p90 / max in per cent of ``stats`` (median, p90, max)."""
     return f"{100 * stats[0]:.2f} % / {100 * stats[1]:.1f} % / {100 * stats[2]:.0f} %"
 
 
@@ -1246,12 +1244,11 @@ def _table_head(labels) -> list[str]:
 
 
 def _statistics(errors: np.ndarray) -> str:
-    """median / p90 / max of relative ``errors`` in per cent; "–" where there are none (a narrow run's size class may
-    hold no value above the floor)."""
+    """median / p90 / max of relative ``errors`` in per cent (:func:`_stated`); "–" where there are none (a narrow
+    run's size class may hold no value above the floor)."""
     if np.size(errors) == 0:
         return "–"
-    p50, p90 = np.percentile(errors, [50, 90])
-    return f"{100 * p50:.2f} % / {100 * p90:.1f} % / {100 * errors.max():.0f} %"
+    return _stated(np.array([*np.percentile(errors, [50, 90]), np.max(errors)]))
 
 
 #: The approaches the figure draws (their total error by view and by width) and issue 41's targets (median, p90).
@@ -1401,9 +1398,11 @@ def run(
                     # the factorisation alone: Fresnel over the light (the reference over its F = 1 part) against
                     # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers (the
                     # include's weight of it); then at V·H* as the include takes it (this table's)
-                    _, _, star, smoothing = integrals["this project"]
-                    at_star = curve(np.array([float(star)]))[0]
-                    smoothed = smoothed_fresnel(curve, float(star), float(smoothing))
+                    smoothed = {  # F̃ at each table's V·H* and r', once per light and material
+                        name: smoothed_fresnel(curve, float(integrals[name][2]), float(integrals[name][3]))
+                        for name in tables
+                    }
+                    at_star = curve(np.array([float(integrals["this project"][2])]))[0]
                     over_light = exact / lobe
                     at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]
                     cover = min(lobe / exact_albedo, 1.0)
@@ -1416,10 +1415,10 @@ def run(
                         ),
                         (FACTOR_AT_STAR, at_star),
                         (FACTOR_BLEND_AT_STAR, rect_light_fresnel(cover, split_exact / exact_albedo, at_star) / cover),
-                        (FACTOR_SMOOTHED, smoothed),
+                        (FACTOR_SMOOTHED, smoothed["this project"]),
                         (
                             FACTOR_BLEND_SMOOTHED,
-                            rect_light_fresnel(cover, split_exact / exact_albedo, smoothed) / cover,
+                            rect_light_fresnel(cover, split_exact / exact_albedo, smoothed["this project"]) / cover,
                         ),
                     ):
                         factors.setdefault(form, {}).setdefault(kind, []).extend(
@@ -1437,7 +1436,7 @@ def run(
                                 ((mu_o, roughness, index), kind, value, lobe, float(toward), albedo, split, punctual)
                                 for value, split, punctual in zip(exact[keep], split_basis[keep], punctual_basis[keep])
                             )
-                        punctual_exact = albedo * smoothed_fresnel(curve, float(v_dot_h), float(smoothing))
+                        punctual_exact = albedo * smoothed[table_name]
                         approaches[f"punctual blend, {table_name}"] = (
                             rect_light_fresnel(toward, split_basis, punctual_basis),
                             rect_light_fresnel(toward, split_exact, punctual_exact),

@@ -393,19 +393,13 @@ void main() {
 """
 
 
-def _bits_clamped(values: np.ndarray) -> np.ndarray:
-    """What ``fresnelUnitClamp(x, 1.0)`` makes of float32 ``values``: [0, 1], ±inf to an end, NaN to 1 or, with its
-    sign bit set, to 0."""
-    return np.where(np.isnan(values), np.where(np.signbit(values), 0.0, 1.0), np.clip(values, 0.0, 1.0))
-
-
 def test_glsl_the_rect_lights_fresnel_average_takes_any_input_into_the_tables():
     """``fresnelBasisSmoothed`` and ``fresnelLinearSmoothed`` (F̃ of the rect lights, times E = 0.8) on llvmpipe at
     (x, r) over [0, 1], beyond it, ±inf and ±NaN: finite everywhere and, at the inputs clamped to [0, 1] as the
     shaders clamp them (an integer clamp of the bits: NaN to an end by its sign), their mirrors' values
     (``rect_light_punctual``; the Schlick table's split sum over its B, ``linear_split_sum``) to 1e-5 relative to
     max(1, value): E / E' grows where E' is small, at large r (up to 2.6 here, E' 0.31 at x = r = 1)."""
-    from handoff.shaders import linear_split_sum, rect_light_punctual
+    from handoff.shaders import bits_clamp, linear_split_sum, rect_light_punctual
 
     _, basis_table, schlick = _tables()
     rng = np.random.default_rng(41)
@@ -423,7 +417,7 @@ def test_glsl_the_rect_lights_fresnel_average_takes_any_input_into_the_tables():
         2,
     )
     assert np.all(np.isfinite(basis)) and np.all(np.isfinite(linear))
-    x, r = (_bits_clamped(pairs[:, k]).astype(np.float64) for k in (0, 1))
+    x, r = (bits_clamp(pairs[:, k].astype(np.float64), 0.0, 1.0) for k in (0, 1))  # fresnelUnitClamp's
     coefficients = np.broadcast_to(COEFFICIENTS, (len(x), *COEFFICIENTS.shape))
     want_basis = 0.8 * rect_light_punctual(basis_table, coefficients, x, spread=r)
     grid = LutGrid(schlick.shape[1], schlick.shape[0])
