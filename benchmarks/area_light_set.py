@@ -46,11 +46,13 @@ ACO's estimate and on llvmpipe (benchmarks.shader_cost's pass) against issue 41'
 (:data:`BASELINE_REVISION`'s include, from git).
 
 Run: ``.venv/bin/python -m benchmarks.area_light_set [--tolerance T] [--three VERSION] [--no-cost] [--no-fits]
-[--roughness R ...] [--out FILE]`` (the report: ``--out report/area_light_set.md``, which also writes
-``report/area_light_set.png``, the totals by view and by the light's width: :func:`figure`, :func:`figure_values`;
-glossy surfaces, outside the set: ``--roughness 0.1 0.15 0.2 --no-fits --no-cost --out report/area_light_glossy.md``,
-and roughnesses between and beyond the set's: ``--roughness 0.4 0.6 0.85 --no-fits --no-cost --out
-report/area_light_heldout.md``, the same lights, views and materials).
+[--roughness R ...] [--widths W ...] [--out FILE]`` (the report: ``--out report/area_light_set.md``, which also
+writes ``report/area_light_set.png``, the totals by view and by the light's width: :func:`figure`,
+:func:`figure_values`; glossy surfaces, outside the set: ``--roughness 0.1 0.15 0.2 --no-fits --no-cost --out
+report/area_light_glossy.md``; roughnesses between and beyond the set's: ``--roughness 0.4 0.6 0.85 --no-fits
+--no-cost --out report/area_light_heldout.md``, the same lights, views and materials; and at those roughnesses lights
+of twelve widths, between and beside the set's five: ``--roughness 0.4 0.6 0.85 --widths 0.02 0.05 0.1 0.2 0.5 1 1.5
+2 3 5 7 10 --no-fits --no-cost --out report/area_light_heldout_widths.md``).
 """
 
 from __future__ import annotations
@@ -169,12 +171,25 @@ def _placements(mu_o: float) -> dict[str, tuple[float, float]]:
     }
 
 
-def _set_lights(mu_o: float):
+def _set_lights(mu_o: float, widths: tuple[float, ...] = WIDTHS):
     """(placement, width, corners (4, 3)) of each of the set's lights at the view μo: every placement
-    (:func:`_placements`) at every width of :data:`WIDTHS`, :data:`DISTANCE` away (:func:`facing_rectangle`)."""
+    (:func:`_placements`) at every width of ``widths`` (default :data:`WIDTHS`), :data:`DISTANCE` away
+    (:func:`facing_rectangle`)."""
     for placement, (theta, phi) in _placements(mu_o).items():
-        for width in WIDTHS:
+        for width in widths:
             yield placement, width, facing_rectangle(theta, phi, width, DISTANCE)
+
+
+def _size_class(width: float, widths: tuple[float, ...]) -> str:
+    """The class of a light ``width`` wide: small (at most 0.2), medium (up to 3) or large, the last two named by the
+    widths of ``widths`` in them."""
+
+    def size(w: float) -> str:
+        return "small" if w <= 0.2 else ("medium" if w <= 3.0 else "large")
+
+    if size(width) == "small":
+        return "small (≤ 0.2)"
+    return f"{size(width)} ({', '.join(f'{w:g}' for w in widths if size(w) == size(width))})"
 
 
 def lobe_albedo(mu_o: float, alpha: float) -> float:
@@ -354,6 +369,20 @@ FACTOR_AT_STAR = "F at the include's V·H* (H* along V + L*, L* the light's repr
 FACTOR_BLEND_AT_STAR = "the blend by the lobe's share with F(V·H*) (shipped before)"
 FACTOR_SMOOTHED = "F̃: F averaged over a GGX lobe of roughness r' = min(r, k √Ω_L) at V·H*"
 FACTOR_BLEND_SMOOTHED = "the blend by the lobe's share with F̃ (the include's form)"
+#: Forms of F̃ tried for the roughnesses beyond the set's and not shipped (the factorisation's last rows and the
+#: totals' table after them), each with the constant that gave the held-out roughnesses' dielectrics the lowest total
+#: median of a few tried (k 0.2 to 0.6 and 0.4 to 0.8): r' of a GGX lobe whose α' grows as the light's angular radius,
+#: k growing with r, the table's coordinates moved toward the split sum's in place of the blend of values, and F̃ at
+#: the exact mean V·H over the light.
+QUARTER_SPREAD, ROUGH_SPREAD = 0.2, 0.4
+FACTOR_VARIANTS = (
+    f"the blend with F̃ of r' = min(r, {QUARTER_SPREAD:g} Ω_L^¼), a GGX α' growing as the light's angular radius "
+    "(not shipped)",
+    f"the blend with F̃ of r' = min(r, {ROUGH_SPREAD:g} r √Ω_L), k growing with r (not shipped)",
+    "F̃ read at (mix(V·H*, N·V, I), mix(r', r, I)), the table's coordinates moved toward the split sum's in place "
+    "of the blend (not shipped)",
+    "the blend with F̃ at the light's mean V·H (the reference's) rather than at V·H* (not shipped)",
+)
 
 #: The lobe study's own fits (preintegrate.ltc.fit_ltc): the mean-axis L2 fit alone (the public fit's method, shipped
 #: before issue 41's per-texel table) and M's four entries free, fitted in L2 and in chi-square (the shipped table takes
@@ -1256,32 +1285,32 @@ FIGURE_APPROACHES = ("punctual blend, this project", "punctual blend, public fit
 TARGETS = (0.03, 0.20)
 
 
-def figure_values(records) -> dict[tuple[str, str, str, float], np.ndarray]:
+def figure_values(records, widths: tuple[float, ...] = WIDTHS) -> dict[tuple[str, str, str, float], np.ndarray]:
     """The figure's groups, once for its plot and its table: (approach, kind, "N·V" or "width", value) → the relative
     errors there, for each of :data:`FIGURE_APPROACHES` that ``records`` (approach, kind, N·V, width, relative error)
-    hold, at every N·V of :data:`VIEWS` and width of :data:`WIDTHS` it has values at."""
+    hold, at every N·V of :data:`VIEWS` and width of ``widths`` it has values at."""
     approach, kind, mu_o, width, error = (np.array(column) for column in zip(*records))
     groups = {}
     for name in FIGURE_APPROACHES:
         for material in ("conductor", "dielectric"):
             chosen = (approach == name) & (kind == material)
-            for label, key, values in (("N·V", mu_o, sorted(VIEWS)), ("width", width, WIDTHS)):
+            for label, key, values in (("N·V", mu_o, sorted(VIEWS)), ("width", width, widths)):
                 for value in values:
                     if np.any(chosen & (key == value)):
                         groups[(name, material, label, value)] = error[chosen & (key == value)]
     return groups
 
 
-def figure_table(groups) -> list[str]:
+def figure_table(groups, widths: tuple[float, ...] = WIDTHS) -> list[str]:
     """Markdown lines: the figure's values (``groups``, :func:`figure_values`), each approach's total error by N·V and
-    by the light's width, median / p90 / max, conductors; dielectrics ("–" where there is none)."""
+    by the light's width (each of ``widths``), median / p90 / max, conductors; dielectrics ("–" where there is none)."""
     shown = [name for name in FIGURE_APPROACHES if any(key[0] == name for key in groups)]
     lines = [
         "The figure's values, total error median / p90 / max (conductors; dielectrics):",
         "",
         *_table_head(["", *shown]),
     ]
-    for label, values in (("N·V", sorted(VIEWS)), ("width", WIDTHS)):
+    for label, values in (("N·V", sorted(VIEWS)), ("width", widths)):
         for value in values:
             cells = [
                 "; ".join(
@@ -1294,9 +1323,10 @@ def figure_table(groups) -> list[str]:
     return lines
 
 
-def figure(groups) -> bytes:
+def figure(groups, widths: tuple[float, ...] = WIDTHS) -> bytes:
     """PNG: the total error's median (solid) and p90 (dashed) of each approach in ``groups`` (:func:`figure_values`)
-    against N·V and against the light's width, conductors and dielectrics apart, over issue 41's targets (grey)."""
+    against N·V and against the light's width (``widths`` on its axis), conductors and dielectrics apart, over issue
+    41's targets (grey)."""
     from fresnel_lut.report.figures import figure_png, pyplot
 
     plt = pyplot()
@@ -1305,7 +1335,11 @@ def figure(groups) -> bytes:
     colours = dict(zip(FIGURE_APPROACHES, ("tab:blue", "tab:orange", "tab:grey")))
     for row, material in zip(axes, ("conductor", "dielectric")):
         for axis, (label, values, title) in zip(
-            row, (("N·V", sorted(VIEWS), "N·V (the view)"), ("width", list(WIDTHS), "the light's width (distance 2)"))
+            row,
+            (
+                ("N·V", sorted(VIEWS), "N·V (the view)"),
+                ("width", list(widths), f"the light's width (distance {DISTANCE:g})"),
+            ),
         ):
             for name in shown:
                 keys = [(name, material, label, value) for value in values if (name, material, label, value) in groups]
@@ -1341,6 +1375,7 @@ def run(
     measure_cost: bool = True,
     fits: bool = True,
     roughnesses: tuple[float, ...] = ROUGHNESS,
+    widths: tuple[float, ...] = WIDTHS,
     command: str = "python -m benchmarks.area_light_set --out report/area_light_set.md",
 ) -> None:
     basis_table = read_lut(shipped_lut(BASIS_LUT))[0]
@@ -1350,6 +1385,7 @@ def run(
     materials = _materials()
     results: dict[str, dict[str, list]] = {}
     factors: dict[str, dict[str, list]] = {}
+    variant_totals: dict[str, dict[str, list]] = {}
     parts: list[tuple] = []
     by_size: dict[tuple[str, str], dict[str, list]] = {}
     records: list[tuple[str, str, float, float, float]] = []
@@ -1371,7 +1407,7 @@ def run(
             # once per light: the lobe over it (F = 1, and its V·H summed), each material's reference and each table's
             # integral, alone and toward the lobe's limit with V·H* (three.js's as its code takes it)
             lights = []
-            for _, width, corners in _set_lights(mu_o):
+            for _, width, corners in _set_lights(mu_o, widths):
                 lobe_and_v_dot_h, *values = np.split(reference(view, corners, alpha, every, tolerance), cuts)
                 exacts = dict(zip(materials, values))
                 integrals = {
@@ -1383,14 +1419,16 @@ def run(
                 }
                 if not isinstance(public, str):
                     integrals["three.js"] = cosine_space_integral(tables["public fit"], normal, view, corners)
-                lights.append((width, corners, lobe_and_v_dot_h, exacts, integrals))
+                shipped = tables["this project"]
+                ltc_angle = float(ltc_solid_angle(shipped, horizon_ltc_vector(shipped, corners)))
+                lights.append((width, corners, lobe_and_v_dot_h, exacts, integrals, ltc_angle))
             for name, (eta, kappa) in materials.items():
                 curve = curves[name]
                 coefficients = coefficients_from_nk(eta, kappa)
                 split_basis = coefficients @ terms
                 split_exact = reference_albedo_grid(curve, np.array([mu_o]), np.array([alpha]))[0]
                 kind = _kind(name)
-                for index, (width, corners, (lobe, v_dot_h_sum), exacts, integrals) in enumerate(lights):
+                for index, (width, corners, (lobe, v_dot_h_sum), exacts, integrals, ltc_angle) in enumerate(lights):
                     exact = exacts[name]
                     keep = exact > 1e-3
                     if not np.any(keep):
@@ -1402,24 +1440,53 @@ def run(
                         name: smoothed_fresnel(curve, float(integrals[name][2]), float(integrals[name][3]))
                         for name in tables
                     }
-                    at_star = curve(np.array([float(integrals["this project"][2])]))[0]
+                    v_dot_h_star, r_prime = (float(value) for value in integrals["this project"][2:])
+                    at_star = curve(np.array([v_dot_h_star]))[0]
                     over_light = exact / lobe
-                    at_mean = curve(np.array([v_dot_h_sum / lobe]))[0]
+                    mean_v_dot_h = min(v_dot_h_sum / lobe, 1.0)
+                    at_mean = curve(np.array([mean_v_dot_h]))[0]
                     cover = min(lobe / exact_albedo, 1.0)
+                    # the variants' F̃; "moved" once by the exact share (the factor's rows) and once by the include's I
+                    share = min(float(integrals["this project"][1]), 1.0)
+                    quarter, rough, moved, smoothed_at_mean, moved_by_share = smoothed_fresnel(
+                        curve,
+                        np.array(
+                            [
+                                v_dot_h_star,
+                                v_dot_h_star,
+                                v_dot_h_star + cover * (mu_o - v_dot_h_star),
+                                mean_v_dot_h,
+                                v_dot_h_star + share * (mu_o - v_dot_h_star),
+                            ]
+                        ),
+                        np.array(
+                            [
+                                min(roughness, QUARTER_SPREAD * ltc_angle**0.25),
+                                min(roughness, ROUGH_SPREAD * roughness * ltc_angle**0.5),
+                                r_prime + cover * (roughness - r_prime),
+                                r_prime,
+                                r_prime + share * (roughness - r_prime),
+                            ]
+                        ),
+                    )
+                    split_over_albedo = split_exact / exact_albedo
+
+                    def blended(punctual, split=split_over_albedo, cover=cover):
+                        """The include's blend of ``punctual`` with the split sum by the lobe's exact share."""
+                        return rect_light_fresnel(cover, split, punctual) / cover
+
                     for form, value in (
-                        ("split sum, F̄ / E", split_exact / exact_albedo),
+                        ("split sum, F̄ / E", split_over_albedo),
                         ("F at the light's mean V·H", at_mean),
-                        (
-                            "their blend by the lobe's share",
-                            rect_light_fresnel(cover, split_exact / exact_albedo, at_mean) / cover,
-                        ),
+                        ("their blend by the lobe's share", blended(at_mean)),
                         (FACTOR_AT_STAR, at_star),
-                        (FACTOR_BLEND_AT_STAR, rect_light_fresnel(cover, split_exact / exact_albedo, at_star) / cover),
+                        (FACTOR_BLEND_AT_STAR, blended(at_star)),
                         (FACTOR_SMOOTHED, smoothed["this project"]),
-                        (
-                            FACTOR_BLEND_SMOOTHED,
-                            rect_light_fresnel(cover, split_exact / exact_albedo, smoothed["this project"]) / cover,
-                        ),
+                        (FACTOR_BLEND_SMOOTHED, blended(smoothed["this project"])),
+                        (FACTOR_VARIANTS[0], blended(quarter)),
+                        (FACTOR_VARIANTS[1], blended(rough)),
+                        (FACTOR_VARIANTS[2], moved),
+                        (FACTOR_VARIANTS[3], blended(smoothed_at_mean)),
                     ):
                         factors.setdefault(form, {}).setdefault(kind, []).extend(
                             (np.abs(value - over_light) / over_light)[keep]
@@ -1441,12 +1508,26 @@ def run(
                             rect_light_fresnel(toward, split_basis, punctual_basis),
                             rect_light_fresnel(toward, split_exact, punctual_exact),
                         )
+                        if table_name == "this project":
+                            for form, value in (
+                                (FACTOR_BLEND_SMOOTHED, rect_light_fresnel(toward, split_exact, punctual_exact)),
+                                (FACTOR_VARIANTS[0], rect_light_fresnel(toward, split_exact, albedo * quarter)),
+                                (FACTOR_VARIANTS[1], rect_light_fresnel(toward, split_exact, albedo * rough)),
+                                (FACTOR_VARIANTS[2], toward * albedo * moved_by_share),
+                                (
+                                    FACTOR_VARIANTS[3],
+                                    rect_light_fresnel(toward, split_exact, albedo * smoothed_at_mean),
+                                ),
+                            ):
+                                variant_totals.setdefault(form, {}).setdefault(kind, []).extend(
+                                    (np.abs(value - exact) / exact)[keep]
+                                )
                     if "three.js" in integrals:
                         f0 = curve(np.array([1.0]))[0]
                         integral = integrals["three.js"]
                         schlick = f0 * magnitude[0] + (1.0 - f0) * magnitude[1]
                         approaches["three.js"] = (integral * schlick, integral * split_exact)
-                    size = "small (≤ 0.2)" if width <= 0.2 else ("medium (1, 3)" if width <= 3.0 else "large (10)")
+                    size = _size_class(width, widths)
                     for approach, (value, exact_fresnel) in approaches.items():
                         total = (np.abs(value - exact) / exact)[keep]
                         entry = results.setdefault(approach, {}).setdefault(kind, [[], []])
@@ -1462,7 +1543,7 @@ def run(
         f"Command: `{command}` (reference: "
         f"adaptive cubature over each light's part above the horizon to {tolerance:g} relative, checked against "
         "Monte Carlo in tests/references/test_area_light.py; every value counted, large lights over sharp lobes "
-        f"included). Views N·V {list(VIEWS)}, roughness {list(roughnesses)}, lights of width {list(WIDTHS)} at distance "
+        f"included). Views N·V {list(VIEWS)}, roughness {list(roughnesses)}, lights of width {list(widths)} at distance "
         f"{DISTANCE} in five placements; gold, Figure 2 (conductors), glass, water (dielectrics). Relative error "
         "median / p90 / max over the values with reference > 1e-3; 'Fresnel part': against the same approach with "
         "the exact curve.",
@@ -1486,8 +1567,8 @@ def run(
             "The same totals by N·V (left) and by the light's width (right), median (solid) and p90 (dashed), "
             "conductors above, dielectrics below; grey lines: issue 41's targets, 3 % and 20 %.",
         ]
-    groups = figure_values(records)
-    lines += ["", *figure_table(groups)]
+    groups = figure_values(records, widths)
+    lines += ["", *figure_table(groups, widths)]
     lines += [
         "",
         "By the light's width (this project's table), total error:",
@@ -1509,15 +1590,30 @@ def run(
         "exact mean V·H over the light (the reference's), median / p90 / max; the blends weigh the split sum by "
         f"{SPLIT_SUM_WEIGHT_LINEAR:g} I + {1 - SPLIT_SUM_WEIGHT_LINEAR:g} I^{SPLIT_SUM_WEIGHT_POWER:g}, I the exact "
         "share of the lobe, as the include weighs it "
-        "(`preintegrate.ltc.rect_light_fresnel`); the last two take V·H* of the light's representative direction as "
+        "(`preintegrate.ltc.rect_light_fresnel`); the next four take V·H* of the light's representative direction as "
         "the include does (the shipped table's): what the include's factorisation costs by itself, apart from its "
-        "lobe:",
+        "lobe. The last four are forms of F̃ tried for the roughnesses beyond the set's and not shipped (Ω_L the "
+        "light's solid angle as the LTC gives it, `preintegrate.ltc.ltc_solid_angle`; r' the shipped one; the "
+        "constants their best on the held-out roughnesses):",
         "",
         "| form | conductors | dielectrics |",
         "|---|---|---|",
         *(
             f"| {form} | {_statistics(np.array(kinds['conductor']))} | {_statistics(np.array(kinds['dielectric']))} |"
             for form, kinds in factors.items()
+        ),
+        "",
+        "The include's blend and those forms in its total rather than alone: its LTC integral toward the limit I and "
+        "albedo E (the shipped tables'), the weight of I, the exact curves (the first table's reference for the "
+        "Fresnel part), and V·H* as the include takes it. A factor better alone need not make a better total: "
+        "the factor's error can offset some of the lobe's or add to it, and the include's blend was chosen by the "
+        "total (on training lights, `blend_study`):",
+        "",
+        "| form | conductors: total | dielectrics: total |",
+        "|---|---|---|",
+        *(
+            f"| {form} | {_statistics(np.array(kinds['conductor']))} | {_statistics(np.array(kinds['dielectric']))} |"
+            for form, kinds in variant_totals.items()
         ),
         "",
         "## The include's error taken apart",
@@ -1617,7 +1713,7 @@ def run(
     print(text)
     if out is None:
         return
-    png = figure(groups)
+    png = figure(groups, widths)
     write_together(
         [
             (Path(out), lambda path: path.write_text(text, encoding="utf-8")),
@@ -1646,11 +1742,21 @@ def main(argv=None) -> None:
         help="the set's perceptual roughnesses, in (0, 1] (default %(default)s; the lobe study and the bound's "
         "choice keep these)",
     )
+    parser.add_argument(
+        "--widths",
+        type=float,
+        nargs="+",
+        default=list(WIDTHS),
+        help=f"the set's light widths at distance {DISTANCE:g}, in (0, 100] (default %(default)s; the lobe study keeps "
+        "these)",
+    )
     arguments = parser.parse_args(argv)
     if not 0.0 < arguments.tolerance < 1.0:
         parser.error(f"--tolerance must be in (0, 1), got {arguments.tolerance!r}")
     if not all(0.0 < roughness <= 1.0 for roughness in arguments.roughness):
         parser.error(f"--roughness must be in (0, 1], got {arguments.roughness!r}")
+    if not all(0.0 < width <= 100.0 for width in arguments.widths):
+        parser.error(f"--widths must be in (0, 100], got {arguments.widths!r}")
     command = shlex.join(["python", "-m", "benchmarks.area_light_set", *(sys.argv[1:] if argv is None else argv)])
     run(
         arguments.tolerance,
@@ -1659,6 +1765,7 @@ def main(argv=None) -> None:
         not arguments.no_cost,
         not arguments.no_fits,
         tuple(arguments.roughness),
+        tuple(sorted(set(arguments.widths))),
         command,
     )
 

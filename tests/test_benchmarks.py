@@ -3,6 +3,7 @@
 with small settings where it has them; ``benchmarks.fuzz`` runs in tests/test_fuzz.py and ``benchmarks.commands``
 (minutes: it times every command) is started with ``--help`` only."""
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -424,9 +425,10 @@ def test_the_cost_diagnostics_change_one_call_of_the_shipped_include():
     [
         *((f"--tolerance={value}", "--tolerance must be in (0, 1)") for value in ("0", "-1e-6", "nan", "1")),
         *((f"--roughness={value}", "--roughness must be in (0, 1]") for value in ("0", "-0.5", "nan", "1.5")),
+        *((f"--widths={value}", "--widths must be in (0, 100]") for value in ("0", "-1", "nan", "inf", "101")),
     ],
 )
-def test_area_light_set_refuses_a_tolerance_or_roughness_out_of_range(option, message, capsys):
+def test_area_light_set_refuses_a_tolerance_roughness_or_width_out_of_range(option, message, capsys):
     from benchmarks.area_light_set import main
 
     with pytest.raises(SystemExit) as exited:
@@ -449,24 +451,35 @@ def test_area_light_set_reports_a_class_without_values():
 
 
 def test_area_light_set_runs_small(tmp_path):
-    """The area-light set with a coarse reference, without peers or cost, at two roughnesses (one glossy): every
-    approach, the factorisation and the figure's values by view and by width, the roughnesses and the command in the
-    report, and with ``--out`` the report beside its figure (a PNG it links to)."""
+    """The area-light set with a coarse reference, without peers or cost, at two roughnesses (one glossy) and three
+    widths given out of order: every approach, the factorisation and the figure's values by view and by each width
+    (sorted), the classes by width named by the widths in them, the roughnesses, widths and the command in the report,
+    and with ``--out`` the report beside its figure (a PNG it links to); the forms of F̃ not shipped, alone and in the
+    total."""
+    from benchmarks.area_light_set import FACTOR_VARIANTS
+
     out = tmp_path / "set.md"
     completed = _run(
         "benchmarks.area_light_set",
         *("--tolerance", "1e-3", "--three", "none", "--no-cost", "--no-fits", "--roughness", "0.5", "0.15"),
-        *("--out", str(out)),
+        *("--widths", "10", "0.02", "0.5", "--out", str(out)),
         timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-2000:]
     lines = completed.stdout.splitlines()
     for row in (
         *("| split sum, this project |", "| punctual blend, this project |", "| F at the light's mean V·H |"),
-        *("| N·V 0.08 |", "| N·V 0.95 |", "| width 0.02 |", "| width 10 |"),  # the figure's values
+        *("| N·V 0.08 |", "| N·V 0.95 |", "| width 0.02 |", "| width 0.5 |", "| width 10 |"),  # the figure's values
+        *("| small (≤ 0.2) | punctual blend |", "| medium (0.5) | punctual blend |", "| large (10) | split sum |"),
     ):
         assert sum(line.startswith(row) for line in lines) == 1, (row, completed.stdout)
+    for form in FACTOR_VARIANTS:  # the forms not shipped, alone and in the total
+        assert sum(line.startswith(f"| {form} |") for line in lines) == 2, (form, completed.stdout)
+    assert "| form | conductors: total | dielectrics: total |" in lines
+    widths = [line.split(" |")[0] for line in lines if re.match(r"\| width \d", line)]
+    assert widths == ["| width 0.02", "| width 0.5", "| width 10"], widths
     assert "roughness [0.5, 0.15]" in completed.stdout and "--roughness 0.5 0.15" in completed.stdout
+    assert "width [0.02, 0.5, 10.0]" in completed.stdout and "--widths 10 0.02 0.5" in completed.stdout
     assert out.read_text(encoding="utf-8") == completed.stdout[:-1]  # print's own newline
     assert "](set.png)" in completed.stdout
     assert (tmp_path / "set.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
