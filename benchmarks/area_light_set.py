@@ -1437,8 +1437,10 @@ def run(
                     # F̄ / E, F at the light's mean V·H, and their blend by the share of the lobe it covers (the
                     # include's weight of it); then at V·H* as the include takes it (this table's)
                     smoothed = {  # F̃ at each table's V·H* and r', once per light and material
-                        name: smoothed_fresnel(curve, float(integrals[name][2]), float(integrals[name][3]))
-                        for name in tables
+                        table_name: smoothed_fresnel(
+                            curve, float(integrals[table_name][2]), float(integrals[table_name][3])
+                        )
+                        for table_name in tables
                     }
                     v_dot_h_star, r_prime = (float(value) for value in integrals["this project"][2:])
                     at_star = curve(np.array([v_dot_h_star]))[0]
@@ -1447,7 +1449,8 @@ def run(
                     at_mean = curve(np.array([mean_v_dot_h]))[0]
                     cover = min(lobe / exact_albedo, 1.0)
                     # the variants' F̃; "moved" once by the exact share (the factor's rows) and once by the include's I
-                    share = min(float(integrals["this project"][1]), 1.0)
+                    shipped_integral = integrals["this project"][1]  # I toward the limit, the include's
+                    share = min(float(shipped_integral), 1.0)
                     quarter, rough, moved, smoothed_at_mean, moved_by_share = smoothed_fresnel(
                         curve,
                         np.array(
@@ -1508,20 +1511,20 @@ def run(
                             rect_light_fresnel(toward, split_basis, punctual_basis),
                             rect_light_fresnel(toward, split_exact, punctual_exact),
                         )
-                        if table_name == "this project":
-                            for form, value in (
-                                (FACTOR_BLEND_SMOOTHED, rect_light_fresnel(toward, split_exact, punctual_exact)),
-                                (FACTOR_VARIANTS[0], rect_light_fresnel(toward, split_exact, albedo * quarter)),
-                                (FACTOR_VARIANTS[1], rect_light_fresnel(toward, split_exact, albedo * rough)),
-                                (FACTOR_VARIANTS[2], toward * albedo * moved_by_share),
-                                (
-                                    FACTOR_VARIANTS[3],
-                                    rect_light_fresnel(toward, split_exact, albedo * smoothed_at_mean),
-                                ),
-                            ):
-                                variant_totals.setdefault(form, {}).setdefault(kind, []).extend(
-                                    (np.abs(value - exact) / exact)[keep]
-                                )
+                    # the variants in the include's total, as its exact-curve blend above (this table's I and E)
+                    for form, value in (
+                        (FACTOR_BLEND_SMOOTHED, approaches["punctual blend, this project"][1]),
+                        (FACTOR_VARIANTS[0], rect_light_fresnel(shipped_integral, split_exact, albedo * quarter)),
+                        (FACTOR_VARIANTS[1], rect_light_fresnel(shipped_integral, split_exact, albedo * rough)),
+                        (FACTOR_VARIANTS[2], shipped_integral * albedo * moved_by_share),
+                        (
+                            FACTOR_VARIANTS[3],
+                            rect_light_fresnel(shipped_integral, split_exact, albedo * smoothed_at_mean),
+                        ),
+                    ):
+                        variant_totals.setdefault(form, {}).setdefault(kind, []).extend(
+                            (np.abs(value - exact) / exact)[keep]
+                        )
                     if "three.js" in integrals:
                         f0 = curve(np.array([1.0]))[0]
                         integral = integrals["three.js"]
